@@ -1,0 +1,40 @@
+"""Exceptions raised at acroplan's boundaries.
+
+Every error a user can provoke with bad input is an :class:`InvalidInputError`, a subclass of
+:class:`ValueError` that names the offending field and says how to fix it. Infeasible or
+non-converged plans are *not* exceptions: they are a status in the result (see
+:class:`acroplan.PlanResult`).
+"""
+
+from __future__ import annotations
+
+__all__ = ["InvalidInputError", "EXIT_SUCCESS", "EXIT_INVALID", "EXIT_INFEASIBLE", "EXIT_NOT_CONVERGED"]
+
+#: Exit codes of the command line, one per outcome.
+EXIT_SUCCESS = 0
+EXIT_INVALID = 2
+EXIT_INFEASIBLE = 3
+EXIT_NOT_CONVERGED = 4
+
+
+class InvalidInputError(ValueError):
+    """Invalid user input.
+
+    Parameters
+    ----------
+    field : str
+        The offending field, as the user wrote it (``"robot.M1"``, ``"plan.times"``, ``"times"``).
+    problem : str
+        What is wrong with it.
+    fix : str, optional
+        What to do instead.
+    """
+
+    def __init__(self, field: str, problem: str, fix: str = ""):
+        self.field = field
+        self.problem = problem
+        self.fix = fix
+        msg = f"{field}: {problem}"
+        if fix:
+            msg += f"; {fix}"
+        super().__init__(msg)

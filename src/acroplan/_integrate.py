@@ -1,0 +1,127 @@
+"""The compiled integrator back end (heyoka): endpoint map, its Jacobian, dense samples.
+
+One segment is integrated in normalised time :math:`s \\in [0, 1]`:
+
+.. math::  \\frac{dx}{ds} = T\\,\\Big(f(x;p) + \\sum_j g_j(x;p)\\, u_j(s)\\Big),\\qquad
+           u_j(s) = \\sum_i c_{j,i}\\, b_i(s),
+
+together with the first-order variational equations with respect to the coefficients
+(text eq. 4-6), so that one integration gives :math:`\\Phi(c) = x(1)` and
+:math:`D\\Phi(c) = \\partial x(1)/\\partial c`.
+
+Runtime parameters, in order: the system's parameters, ``T``, then the coefficients ``c`` flattened
+input-major (``c[j, i]`` at ``n_p + 1 + j*n + i``). A compiled integrator is therefore shared by
+every instance of a system class, every segment length and every coefficient value; it is built
+once per process per (system class, basis family, basis size) and cached.
+"""
+
+from __future__ import annotations
+
+import functools
+import threading
+
+import heyoka as hy
+import numpy as np
+
+from .basis import InputBasis
+from .systems.base import ControlAffineSystem
+
+__all__ = ["IntegrationError", "endpoint", "sample"]
+
+#: Taylor integrator tolerance: machine precision for double.
+TOL = 1e-15
+
+
+class IntegrationError(RuntimeError):
+    """The compiled integrator did not reach the end of the segment (non-finite state)."""
+
+
+@functools.cache
+def _compiled(system_cls: type[ControlAffineSystem], basis_cls: type[InputBasis], n: int):
+    x_sym, p_sym = system_cls.symbols()
+    f, G = system_cls.symbolic()
+    n_x, m, n_p = len(x_sym), G.shape[1], len(p_sym)
+    hx = hy.make_vars(*system_cls.state_names)
+    if n_x == 1:
+        hx = [hx]
+    s_dict = {sym: var for sym, var in zip(x_sym, hx)}
+    s_dict.update({sym: hy.par[i] for i, sym in enumerate(p_sym)})
+    T = hy.par[n_p]
+    coeffs = [[hy.par[n_p + 1 + j * n + i] for i in range(n)] for j in range(m)]
+    basis = basis_cls(n)
+    u = [basis.expression(hy.time, coeffs[j]) for j in range(m)]
+    rhs = []
+    for r in range(n_x):
+        e = hy.from_sympy(f[r], s_dict) if f[r] != 0 else 0.0 * hx[0]
+        for j in range(m):
+            if G[r, j] != 0:
+                e = e + hy.from_sympy(G[r, j], s_dict) * u[j]
+        rhs.append(T * e)
+    sys = list(zip(hx, rhs))
+    wrt = [c for row in coeffs for c in row]
+    vsys = hy.var_ode_sys(sys, wrt, order=1)
+    ta = hy.taylor_adaptive(vsys, [0.0] * n_x, tol=TOL, pars=[0.0] * (n_p + 1 + m * n))
+    return ta, threading.Lock()
+
+
+def _prepare(system, basis, x0, T, c):
+    ta, lock = _compiled(type(system), type(basis), basis.n)
+    c = np.asarray(c, dtype=float).reshape(-1)
+    n_x = system.n_states
+    pars = np.concatenate([system.params, [float(T)], c])
+    return ta, lock, n_x, pars
+
+
+def _reset(ta, n_x, x0, pars):
+    ta.time = 0.0
+    ta.state[:] = 0.0
+    ta.state[:n_x] = x0
+    ta.pars[:] = pars
+
+
+def endpoint(system: ControlAffineSystem, basis: InputBasis, x0, T: float, c) -> tuple[np.ndarray, np.ndarray]:
+    """The endpoint map and its Jacobian on one segment.
+
+    Parameters
+    ----------
+    system : ControlAffineSystem
+    basis : InputBasis
+    x0 : array_like, shape (n,)
+        State at the segment start.
+    T : float
+        Segment duration (> 0).
+    c : array_like, shape (m, basis.n) or (m * basis.n,)
+        Input coefficients.
+
+    Returns
+    -------
+    xT : numpy.ndarray, shape (n,)
+    J : numpy.ndarray, shape (n, m * basis.n)
+        :math:`\\partial x(T) / \\partial c`, columns in flattened ``c`` order.
+    """
+    ta, lock, n_x, pars = _prepare(system, basis, x0, T, c)
+    with lock:
+        _reset(ta, n_x, x0, pars)
+        res = ta.propagate_until(1.0)
+        state = ta.state.copy()
+    if res[0] != hy.taylor_outcome.time_limit or not np.all(np.isfinite(state)):
+        raise IntegrationError(f"integration stopped with outcome {res[0]} at s = {ta.time}")
+    return state[:n_x], state[n_x:].reshape(n_x, -1)
+
+
+def sample(system: ControlAffineSystem, basis: InputBasis, x0, T: float, c, s) -> np.ndarray:
+    """States at normalised times ``s`` (sorted, starting at 0) on one segment.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, len(s))
+    """
+    ta, lock, n_x, pars = _prepare(system, basis, x0, T, c)
+    s = np.asarray(s, dtype=float)
+    with lock:
+        _reset(ta, n_x, x0, pars)
+        res = ta.propagate_grid(s)
+    out = res[-1]
+    if res[0] != hy.taylor_outcome.time_limit or not np.all(np.isfinite(out)):
+        raise IntegrationError(f"integration stopped with outcome {res[0]}")
+    return out[:, :n_x].T.copy()

@@ -1,0 +1,147 @@
+"""Input bases: each input on a segment is a finite series in normalised time.
+
+On a segment :math:`[t_0, t_1]` with :math:`T = t_1 - t_0` and :math:`s = (t - t_0)/T \\in [0, 1]`,
+input :math:`j` is
+
+.. math::  u_j(t) = \\sum_{i=0}^{n-1} c_{j,i}\\, b_i(s) .
+
+Whatever basis is used inside, results are exported in the power basis of local time,
+:math:`u_j(t) = \\sum_i p_{j,i} (t - t_0)^i` (:meth:`InputBasis.to_power`).
+
+Two families:
+
+* :class:`Monomial`: :math:`b_i(s) = s^i`, the text's :math:`t^i` (eq. 7) up to scaling;
+* :class:`Legendre`: :math:`b_i(s) = P_i(2s - 1)`, orthogonal on the segment and better
+  conditioned (measured in ``benchmarks/RESULTS.md``).
+"""
+
+from __future__ import annotations
+
+import abc
+import dataclasses
+
+import numpy as np
+from numpy.polynomial import Legendre as _Leg
+from numpy.polynomial import Polynomial as _Poly
+
+from ._errors import InvalidInputError
+
+__all__ = ["InputBasis", "Monomial", "Legendre", "make_basis"]
+
+
+@dataclasses.dataclass(frozen=True)
+class InputBasis(abc.ABC):
+    """A family of ``n`` functions :math:`b_0, \\dots, b_{n-1}` on :math:`s \\in [0, 1]`."""
+
+    n: int
+    name = "abstract"
+
+    def __post_init__(self):
+        if not isinstance(self.n, (int, np.integer)) or isinstance(self.n, bool) or self.n < 1:
+            raise InvalidInputError("n_coefficients", f"must be a whole number >= 1, got {self.n!r}",
+                                    "give for example 6")
+        object.__setattr__(self, "n", int(self.n))
+
+    @abc.abstractmethod
+    def to_power_s(self, c: np.ndarray) -> np.ndarray:
+        """Coefficients ``q`` with :math:`\\sum_i c_i b_i(s) = \\sum_i q_i s^i`; shape ``(n,)``."""
+
+    @abc.abstractmethod
+    def expression(self, s, c):
+        """The series :math:`\\sum_i c_i b_i(s)` built from heyoka expressions ``s`` and ``c[i]``."""
+
+    def matrix(self, s, derivative: int = 0) -> np.ndarray:
+        """Values of :math:`d^k b_i / ds^k` at ``s``.
+
+        Parameters
+        ----------
+        s : array_like, shape (N,)
+        derivative : int
+
+        Returns
+        -------
+        numpy.ndarray, shape (N, n)
+        """
+        s = np.atleast_1d(np.asarray(s, dtype=float))
+        out = np.empty((s.size, self.n))
+        for i in range(self.n):
+            e = np.zeros(self.n)
+            e[i] = 1.0
+            q = _Poly(self.to_power_s(e)).deriv(derivative) if derivative else _Poly(self.to_power_s(e))
+            out[:, i] = q(s)
+        return out
+
+    def to_power(self, c, T: float) -> np.ndarray:
+        """Power-basis coefficients in local time :math:`\\tau = t - t_0` on a segment of length ``T``.
+
+        Parameters
+        ----------
+        c : array_like, shape (n,) or (m, n)
+        T : float
+
+        Returns
+        -------
+        numpy.ndarray, same shape as ``c``: :math:`u(\\tau) = \\sum_i p_i \\tau^i`.
+        """
+        c = np.asarray(c, dtype=float)
+        if c.ndim == 2:
+            return np.array([self.to_power(row, T) for row in c])
+        q = self.to_power_s(c)
+        return q / float(T) ** np.arange(self.n)
+
+
+@dataclasses.dataclass(frozen=True)
+class Monomial(InputBasis):
+    """:math:`b_i(s) = s^i` (the text's eq. 7). Built in Horner form for the integrator."""
+
+    name = "monomial"
+
+    def to_power_s(self, c):
+        return np.array(c, dtype=float)
+
+    def expression(self, s, c):
+        # Horner form: time**i gives non-finite Taylor coefficients at s = 0 (NOTES.md).
+        u = c[self.n - 1]
+        for i in range(self.n - 2, -1, -1):
+            u = c[i] + s * u
+        return u
+
+
+@dataclasses.dataclass(frozen=True)
+class Legendre(InputBasis):
+    """:math:`b_i(s) = P_i(2s - 1)`, Legendre polynomials shifted to the segment.
+
+    Built for the integrator by Bonnet's recurrence
+    :math:`(i+1) P_{i+1} = (2i+1)\\,x P_i - i P_{i-1}`, :math:`x = 2s - 1`.
+    """
+
+    name = "legendre"
+
+    def to_power_s(self, c):
+        p = _Leg(np.asarray(c, dtype=float), domain=[0.0, 1.0]).convert(kind=_Poly, domain=[0.0, 1.0],
+                                                                        window=[0.0, 1.0])
+        out = np.zeros(self.n)
+        out[: p.coef.size] = p.coef
+        return out
+
+    def expression(self, s, c):
+        x = 2.0 * s - 1.0
+        P = [1.0 + 0.0 * s, x]
+        for i in range(1, self.n - 1):
+            P.append(((2 * i + 1) * x * P[i] - i * P[i - 1]) / (i + 1))
+        u = c[0]
+        for i in range(1, self.n):
+            u = u + c[i] * P[i]
+        return u
+
+
+_BASES = {"monomial": Monomial, "legendre": Legendre}
+
+
+def make_basis(basis, n: int) -> InputBasis:
+    """A basis from its name (``"monomial"``, ``"legendre"``) or an :class:`InputBasis` instance."""
+    if isinstance(basis, InputBasis):
+        return basis
+    if basis not in _BASES:
+        raise InvalidInputError("basis", f"unknown basis {basis!r}", f"use one of {sorted(_BASES)}")
+    return _BASES[basis](n)

@@ -1,0 +1,115 @@
+"""The ``acroplan`` command line.
+
+Exit codes: 0 success, 2 invalid input, 3 infeasible (with proof), 4 not converged.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import click
+import numpy as np
+
+from . import examples as _examples
+from ._errors import EXIT_INFEASIBLE, EXIT_INVALID, EXIT_NOT_CONVERGED, EXIT_SUCCESS, InvalidInputError
+from ._output import atomic_dir, check_out_dir
+from .problem import load_problem
+
+EXIT_BY_STATUS = {"success": EXIT_SUCCESS, "infeasible": EXIT_INFEASIBLE, "not_converged": EXIT_NOT_CONVERGED}
+
+
+def _fail(message: str, code: int = EXIT_INVALID):
+    click.echo(f"acroplan: error: {message}", err=True)
+    sys.exit(code)
+
+
+@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+@click.version_option(package_name="acroplan")
+def main():
+    """Motion planning for the free-flying two-link acrobot (and other control-affine systems).
+
+    \b
+    Example:
+      acroplan plan --example pike-dive --out pike-dive-out
+    """
+
+
+@main.command("examples")
+def examples_cmd():
+    """List the bundled example problems."""
+    for name, desc in _examples.names().items():
+        click.echo(f"{name:12s} {desc}")
+
+
+@main.command("plan")
+@click.argument("problem", required=False, type=click.Path(dir_okay=False, path_type=Path))
+@click.option("--example", metavar="NAME", help="Plan a bundled example instead of a PROBLEM file.")
+@click.option("--out", "out", required=True, type=click.Path(file_okay=False, path_type=Path),
+              help="Output folder (created; written atomically).")
+@click.option("--force", is_flag=True, help="Replace a non-empty output folder.")
+@click.option("--no-plots", is_flag=True, help="Skip input.png and states.png.")
+@click.option("--quiet", "-q", is_flag=True, help="Print nothing on success.")
+def plan_cmd(problem, example, out, force, no_plots, quiet):
+    """Plan a motion through the waypoints of PROBLEM (a TOML file) and write the results.
+
+    \b
+    Writes to OUT:
+      solution.json    robot, waypoints, segments (power-basis coefficients), status, diagnostics
+      trajectory.csv   t,theta,phi,u with 200 samples per segment
+      input.png        u(t), the text's Fig. 1
+      states.png       theta(t) above phi(t), waypoints marked, the text's Fig. 2
+    On exit code 3 (infeasible) or 4 (not converged) only solution.json is written.
+
+    \b
+    Examples:
+      acroplan plan --example pike-dive --out pike-dive-out
+      acroplan plan my-dive.toml --out my-dive-out --force
+    """
+    try:
+        if (problem is None) == (example is None):
+            raise InvalidInputError("PROBLEM", "give either a problem file or --example NAME, not both or neither",
+                                    "for example: acroplan plan --example pike-dive --out out")
+        prob = _examples.load(example) if example is not None else load_problem(problem)
+        check_out_dir(out, force)
+        result = prob.solve(verify=True)
+        with atomic_dir(out, force) as tmp:
+            (tmp / "solution.json").write_text(result.to_json() + "\n", encoding="utf-8")
+            if result.success:
+                _write_csv(result, tmp / "trajectory.csv")
+                if not no_plots:
+                    _write_plots(result, tmp)
+    except InvalidInputError as e:
+        _fail(str(e))
+    code = EXIT_BY_STATUS[result.status]
+    if code != EXIT_SUCCESS:
+        click.echo(f"acroplan: {result.message}", err=True)
+        click.echo(f"acroplan: diagnostics written to {out / 'solution.json'}", err=True)
+    elif not quiet:
+        click.echo(result.message)
+        click.echo(f"wrote {out}/")
+    sys.exit(code)
+
+
+def _write_csv(result, path: Path, per_segment: int = 200) -> None:
+    s = result.sample(per_segment)
+    names = list(s.state_names) + list(s.input_names)
+    data = np.column_stack([s.t, s.states.T, s.inputs.T])
+    np.savetxt(path, data, delimiter=",", header="t," + ",".join(names), comments="", fmt="%.17g")
+
+
+def _write_plots(result, folder: Path) -> None:
+    import matplotlib.pyplot as plt
+
+    figs = result.plot()
+    try:
+        figs["input"].savefig(folder / "input.png", dpi=120)
+        figs["states"].savefig(folder / "states.png", dpi=120)
+    finally:
+        for f in figs.values():
+            plt.close(f)
+
+
+if __name__ == "__main__":  # pragma: no cover
+    main()

@@ -1,0 +1,261 @@
+"""Path deformation (text Chapter 3): continuation on the endpoint map of one segment.
+
+We solve :math:`\\Phi(c) = x_1` for the input coefficients :math:`c \\in \\mathbb{R}^N` subject to
+linear input conditions :math:`B c = d` (values and slopes of the input at the segment ends).
+Writing :math:`c = c_p + Z z` with :math:`c_p = B^+ d` and :math:`Z` an orthonormal basis of
+:math:`\\ker B`, the unknown is :math:`z`.
+
+Starting from a non-singular :math:`z_0` with :math:`y_0 = \\Phi(c(z_0))`, the target path is the
+segment :math:`\\pi(\\tau) = y_0 + \\tau (x_1 - y_0)`, :math:`\\tau \\in [0, 1]`, and we pull it back
+(text eq. 1-3) by a predictor-corrector:
+
+* the step :math:`\\tau \\to \\tau + \\Delta\\tau` is corrected by damped minimum-norm Newton updates
+  :math:`\\Delta z = (JZ)^+_\\lambda\\,(\\pi(\\tau+\\Delta\\tau) - \\Phi)` with backtracking
+  (the first correction is the Euler predictor of text eq. 3);
+* :math:`\\Delta\\tau` doubles after an easy step and is quartered after a failed one;
+* the smallest singular value of :math:`JZ` is recorded at every accepted step;
+* a stall (:math:`\\Delta\\tau` below ``min_step`` or the evaluation budget spent) restarts from
+  another non-singular start, and after the last start is reported as ``not_converged`` with the
+  diagnostics, never as a silent wrong answer.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from . import _integrate
+from .basis import InputBasis
+from .systems.base import ControlAffineSystem
+
+__all__ = ["SegmentSolve", "solve_segment"]
+
+
+@dataclasses.dataclass(frozen=True)
+class SegmentSolve:
+    """Outcome of :func:`solve_segment`.
+
+    Attributes
+    ----------
+    success : bool
+    message : str
+    coefficients : numpy.ndarray, shape (m, n)
+        Coefficients in the basis (the last iterate when not successful).
+    final_error : float
+        :math:`\\|\\Phi(c) - x_1\\|_2` from the compiled integrator.
+    iterations : int
+        Newton corrections, all restarts included.
+    evaluations : int
+        Endpoint-and-Jacobian evaluations.
+    sigma_min : float
+        Smallest singular value of the reduced Jacobian :math:`JZ` met on accepted steps.
+    tau_reached : float
+        How far along the path the last attempt got (1.0 on success).
+    history : tuple of (tau, residual, sigma_min)
+        One entry per accepted continuation step.
+    restarts : int
+    """
+
+    success: bool
+    message: str
+    coefficients: np.ndarray
+    final_error: float
+    iterations: int
+    evaluations: int
+    sigma_min: float
+    tau_reached: float
+    history: tuple
+    restarts: int
+
+
+class _Counter:
+    def __init__(self):
+        self.evaluations = 0
+        self.iterations = 0
+
+
+def _null_space(B: np.ndarray, N: int):
+    if B.shape[0] == 0:
+        return np.eye(N)
+    _, s, Vt = np.linalg.svd(B)
+    rank = int(np.sum(s > 1e-12 * max(1.0, s[0])))
+    return Vt[rank:].T
+
+
+def _damped_step(A: np.ndarray, r: np.ndarray, lam_rel: float):
+    U, s, Vt = np.linalg.svd(A, full_matrices=False)
+    lam = lam_rel * (s[0] if s.size else 1.0)
+    filt = s / (s * s + lam * lam)
+    return Vt.T @ (filt * (U.T @ r)), s
+
+
+def solve_segment(system: ControlAffineSystem, basis: InputBasis, x0, x1, T: float, *,
+                  B=None, d=None, tol: float = 1e-10, max_evaluations: int = 2000,
+                  min_step: float = 1e-5, starts: int = 4, initial=None) -> SegmentSolve:
+    """Steer ``x0`` to ``x1`` in time ``T`` by path deformation.
+
+    Parameters
+    ----------
+    system : ControlAffineSystem
+    basis : InputBasis
+        ``basis.n`` coefficients per input.
+    x0, x1 : array_like, shape (n,)
+    T : float
+    B : array_like, shape (q, m * basis.n), optional
+        Linear input conditions :math:`B c = d` (flattened ``c``).
+    d : array_like, shape (q,), optional
+    tol : float
+        Required :math:`\\|\\Phi(c) - x_1\\|_2`.
+    max_evaluations : int
+        Budget of endpoint-and-Jacobian evaluations over all starts.
+    min_step : float
+        Smallest continuation step before a start is declared stalled.
+    starts : int
+        Non-singular starting points to try (the first is the minimum-norm input).
+    initial : array_like, shape (m, basis.n), optional
+        A starting input to use instead of the minimum-norm one (it is projected onto
+        :math:`Bc = d`).
+
+    Returns
+    -------
+    SegmentSolve
+    """
+    x0 = np.asarray(x0, dtype=float)
+    x1 = np.asarray(x1, dtype=float)
+    m, n = system.n_inputs, basis.n
+    N = m * n
+    B = np.zeros((0, N)) if B is None else np.atleast_2d(np.asarray(B, dtype=float))
+    d = np.zeros(0) if d is None else np.asarray(d, dtype=float)
+    c_p = np.linalg.lstsq(B, d, rcond=None)[0] if B.shape[0] else np.zeros(N)
+    Z = _null_space(B, N)
+    n_x = system.n_states
+    counter = _Counter()
+    scale = 1.0 + float(np.max(np.abs(x1)))
+
+    def evaluate(z):
+        counter.evaluations += 1
+        c = c_p + Z @ z
+        y, J = _integrate.endpoint(system, basis, x0, T, c)
+        return y, J @ Z
+
+    if B.shape[0] and np.linalg.norm(B @ c_p - d) > 1e-9 * (1.0 + np.linalg.norm(d)):
+        return SegmentSolve(False, f"the {B.shape[0]} input conditions cannot all be met by {n} coefficient(s) "
+                            f"per input; use more coefficients (at least {B.shape[0] + n_x})",
+                            c_p.reshape(m, n), float("nan"), 0, 0, 0.0, 0.0, (), 0)
+    if Z.shape[1] < n_x:
+        return SegmentSolve(False, f"the input conditions leave {Z.shape[1]} free coefficient(s) for {n_x} "
+                            f"endpoint equations; use more coefficients (at least {B.shape[0] + n_x})",
+                            c_p.reshape(m, n), float("nan"), 0, 0, 0.0, 0.0, (), 0)
+
+    # ---------------------------------------------------------------- non-singular starts
+    z_base = np.zeros(Z.shape[1]) if initial is None else Z.T @ (np.asarray(initial, float).reshape(-1) - c_p)
+    rng = np.random.default_rng(20240601)  # fixed: the same problem gives the same answer
+    c_scale = 1.0 + float(np.linalg.norm(c_p)) + float(np.linalg.norm(x1 - x0)) / max(T, 1e-12)
+
+    def start_points():
+        """The minimum-norm start if non-singular, then the best conditioned of random perturbations."""
+        tried = []
+        for k in range(1 + 2 * starts):
+            z = z_base if k == 0 else z_base + 0.3 * c_scale * rng.standard_normal(Z.shape[1]) / np.sqrt(Z.shape[1])
+            try:
+                y, A = evaluate(z)
+            except _integrate.IntegrationError:
+                continue
+            s = np.linalg.svd(A, compute_uv=False)
+            ratio = s[-1] / (s[0] + 1e-300)
+            if k == 0 and ratio > 1e-8:
+                yield z, y, A
+            else:
+                tried.append((ratio, k, z, y, A))
+        for _, _, z, y, A in sorted(tried, key=lambda item: (-item[0], item[1])):
+            yield z, y, A
+
+    best = None
+    restarts = -1
+    for z_start, y_start, A_start in start_points():
+        restarts += 1
+        out = _continue(evaluate, counter, z_start, y_start, A_start, x1, tol, scale, max_evaluations, min_step)
+        if best is None or out["tau"] > best["tau"] or (out["success"] and not best["success"]):
+            best = out
+        if out["success"] or counter.evaluations >= max_evaluations or restarts + 1 >= starts:
+            break
+    if best is None:
+        return SegmentSolve(False, "the integrator failed at every starting input", c_p.reshape(m, n),
+                            float("nan"), counter.iterations, counter.evaluations, 0.0, 0.0, (), 0)
+
+    c = (c_p + Z @ best["z"]).reshape(m, n)
+    sig = min((h[2] for h in best["history"]), default=0.0)
+    if best["success"]:
+        msg = f"converged: endpoint error {best['error']:.2e} after {counter.evaluations} evaluations"
+    else:
+        msg = (f"continuation stalled at tau = {best['tau']:.4g} (endpoint error {best['error']:.2e}, smallest "
+               f"singular value {sig:.2e}) after {counter.evaluations} evaluations and {restarts + 1} start(s): "
+               f"{best['why']}; the basis of {n} coefficient(s) per input may be unable to reach the target, "
+               f"try more coefficients")
+    return SegmentSolve(best["success"], msg, c, best["error"], counter.iterations, counter.evaluations, sig,
+                        best["tau"], tuple(best["history"]), restarts)
+
+
+def _continue(evaluate, counter, z, y, A, x1, tol, scale, max_evaluations, min_step):
+    y_start = y.copy()
+    tau, dtau = 0.0, 1.0
+    history = [(0.0, float(np.linalg.norm(y - x1)), float(np.linalg.svd(A, compute_uv=False)[-1]))]
+    why = "evaluation budget spent"
+    mid_tol = 1e-6 * scale
+    while counter.evaluations < max_evaluations:
+        tau_new = min(1.0, tau + dtau)
+        goal = y_start + tau_new * (x1 - y_start)
+        last = tau_new >= 1.0
+        ok, z_new, y_new, A_new, its = _correct(evaluate, counter, z, y, A, goal, tol if last else mid_tol,
+                                                max_evaluations, last)
+        if ok:
+            tau, z, y, A = tau_new, z_new, y_new, A_new
+            history.append((tau, float(np.linalg.norm(y - goal)), float(np.linalg.svd(A, compute_uv=False)[-1])))
+            if last:
+                return dict(success=True, z=z, tau=1.0, error=float(np.linalg.norm(y - x1)), history=history, why="")
+            if its <= 2:
+                dtau = min(1.0, 2.0 * dtau)
+        else:
+            dtau /= 4.0
+            if dtau < min_step:
+                why = "the step in tau fell below min_step"
+                break
+    return dict(success=False, z=z, tau=tau, error=float(np.linalg.norm(y - x1)), history=history, why=why)
+
+
+def _correct(evaluate, counter, z, y, A, goal, tol, max_evaluations, last):
+    """Damped Newton corrections towards ``goal``. Returns (ok, z, y, A, iterations).
+
+    Intermediate steps stop at ``tol``; the last step polishes on to ``tol / 1000`` (or until the
+    residual stops decreasing) and succeeds when it is within ``tol``.
+    """
+    target = tol * 1e-3 if last else tol
+    max_its = 12 if last else 6
+    r = goal - y
+    res = float(np.linalg.norm(r))
+    for its in range(max_its):
+        if res <= target:
+            return True, z, y, A, its
+        step, _ = _damped_step(A, r, 1e-13)
+        alpha = 1.0
+        accepted = False
+        while alpha >= 1.0 / 64:
+            counter.iterations += 1
+            if counter.evaluations >= max_evaluations:
+                return res <= tol and last, z, y, A, its
+            try:
+                y_t, A_t = evaluate(z + alpha * step)
+            except _integrate.IntegrationError:
+                alpha /= 4.0
+                continue
+            res_t = float(np.linalg.norm(goal - y_t))
+            if res_t < (1.0 - 1e-4 * alpha) * res:
+                accepted = True
+                break
+            alpha /= 4.0
+        if not accepted:
+            # no decrease: at the accuracy floor this is success, otherwise a failed step
+            return res <= tol, z, y, A, its
+        z, y, A, r, res = z + alpha * step, y_t, A_t, goal - y_t, res_t
+    return res <= tol, z, y, A, max_its

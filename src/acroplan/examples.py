@@ -1,0 +1,38 @@
+"""Bundled example problems (the model zoo's problems), shared by the CLI, tests and docs."""
+
+from __future__ import annotations
+
+from importlib import resources
+
+from ._errors import InvalidInputError
+from .problem import Problem, parse_problem
+
+__all__ = ["names", "load", "robot", "text"]
+
+_DESCRIPTIONS = {
+    "pike-dive": "Chapter 3: straight -> pike -> 3.5 somersaults -> straight, 5 segments, spline conditions",
+}
+
+
+def names() -> dict[str, str]:
+    """Example names and one-line descriptions."""
+    return dict(_DESCRIPTIONS)
+
+
+def text(name: str) -> str:
+    """The example's TOML source."""
+    if name not in _DESCRIPTIONS:
+        raise InvalidInputError("example", f"unknown example {name!r}", f"choose one of {sorted(_DESCRIPTIONS)}")
+    return resources.files("acroplan").joinpath("data", f"{name}.toml").read_text(encoding="utf-8")
+
+
+def load(name: str) -> Problem:
+    """The example as a validated :class:`~acroplan.problem.Problem`."""
+    import tomllib
+
+    return parse_problem(tomllib.loads(text(name)), name=name)
+
+
+def robot(name: str):
+    """The example's robot."""
+    return load(name).robot

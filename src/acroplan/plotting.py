@@ -1,0 +1,70 @@
+"""Figures, kept apart from the numerics. Headless (Agg) unless a backend is already chosen.
+
+* :func:`plot_input`: the text's Fig. 1, :math:`u(t)`, with the waypoint times marked;
+* :func:`plot_states`: the text's Fig. 2, :math:`\\theta(t)` above :math:`\\varphi(t)`, waypoints marked.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["plot_input", "plot_states", "plot_result"]
+
+
+def _plt():
+    import matplotlib
+
+    if matplotlib.get_backend().lower() not in ("agg", "pdf", "svg") and not _interactive():
+        matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def _interactive() -> bool:
+    import os
+
+    return bool(os.environ.get("DISPLAY") or os.environ.get("MPLBACKEND"))
+
+
+def plot_input(result, samples=None):
+    """Fig. 1 style: the input over time, waypoint times as dashed lines. Returns the figure."""
+    plt = _plt()
+    samples = samples if samples is not None else result.sample()
+    fig, ax = plt.subplots(figsize=(7, 3.6), constrained_layout=True)
+    for j, name in enumerate(samples.input_names):
+        ax.plot(samples.t, samples.inputs[j], lw=1.6, label=f"{name}(t)")
+    for tk in result.times:
+        ax.axvline(tk, color="0.75", lw=0.8, ls="--", zorder=0)
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel("u = dφ/dt [rad/s]" if samples.input_names == ("u",) else "input")
+    ax.set_title("Input u(t)" if samples.input_names == ("u",) else "Inputs")
+    ax.grid(alpha=0.3)
+    if len(samples.input_names) > 1:
+        ax.legend()
+    return fig
+
+
+def plot_states(result, samples=None):
+    """Fig. 2 style: one panel per state (θ above φ for the acrobot), waypoints marked."""
+    plt = _plt()
+    samples = samples if samples is not None else result.sample()
+    n = len(samples.state_names)
+    fig, axes = plt.subplots(n, 1, figsize=(7, 2.6 * n), sharex=True, constrained_layout=True)
+    axes = np.atleast_1d(axes)
+    labels = {"theta": "θ [rad]", "phi": "φ [rad]"}
+    for i, (ax, name) in enumerate(zip(axes, samples.state_names)):
+        ax.plot(samples.t, samples.states[i], lw=1.6, color=f"C{i}")
+        ax.plot(result.times, result.waypoints[:, i], "o", mfc="white", color="k", ms=5, label="waypoints")
+        ax.set_ylabel(labels.get(name, name))
+        ax.grid(alpha=0.3)
+    axes[0].legend(loc="best")
+    axes[0].set_title("States" + (": θ (upper), φ (lower)" if samples.state_names == ("theta", "phi") else ""))
+    axes[-1].set_xlabel("t [s]")
+    return fig
+
+
+def plot_result(result, *, per_segment: int = 200):
+    """Both figures: ``{"input": fig1, "states": fig2}``."""
+    samples = result.sample(per_segment)
+    return {"input": plot_input(result, samples), "states": plot_states(result, samples)}

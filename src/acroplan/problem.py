@@ -1,0 +1,227 @@
+"""Problem files (TOML) and their validation.
+
+A problem file has three tables::
+
+    [robot]            # either the physical body ...
+    torso_mass = 40.0          # M  (> 0)
+    leg_mass = 20.0            # m  (> 0)
+    torso_inertia = 2.5        # J  (> 0), about the torso's centre of mass
+    leg_inertia = 1.2          # j  (> 0), about the leg's centre of mass
+    torso_length = 0.35        # L  (>= 0), torso centre of mass to joint
+    leg_length = 0.45          # l  (>= 0), leg centre of mass to joint
+    angular_momentum = 10.0    # P0
+    # ... or the lumped parameters M1, A1, M2, A2, P0 of text eq. (3)
+
+    [plan]
+    times = [0, 2]
+    theta = ["-0.5*pi", "0.9*pi"]   # numbers, or strings of arithmetic with pi
+    phi = ["-pi", "-2*pi"]
+    conditions = "spline"           # or "free"
+
+    [options]          # optional
+    basis = "legendre"              # or "monomial"
+    n_coefficients = 6
+    tol = 1e-10
+    max_evaluations = 2000
+
+Unknown tables and keys are rejected, so a typo never passes silently.
+"""
+
+from __future__ import annotations
+
+import ast
+import dataclasses
+import math
+import operator
+import tomllib
+from pathlib import Path
+from typing import Any
+
+from ._errors import InvalidInputError
+from .systems import Acrobot
+from .systems.acrobot import PhysicalParameters
+
+__all__ = ["Problem", "load_problem", "parse_problem", "system_to_dict"]
+
+PHYSICAL_KEYS = ("torso_mass", "leg_mass", "torso_inertia", "leg_inertia", "torso_length", "leg_length",
+                 "angular_momentum")
+LUMPED_KEYS = ("M1", "A1", "M2", "A2", "P0")
+PLAN_KEYS = ("times", "theta", "phi", "conditions")
+OPTION_KEYS = ("basis", "n_coefficients", "tol", "max_evaluations")
+
+
+@dataclasses.dataclass(frozen=True)
+class Problem:
+    """A validated planning problem: a robot, waypoints and options."""
+
+    robot: Acrobot
+    times: tuple[float, ...]
+    theta: tuple[float, ...]
+    phi: tuple[float, ...]
+    conditions: str = "spline"
+    options: dict[str, Any] = dataclasses.field(default_factory=dict)
+    name: str = ""
+
+    def solve(self, *, verify: bool = True):
+        """Plan it with :func:`acroplan.plan`."""
+        from .planner import plan
+
+        return plan(self.robot, times=self.times, theta=self.theta, phi=self.phi, conditions=self.conditions,
+                    verify=verify, **self.options)
+
+
+_OPS = {ast.Add: operator.add, ast.Sub: operator.sub, ast.Mult: operator.mul, ast.Div: operator.truediv,
+        ast.USub: operator.neg, ast.UAdd: operator.pos, ast.Pow: operator.pow}
+
+
+def _arith(field: str, text: str) -> float:
+    """Evaluate arithmetic on numbers and ``pi`` (no names, no calls)."""
+
+    def ev(node):
+        if isinstance(node, ast.Expression):
+            return ev(node.body)
+        if isinstance(node, ast.Constant) and isinstance(node.value, (int, float)) and not isinstance(node.value, bool):
+            return float(node.value)
+        if isinstance(node, ast.Name) and node.id == "pi":
+            return math.pi
+        if isinstance(node, ast.BinOp) and type(node.op) in _OPS:
+            return _OPS[type(node.op)](ev(node.left), ev(node.right))
+        if isinstance(node, ast.UnaryOp) and type(node.op) in _OPS:
+            return _OPS[type(node.op)](ev(node.operand))
+        raise ValueError
+
+    try:
+        return float(ev(ast.parse(text, mode="eval")))
+    except (SyntaxError, ValueError, ZeroDivisionError, OverflowError, RecursionError):
+        raise InvalidInputError(field, f"cannot read {text!r} as a number",
+                                "write a number or arithmetic with pi, such as \"-0.5*pi\"") from None
+
+
+def _number(field: str, value) -> float:
+    if isinstance(value, bool):
+        raise InvalidInputError(field, f"must be a number, got {value!r}", "write a number")
+    if isinstance(value, str):
+        v = _arith(field, value)
+    elif isinstance(value, (int, float)):
+        v = float(value)
+    else:
+        raise InvalidInputError(field, f"must be a number, got {value!r}", "write a number")
+    if not math.isfinite(v):
+        raise InvalidInputError(field, f"must be finite, got {v}", "write a finite number")
+    return v
+
+
+def _numbers(field: str, value) -> tuple[float, ...]:
+    if not isinstance(value, list):
+        raise InvalidInputError(field, f"must be a list, got {value!r}", "write for example [0, 2, 4]")
+    return tuple(_number(f"{field}[{i}]", v) for i, v in enumerate(value))
+
+
+def _check_keys(table: str, data: dict, allowed) -> None:
+    if not isinstance(data, dict):
+        raise InvalidInputError(table, "must be a table", f"write [{table}] with its keys")
+    for key in data:
+        if key not in allowed:
+            raise InvalidInputError(f"{table}.{key}", "is not a known key", f"known keys are {list(allowed)}")
+
+
+def parse_robot(data: dict) -> Acrobot:
+    """An :class:`Acrobot` from a ``[robot]`` table (physical or lumped keys)."""
+    _check_keys("robot", data, PHYSICAL_KEYS + LUMPED_KEYS)
+    phys = [k for k in PHYSICAL_KEYS if k in data]
+    lump = [k for k in LUMPED_KEYS if k in data]
+    if phys and lump:
+        raise InvalidInputError("robot", f"mixes physical keys {phys} with lumped keys {lump}",
+                                "give either the physical body or the lumped parameters")
+    if phys:
+        missing = [k for k in PHYSICAL_KEYS if k not in data]
+        if missing:
+            raise InvalidInputError(f"robot.{missing[0]}", "is missing", f"the physical body needs {list(PHYSICAL_KEYS)}")
+        vals = {k: _number(f"robot.{k}", data[k]) for k in PHYSICAL_KEYS}
+        try:
+            return Acrobot.from_physical(**vals)
+        except InvalidInputError as e:
+            raise InvalidInputError(f"robot.{e.field}", e.problem, e.fix) from None
+    missing = [k for k in LUMPED_KEYS if k not in data]
+    if missing:
+        raise InvalidInputError(f"robot.{missing[0]}", "is missing",
+                                f"give the physical body {list(PHYSICAL_KEYS)} or all of {list(LUMPED_KEYS)}")
+    vals = {k: _number(f"robot.{k}", data[k]) for k in LUMPED_KEYS}
+    try:
+        return Acrobot(**vals)
+    except InvalidInputError as e:
+        raise InvalidInputError(f"robot.{e.field}", e.problem, e.fix) from None
+
+
+def parse_problem(data: dict, name: str = "") -> Problem:
+    """A :class:`Problem` from the parsed TOML document."""
+    _check_keys("<file>", data, ("robot", "plan", "options"))
+    for table in ("robot", "plan"):
+        if table not in data:
+            raise InvalidInputError(table, "table is missing", f"add a [{table}] table (see the README)")
+    robot = parse_robot(data["robot"])
+    p = data["plan"]
+    _check_keys("plan", p, PLAN_KEYS)
+    for key in ("times", "theta", "phi"):
+        if key not in p:
+            raise InvalidInputError(f"plan.{key}", "is missing", "give one value per waypoint")
+    times, theta, phi = (_numbers(f"plan.{k}", p[k]) for k in ("times", "theta", "phi"))
+    for key, vals in (("theta", theta), ("phi", phi)):
+        if len(vals) != len(times):
+            raise InvalidInputError(f"plan.{key}", f"has {len(vals)} value(s) but plan.times has {len(times)}",
+                                    "give one value per waypoint time")
+    conditions = p.get("conditions", "spline")
+    if conditions not in ("spline", "free"):
+        raise InvalidInputError("plan.conditions", f"must be \"spline\" or \"free\", got {conditions!r}",
+                                "write conditions = \"spline\"")
+    opts = data.get("options", {})
+    _check_keys("options", opts, OPTION_KEYS)
+    options: dict[str, Any] = {}
+    if "basis" in opts:
+        if opts["basis"] not in ("legendre", "monomial"):
+            raise InvalidInputError("options.basis", f"must be \"legendre\" or \"monomial\", got {opts['basis']!r}",
+                                    "write basis = \"legendre\"")
+        options["basis"] = opts["basis"]
+    for key in ("n_coefficients", "max_evaluations"):
+        if key in opts:
+            v = opts[key]
+            if isinstance(v, bool) or not isinstance(v, int) or v < 1:
+                raise InvalidInputError(f"options.{key}", f"must be a whole number >= 1, got {v!r}",
+                                        "write for example 6")
+            options[key] = v
+    if "tol" in opts:
+        v = _number("options.tol", opts["tol"])
+        if v <= 0:
+            raise InvalidInputError("options.tol", f"must be > 0, got {v}", "write for example 1e-10")
+        options["tol"] = v
+    # the planner's own checks (increasing times, ...) name the API field; give them the file's names
+    if len(times) < 2:
+        raise InvalidInputError("plan.times", f"needs at least 2 values, got {len(times)}", "give start and end times")
+    if any(b <= a for a, b in zip(times, times[1:])):
+        raise InvalidInputError("plan.times", "must be strictly increasing", "sort the waypoints by time")
+    return Problem(robot, times, theta, phi, conditions, options, name)
+
+
+def load_problem(path) -> Problem:
+    """Read and validate a problem file."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise InvalidInputError(str(path), "no such file", "give the path of a problem .toml file") from None
+    except (IsADirectoryError, PermissionError, UnicodeDecodeError) as e:
+        raise InvalidInputError(str(path), f"cannot be read ({e.__class__.__name__})",
+                                "give a readable UTF-8 .toml file") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
+        raise InvalidInputError(str(path), f"is not valid TOML ({e})", "fix the syntax (see the README)") from None
+    return parse_problem(data, name=path.stem)
+
+
+def system_to_dict(system) -> dict[str, Any]:
+    """The system's class, parameters and, for the acrobot, the physical body if known."""
+    out: dict[str, Any] = {"type": type(system).__name__, "params": system.lumped()}
+    phys = getattr(system, "physical", None)
+    out["physical"] = dataclasses.asdict(phys) if isinstance(phys, PhysicalParameters) else None
+    return out

@@ -1,0 +1,251 @@
+"""The single result type of a plan, and sampled trajectories."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+from typing import Any
+
+import numpy as np
+
+from . import _integrate
+from .basis import InputBasis
+from .systems.base import ControlAffineSystem
+
+__all__ = ["PlanResult", "SegmentResult", "Samples", "STATUSES"]
+
+#: The possible values of :attr:`PlanResult.status`.
+STATUSES = ("success", "infeasible", "not_converged")
+
+
+@dataclasses.dataclass(frozen=True)
+class Samples:
+    """A sampled trajectory.
+
+    Attributes
+    ----------
+    t : numpy.ndarray, shape (N,)
+    states : numpy.ndarray, shape (n, N)
+    inputs : numpy.ndarray, shape (m, N)
+    state_names, input_names : tuple of str
+
+    States and inputs are also attributes by name: ``samples.theta``, ``samples.u``.
+    """
+
+    t: np.ndarray
+    states: np.ndarray
+    inputs: np.ndarray
+    state_names: tuple[str, ...]
+    input_names: tuple[str, ...]
+
+    def __getattr__(self, name):
+        names = object.__getattribute__(self, "state_names")
+        if name in names:
+            return self.states[names.index(name)]
+        inames = object.__getattribute__(self, "input_names")
+        if name in inames:
+            return self.inputs[inames.index(name)]
+        raise AttributeError(name)
+
+
+@dataclasses.dataclass(frozen=True)
+class SegmentResult:
+    """One segment :math:`[t_0, t_1]` of a plan.
+
+    Attributes
+    ----------
+    index : int
+    t0, t1 : float
+    coefficients : numpy.ndarray, shape (m, k)
+        Power-basis coefficients in local time: :math:`u_j(t) = \\sum_i p_{j,i}(t - t_0)^i`.
+    basis_coefficients : numpy.ndarray, shape (m, k)
+        The same input in the planner's basis on :math:`s = (t - t_0)/(t_1 - t_0)`.
+    start, target : numpy.ndarray, shape (n,)
+    final_error : float
+        Endpoint error of the compiled integrator, :math:`\\|x(t_1) - x_{target}\\|_2`.
+    verified_error : float or None
+        The same from the independent scipy DOP853 re-simulation of the whole chained plan
+        (``None`` when ``verify=False``).
+    iterations, evaluations, restarts : int
+    sigma_min : float
+        Smallest singular value of the reduced endpoint Jacobian along the continuation.
+    success : bool
+    message : str
+    history : tuple of (tau, residual, sigma_min)
+    """
+
+    index: int
+    t0: float
+    t1: float
+    coefficients: np.ndarray
+    basis_coefficients: np.ndarray
+    start: np.ndarray
+    target: np.ndarray
+    final_error: float
+    verified_error: float | None
+    iterations: int
+    evaluations: int
+    restarts: int
+    sigma_min: float
+    success: bool
+    message: str
+    history: tuple = ()
+
+    def input(self, t) -> np.ndarray:
+        """Inputs at times ``t`` in :math:`[t_0, t_1]`; shape ``(m, N)``."""
+        tau = np.atleast_1d(np.asarray(t, dtype=float)) - self.t0
+        return np.array([np.polynomial.polynomial.polyval(tau, row) for row in self.coefficients])
+
+    def to_dict(self, input_names) -> dict[str, Any]:
+        return {
+            "index": self.index,
+            "t0": self.t0,
+            "t1": self.t1,
+            "coefficients": {name: list(map(float, row)) for name, row in zip(input_names, self.coefficients)},
+            "success": self.success,
+            "message": self.message,
+            "final_error": _num(self.final_error),
+            "verified_error": _num(self.verified_error),
+            "iterations": self.iterations,
+            "evaluations": self.evaluations,
+            "restarts": self.restarts,
+            "sigma_min": _num(self.sigma_min),
+        }
+
+
+def _num(v):
+    if v is None:
+        return None
+    v = float(v)
+    return v if np.isfinite(v) else None
+
+
+@dataclasses.dataclass(frozen=True)
+class PlanResult:
+    """Result of :func:`acroplan.plan`.
+
+    Attributes
+    ----------
+    status : str
+        ``"success"``, ``"infeasible"`` (proven impossible; see :attr:`infeasible`) or
+        ``"not_converged"`` (the planner failed; diagnostics in :attr:`segments`).
+    message : str
+    system : ControlAffineSystem
+    times : numpy.ndarray, shape (K+1,)
+    waypoints : numpy.ndarray, shape (K+1, n)
+    conditions : str
+    basis : InputBasis
+    segments : tuple of SegmentResult
+        The segments planned (all K on success; on failure those done and the failed one).
+    infeasible : tuple of dict
+        Per infeasible segment: ``index``, ``field``, ``interval`` and ``reason``.
+    verified : bool
+        Whether the independent re-simulation was run.
+    """
+
+    status: str
+    message: str
+    system: ControlAffineSystem
+    times: np.ndarray
+    waypoints: np.ndarray
+    conditions: str
+    basis: InputBasis
+    segments: tuple[SegmentResult, ...] = ()
+    infeasible: tuple[dict, ...] = ()
+    verified: bool = False
+
+    @property
+    def success(self) -> bool:
+        return self.status == "success"
+
+    @property
+    def evaluations(self) -> int:
+        """Endpoint-and-Jacobian evaluations over all segments."""
+        return sum(s.evaluations for s in self.segments)
+
+    # ------------------------------------------------------------------ evaluation
+    def evaluate(self, t) -> Samples:
+        """States and inputs at times ``t`` (within the planned segments).
+
+        States are integrated by the compiled integrator from each segment's start waypoint.
+
+        Parameters
+        ----------
+        t : array_like, shape (N,)
+
+        Returns
+        -------
+        Samples
+        """
+        if not self.segments:
+            raise ValueError("this result has no planned segments to evaluate")
+        t = np.atleast_1d(np.asarray(t, dtype=float))
+        lo, hi = self.segments[0].t0, self.segments[-1].t1
+        if np.any(t < lo) or np.any(t > hi) or not np.all(np.isfinite(t)):
+            raise ValueError(f"t: every time must lie in the planned span [{lo}, {hi}]")
+        bounds = np.array([s.t1 for s in self.segments])
+        which = np.minimum(np.searchsorted(bounds, t, side="left"), len(self.segments) - 1)
+        states = np.empty((self.system.n_states, t.size))
+        inputs = np.empty((self.system.n_inputs, t.size))
+        for k, seg in enumerate(self.segments):
+            idx = np.nonzero(which == k)[0]
+            if idx.size == 0:
+                continue
+            T = seg.t1 - seg.t0
+            s = (t[idx] - seg.t0) / T
+            uniq, inverse = np.unique(s, return_inverse=True)
+            grid = uniq if uniq[0] == 0.0 else np.concatenate([[0.0], uniq])
+            X = _integrate.sample(self.system, self.basis_for(seg), seg.start, T, seg.basis_coefficients, grid)
+            states[:, idx] = X[:, grid.size - uniq.size:][:, inverse]
+            inputs[:, idx] = seg.input(t[idx])
+        return Samples(t, states, inputs, self.system.state_names, self.system.input_names)
+
+    def basis_for(self, seg: SegmentResult) -> InputBasis:
+        return type(self.basis)(seg.basis_coefficients.shape[1])
+
+    def sample(self, per_segment: int = 200) -> Samples:
+        """A dense sample: ``per_segment`` evenly spaced points on each segment, ends included."""
+        ts = [np.linspace(s.t0, s.t1, per_segment) for s in self.segments]
+        t = np.concatenate([ts[0]] + [x[1:] for x in ts[1:]]) if ts else np.zeros(0)
+        return self.evaluate(t)
+
+    # ------------------------------------------------------------------ export
+    def to_dict(self) -> dict[str, Any]:
+        """Everything needed to reproduce and check the plan, as plain JSON types."""
+        from .problem import system_to_dict
+
+        return {
+            "status": self.status,
+            "success": self.success,
+            "message": self.message,
+            "system": system_to_dict(self.system),
+            "waypoints": {
+                "times": list(map(float, self.times)),
+                **{name: list(map(float, self.waypoints[:, i])) for i, name in enumerate(self.system.state_names)},
+            },
+            "conditions": self.conditions,
+            "basis": {"family": self.basis.name, "n_coefficients": self.basis.n,
+                      "export": "power basis in local time: u(t) = sum_i c_i (t - t0)^i on [t0, t1]"},
+            "verified": self.verified,
+            "segments": [s.to_dict(self.system.input_names) for s in self.segments],
+            "infeasible": [dict(d) for d in self.infeasible],
+            "diagnostics": {
+                "evaluations": self.evaluations,
+                "iterations": sum(s.iterations for s in self.segments),
+                "max_final_error": _num(max((s.final_error for s in self.segments), default=None)),
+                "max_verified_error": _num(max((s.verified_error for s in self.segments
+                                                 if s.verified_error is not None), default=None)),
+                "sigma_min": _num(min((s.sigma_min for s in self.segments), default=None)),
+            },
+        }
+
+    def to_json(self, **kwargs) -> str:
+        """:meth:`to_dict` as a JSON string (``kwargs`` go to :func:`json.dumps`)."""
+        kwargs.setdefault("indent", 2)
+        return json.dumps(self.to_dict(), **kwargs)
+
+    def plot(self, *, per_segment: int = 200):
+        """Figures in the text's styles: ``{"input": Fig. 1, "states": Fig. 2}`` (matplotlib)."""
+        from . import plotting
+
+        return plotting.plot_result(self, per_segment=per_segment)

@@ -1,0 +1,250 @@
+"""The free-flying two-link acrobot of the dissertation (Chapter 2).
+
+State :math:`x = (\\theta, \\varphi)`: :math:`\\theta` is the angle of the leg to the x axis of the
+centre-of-mass frame, :math:`\\varphi` the joint angle from leg to torso. The input is the joint
+rate :math:`u = \\dot\\varphi`. Conservation of the angular momentum :math:`P_0` (text eq. 2),
+
+.. math::  P_0 = h(\\varphi)\\,\\dot\\theta + k(\\varphi)\\,\\dot\\varphi ,\\qquad
+           h = M_1 + A_1\\cos\\varphi ,\\quad k = M_2 + A_2\\cos\\varphi ,
+
+gives the state equation (text eq. 3)
+
+.. math::  \\dot\\theta = \\frac{P_0}{h(\\varphi)} - \\frac{k(\\varphi)}{h(\\varphi)}\\,u ,\\qquad
+           \\dot\\varphi = u .
+
+Geometry (NOTES.md): from the joint, the torso's centre of mass is at
+:math:`L(\\cos(\\theta+\\varphi), \\sin(\\theta+\\varphi))` and the leg's at
+:math:`l(\\cos\\theta, \\sin\\theta)`; :math:`\\varphi = 0` is folded, :math:`\\pm\\pi` straight.
+
+::
+
+        torso (M, J)          joint          leg (m, j)
+    o=====================*=====o======================o
+             L                        l
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import sympy as sp
+
+from .._errors import InvalidInputError
+from .base import ControlAffineSystem, Infeasibility
+
+__all__ = ["Acrobot", "PhysicalParameters"]
+
+
+def _finite(field: str, value) -> float:
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise InvalidInputError(field, f"must be a real number, got {value!r}", "give a finite number") from None
+    if not math.isfinite(v):
+        raise InvalidInputError(field, f"must be finite, got {v}", "give a finite number")
+    return v
+
+
+@dataclasses.dataclass(frozen=True)
+class PhysicalParameters:
+    """The body as the text's Fig. 4 describes it (SI units or any consistent set).
+
+    Attributes
+    ----------
+    torso_mass, leg_mass : float
+        M and m (> 0).
+    torso_inertia, leg_inertia : float
+        J and j, moments of inertia about each link's centre of mass (> 0).
+    torso_length, leg_length : float
+        L and l, distances from each link's centre of mass to the joint (>= 0).
+    angular_momentum : float
+        P0, the constant total angular momentum.
+    """
+
+    torso_mass: float
+    leg_mass: float
+    torso_inertia: float
+    leg_inertia: float
+    torso_length: float
+    leg_length: float
+    angular_momentum: float
+
+    def __post_init__(self):
+        for f in dataclasses.fields(self):
+            object.__setattr__(self, f.name, _finite(f.name, getattr(self, f.name)))
+        for name in ("torso_mass", "leg_mass", "torso_inertia", "leg_inertia"):
+            if getattr(self, name) <= 0:
+                raise InvalidInputError(name, f"must be > 0, got {getattr(self, name)}", "give a positive value")
+        for name in ("torso_length", "leg_length"):
+            if getattr(self, name) < 0:
+                raise InvalidInputError(name, f"must be >= 0, got {getattr(self, name)}", "give a distance >= 0")
+
+    @property
+    def reduced_mass(self) -> float:
+        """:math:`\\mu = mM/(m+M)`."""
+        return self.leg_mass * self.torso_mass / (self.leg_mass + self.torso_mass)
+
+    def lumped(self) -> dict[str, float]:
+        """M1, A1, M2, A2, P0 of text eq. (3)."""
+        mu = self.reduced_mass
+        L, l = self.torso_length, self.leg_length
+        J, j = self.torso_inertia, self.leg_inertia
+        return {
+            "M1": j + J + mu * (L**2 + l**2),
+            "A1": -2.0 * mu * L * l,
+            "M2": J + mu * L**2,
+            "A2": -mu * L * l,
+            "P0": self.angular_momentum,
+        }
+
+
+@dataclasses.dataclass(frozen=True)
+class Acrobot(ControlAffineSystem):
+    """The free-flying two-link acrobot, in lumped parameters.
+
+    Parameters
+    ----------
+    M1, A1, M2, A2 : float
+        Coefficients of :math:`h(\\varphi) = M_1 + A_1\\cos\\varphi` and
+        :math:`k(\\varphi) = M_2 + A_2\\cos\\varphi`. Requires :math:`M_1 > |A_1|` so that
+        :math:`h` never vanishes.
+    P0 : float
+        Angular momentum. ``P0 = 0`` makes the system holonomic (see :meth:`check_segment`).
+    physical : PhysicalParameters, optional
+        The body these came from, kept for reports and drawing; set by :meth:`from_physical`.
+
+    Examples
+    --------
+    >>> robot = Acrobot.from_physical(torso_mass=40, leg_mass=20, torso_inertia=2.5,
+    ...     leg_inertia=1.2, torso_length=0.35, leg_length=0.45, angular_momentum=10)
+    >>> round(robot.A2 / robot.A1, 12)
+    0.5
+    """
+
+    M1: float
+    A1: float
+    M2: float
+    A2: float
+    P0: float
+    physical: PhysicalParameters | None = dataclasses.field(default=None, compare=False, repr=False)
+
+    state_names = ("theta", "phi")
+    input_names = ("u",)
+    param_names = ("M1", "A1", "M2", "A2", "P0")
+    rate_inputs = {"u": "phi"}
+
+    def __post_init__(self):
+        for name in self.param_names:
+            object.__setattr__(self, name, _finite(name, getattr(self, name)))
+        if not self.M1 > abs(self.A1):
+            raise InvalidInputError(
+                "M1",
+                f"must exceed |A1| (M1 = {self.M1}, A1 = {self.A1}), else h(phi) = M1 + A1 cos(phi) vanishes",
+                "check the parameters, or give the physical body with from_physical()",
+            )
+
+    @classmethod
+    def from_physical(cls, *, torso_mass, leg_mass, torso_inertia, leg_inertia, torso_length, leg_length,
+                      angular_momentum) -> "Acrobot":
+        """Build from the body's masses, inertias and lengths (text eq. 3's parameter formulas).
+
+        .. math::  \\mu = \\frac{mM}{m+M},\\quad M_1 = j + J + \\mu(L^2 + l^2),\\quad
+                   A_1 = -2\\mu L l,\\quad M_2 = J + \\mu L^2,\\quad A_2 = -\\mu L l .
+        """
+        phys = PhysicalParameters(torso_mass, leg_mass, torso_inertia, leg_inertia, torso_length, leg_length,
+                                  angular_momentum)
+        return cls(**phys.lumped(), physical=phys)
+
+    # ------------------------------------------------------------------ fields
+    @classmethod
+    def symbolic_fields(cls, x, p):
+        theta, phi = x
+        M1, A1, M2, A2, P0 = p
+        h = M1 + A1 * sp.cos(phi)
+        k = M2 + A2 * sp.cos(phi)
+        f = sp.Matrix([P0 / h, 0])
+        G = sp.Matrix([-k / h, 1])
+        return f, G
+
+    # ------------------------------------------------------------------ closed forms
+    def h(self, phi):
+        """:math:`h(\\varphi) = M_1 + A_1\\cos\\varphi`."""
+        return self.M1 + self.A1 * np.cos(phi)
+
+    def k(self, phi):
+        """:math:`k(\\varphi) = M_2 + A_2\\cos\\varphi`."""
+        return self.M2 + self.A2 * np.cos(phi)
+
+    def momentum(self, theta_dot, phi_dot, phi):
+        """Angular momentum, text eq. (2): :math:`h(\\varphi)\\dot\\theta + k(\\varphi)\\dot\\varphi`."""
+        return self.h(phi) * theta_dot + self.k(phi) * phi_dot
+
+    def F(self, phi):
+        """An antiderivative of :math:`k/h`, continuous on the whole real line.
+
+        With :math:`a = M_1`, :math:`b = A_1`, :math:`s = \\sqrt{a^2 - b^2}` and
+        :math:`\\rho = (a - s)/b` (0 when :math:`b = 0`),
+
+        .. math::  \\int \\frac{d\\varphi}{a + b\\cos\\varphi} = \\frac{1}{s}\\Big(\\varphi
+                   - 2\\,\\operatorname{atan2}(\\rho\\sin\\varphi,\\, 1 + \\rho\\cos\\varphi)\\Big),
+
+        and :math:`k/h = A_2/A_1 + (M_2 - A_2 M_1/A_1)/h` for :math:`A_1 \\ne 0`.
+        """
+        phi = np.asarray(phi, dtype=float)
+        a, b = self.M1, self.A1
+        if b == 0.0:
+            return (self.M2 * phi + self.A2 * np.sin(phi)) / a
+        s = math.sqrt(a * a - b * b)
+        rho = (a - s) / b
+        G = (phi - 2.0 * np.arctan2(rho * np.sin(phi), 1.0 + rho * np.cos(phi))) / s
+        return (self.A2 / b) * phi + (self.M2 - self.A2 * a / b) * G
+
+    def reachable_interval(self, *, theta0: float, phi0: float, phiT: float, T: float) -> tuple[float, float]:
+        """The exact set of :math:`\\theta(T)` reachable with unbounded :math:`u` (an open interval).
+
+        Since :math:`k/h\\,d\\varphi = dF` is exact (NOTES.md),
+
+        .. math::  \\theta(T) = \\theta(0) - [F(\\varphi(T)) - F(\\varphi(0))]
+                   + P_0 \\int_0^T \\frac{dt}{h(\\varphi(t))} ,
+
+        and :math:`1/h` ranges over :math:`(1/(M_1+|A_1|), 1/(M_1-|A_1|))`, both ends approached
+        but not attained by continuous motions with the given :math:`\\varphi(0), \\varphi(T)`.
+
+        Returns
+        -------
+        (low, high) : tuple of float
+            The open interval; ``low == high`` when ``P0 == 0`` or ``A1 == 0`` (a single value).
+        """
+        base = theta0 - (float(self.F(phiT)) - float(self.F(phi0)))
+        a = self.P0 * T / (self.M1 + abs(self.A1))
+        b = self.P0 * T / (self.M1 - abs(self.A1))
+        lo, hi = sorted((base + a, base + b))
+        return lo, hi
+
+    def check_segment(self, x0, x1, duration):
+        """Refuse a segment whose end :math:`\\theta` lies outside :meth:`reachable_interval`."""
+        theta0, phi0 = float(x0[0]), float(x0[1])
+        thetaT, phiT = float(x1[0]), float(x1[1])
+        lo, hi = self.reachable_interval(theta0=theta0, phi0=phi0, phiT=phiT, T=duration)
+        scale = max(1.0, abs(lo), abs(hi))
+        if self.P0 == 0.0:
+            if abs(thetaT - lo) <= 1e-12 * scale:
+                return None
+            return Infeasibility(
+                f"P0 = 0 makes the acrobot holonomic (theta + F(phi) is constant): with phi(T) = {phiT:.12g} "
+                f"the only reachable theta(T) is {lo:.12g}, not {thetaT:.12g}",
+                "theta", (lo, lo))
+        if lo == hi:
+            if abs(thetaT - lo) <= 1e-12 * scale:
+                return None
+            return Infeasibility(
+                f"A1 = 0: theta(T) is fixed at {lo:.12g} for phi(T) = {phiT:.12g}, not {thetaT:.12g}",
+                "theta", (lo, lo))
+        if not (lo < thetaT < hi):
+            return Infeasibility(
+                f"theta(T) = {thetaT:.12g} is outside the reachable open interval ({lo:.12g}, {hi:.12g}) "
+                f"for theta(0) = {theta0:.12g}, phi(0) = {phi0:.12g}, phi(T) = {phiT:.12g}, T = {duration:.12g}",
+                "theta", (lo, hi))
+        return None

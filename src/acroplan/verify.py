@@ -1,0 +1,47 @@
+"""Independent re-simulation with scipy's DOP853 (never the compiled integrator).
+
+Used to check every planned result before it is reported: it integrates the system's own numpy
+right-hand side (``sympy.lambdify`` of the same symbolic fields) with the exported power-basis
+input, so a wrong basis conversion or a wrong compiled field shows up as an endpoint error.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from .systems.base import ControlAffineSystem
+
+__all__ = ["simulate_segment", "RTOL", "ATOL"]
+
+RTOL = 1e-12
+ATOL = 1e-12
+
+
+def simulate_segment(system: ControlAffineSystem, x0, t0: float, t1: float, power_coefficients,
+                     t_eval=None, rtol: float = RTOL, atol: float = ATOL):
+    """Integrate one segment with the input :math:`u_j(t) = \\sum_i p_{j,i}(t - t_0)^i`.
+
+    Parameters
+    ----------
+    system : ControlAffineSystem
+    x0 : array_like, shape (n,)
+    t0, t1 : float
+    power_coefficients : array_like, shape (m, k)
+    t_eval : array_like, optional
+        Times at which to report the state (default: only ``t1``).
+
+    Returns
+    -------
+    scipy.integrate.OdeResult
+        As from :func:`scipy.integrate.solve_ivp`; ``.y[:, -1]`` is the state at ``t1``.
+    """
+    P = np.atleast_2d(np.asarray(power_coefficients, dtype=float))
+    polys = [np.polynomial.Polynomial(row) for row in P]
+
+    def fun(t, x):
+        u = np.array([p(t - t0) for p in polys])
+        return system.rhs(x, u)
+
+    return solve_ivp(fun, (t0, t1), np.asarray(x0, dtype=float), method="DOP853", rtol=rtol, atol=atol,
+                     t_eval=t_eval if t_eval is not None else [t1])
