@@ -1,0 +1,141 @@
+"""The command line: outputs, exit codes, messages, atomic writes."""
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from acroplan.cli import main
+
+GOOD = """
+[robot]
+torso_mass = 40.0
+leg_mass = 20.0
+torso_inertia = 1.8
+leg_inertia = 1.2
+torso_length = 0.35
+leg_length = 0.45
+angular_momentum = 10.0
+
+[plan]
+times = [0, 1]
+theta = [0, {theta}]
+phi = ["-pi", "-pi/2"]
+conditions = "spline"
+"""
+
+
+def run(args):
+    return CliRunner().invoke(main, args)
+
+
+def write(tmp_path, text, name="p.toml"):
+    p = tmp_path / name
+    p.write_text(text)
+    return str(p)
+
+
+def test_example_pike_dive_writes_everything(tmp_path):
+    out = tmp_path / "out"
+    res = run(["plan", "--example", "pike-dive", "--out", str(out)])
+    assert res.exit_code == 0, res.output
+    assert sorted(p.name for p in out.iterdir()) == ["input.png", "solution.json", "states.png", "trajectory.csv"]
+    sol = json.loads((out / "solution.json").read_text())
+    assert sol["status"] == "success" and sol["verified"] is True
+    assert sol["system"]["params"]["M1"] == pytest.approx(4021 / 4920, rel=1e-15)
+    assert len(sol["segments"]) == 5 and len(sol["segments"][0]["coefficients"]["u"]) == 6
+    assert max(s["verified_error"] for s in sol["segments"]) < 1e-9
+    with open(out / "trajectory.csv") as f:
+        assert f.readline().strip() == "t,theta,phi,u"
+    data = np.loadtxt(out / "trajectory.csv", delimiter=",", skiprows=1)
+    assert data.shape[0] >= 5 * 199 and data[0, 0] == 0.0 and data[-1, 0] == 10.0
+    assert data[-1, 1] == pytest.approx(6.5 * np.pi, abs=1e-9)
+    assert (out / "input.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_physical_problem_file_and_force(tmp_path):
+    out = tmp_path / "out"
+    prob = write(tmp_path, GOOD.format(theta=1.0))
+    assert run(["plan", prob, "--out", str(out), "--no-plots"]).exit_code == 0
+    sol = json.loads((out / "solution.json").read_text())
+    assert sol["system"]["physical"]["torso_mass"] == 40.0
+    assert not (out / "input.png").exists()
+    res = run(["plan", prob, "--out", str(out)])
+    assert res.exit_code == 2 and "--out" in res.output and "add --force" in res.output
+    assert run(["plan", prob, "--out", str(out), "--force"]).exit_code == 0
+    assert (out / "input.png").exists()
+
+
+def test_infeasible_exit_3_with_interval_and_nothing_half_written(tmp_path):
+    out = tmp_path / "out"
+    res = run(["plan", write(tmp_path, GOOD.format(theta=50.0)), "--out", str(out)])
+    assert res.exit_code == 3
+    assert "outside the reachable open interval (" in res.output
+    assert sorted(p.name for p in out.iterdir()) == ["solution.json"]
+    sol = json.loads((out / "solution.json").read_text())
+    assert sol["status"] == "infeasible" and len(sol["infeasible"][0]["interval"]) == 2
+    assert not list(tmp_path.glob(".out.*"))
+
+
+def test_not_converged_exit_4_keeps_diagnostics(tmp_path):
+    text = GOOD.format(theta=1.0) + "\n[options]\nn_coefficients = 2\n"
+    out = tmp_path / "out"
+    res = run(["plan", write(tmp_path, text), "--out", str(out)])
+    assert res.exit_code == 4
+    assert "segment 0" in res.output and "use more coefficients" in res.output
+    sol = json.loads((out / "solution.json").read_text())
+    assert sol["status"] == "not_converged" and sol["segments"][0]["success"] is False
+    assert not (out / "trajectory.csv").exists()
+
+
+@pytest.mark.parametrize("text, match", [
+    ("[robot\n", "is not valid TOML"),
+    ("[plan]\ntimes=[0,1]\ntheta=[0,1]\nphi=[0,1]\n", "robot: table is missing"),
+    (GOOD.format(theta=1.0).replace("leg_mass = 20.0", "leg_mass = -20.0"), "robot.leg_mass: must be > 0"),
+    (GOOD.format(theta=1.0).replace("leg_mass = 20.0", ""), "robot.leg_mass: is missing"),
+    (GOOD.format(theta=1.0).replace("leg_mass = 20.0", "leg_mas = 20.0"), "robot.leg_mas: is not a known key"),
+    (GOOD.format(theta=1.0).replace("leg_mass = 20.0", "leg_mass = nan"), "robot.leg_mass: must be finite"),
+    (GOOD.format(theta=1.0).replace("times = [0, 1]", "times = [0, 1, 2]"), "plan.theta: has 2 value"),
+    (GOOD.format(theta=1.0).replace("times = [0, 1]", "times = [1, 0]"), "plan.times: must be strictly"),
+    (GOOD.format(theta=1.0).replace('"-pi/2"', '"-pi/"'), r"plan.phi\[1\]: cannot read"),
+    (GOOD.format(theta=1.0).replace('"-pi/2"', '"__import__(1)"'), r"plan.phi\[1\]: cannot read"),
+    (GOOD.format(theta=1.0).replace('"spline"', '"smooth"'), "plan.conditions: must be"),
+    (GOOD.format(theta=1.0) + "\n[options]\nbasis = \"fourier\"\n", "options.basis: must be"),
+    (GOOD.format(theta=1.0) + "\n[options]\nn_coefficients = 2.5\n", "options.n_coefficients: must be a whole"),
+    ("[robot]\nM1 = 0.3\nA1 = -0.5\nM2 = 0.2\nA2 = -0.25\nP0 = 1\n[plan]\ntimes=[0,1]\ntheta=[0,1]\nphi=[0,1]\n",
+     r"robot.M1: must exceed \|A1\|"),
+])
+def test_invalid_problem_exit_2_one_line(tmp_path, text, match):
+    out = tmp_path / "out"
+    res = run(["plan", write(tmp_path, text), "--out", str(out)])
+    assert res.exit_code == 2
+    assert res.output.startswith("acroplan: error: ")
+    assert len(res.output.strip().splitlines()) == 1
+    import re
+
+    assert re.search(match, res.output), res.output
+    assert not out.exists()
+
+
+def test_usage_errors_exit_2(tmp_path):
+    assert run(["plan", "--out", str(tmp_path / "o")]).exit_code == 2
+    res = run(["plan", "--example", "nope", "--out", str(tmp_path / "o")])
+    assert res.exit_code == 2 and "example: unknown example 'nope'" in res.output
+    res = run(["plan", str(tmp_path / "missing.toml"), "--out", str(tmp_path / "o")])
+    assert res.exit_code == 2 and "no such file" in res.output
+    (tmp_path / "afile").write_text("x")
+    res = run(["plan", "--example", "pike-dive", "--out", str(tmp_path / "afile")])
+    assert res.exit_code == 2
+
+
+def test_examples_lists_the_pike_dive():
+    res = run(["examples"])
+    assert res.exit_code == 0 and "pike-dive" in res.output
+
+
+def test_console_script_runs():
+    res = subprocess.run([sys.executable, "-m", "acroplan.cli", "--help"], capture_output=True, text=True)
+    assert res.returncode == 0 and "plan" in res.stdout
