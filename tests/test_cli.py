@@ -139,3 +139,28 @@ def test_examples_lists_the_pike_dive():
 def test_console_script_runs():
     res = subprocess.run([sys.executable, "-m", "acroplan.cli", "--help"], capture_output=True, text=True)
     assert res.returncode == 0 and "plan" in res.stdout
+
+
+def test_a_failure_while_writing_leaves_nothing(tmp_path, monkeypatch):
+    import acroplan.cli as cli
+
+    def boom(result, folder):
+        (folder / "input.png").write_bytes(b"partial")
+        raise RuntimeError("disk full")
+
+    monkeypatch.setattr(cli, "_write_plots", boom)
+    out = tmp_path / "out"
+    res = run(["plan", "--example", "pike-dive", "--out", str(out)])
+    assert res.exit_code != 0 and isinstance(res.exception, RuntimeError)
+    assert not out.exists() and list(tmp_path.iterdir()) == []
+
+
+def test_readme_problem_file_is_valid_and_feasible(tmp_path):
+    import pathlib
+    import re
+
+    readme = (pathlib.Path(__file__).parents[1] / "README.md").read_text()
+    block = re.search(r"```toml\n(.*?)```", readme, re.S).group(1)
+    out = tmp_path / "out"
+    res = run(["plan", write(tmp_path, block), "--out", str(out), "--no-plots"])
+    assert res.exit_code == 0, res.output

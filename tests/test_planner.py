@@ -197,3 +197,10 @@ def test_verify_false_skips_the_check(pike_robot):
     r = acroplan.plan(pike_robot, times=[0, 2], theta=[-0.5 * PI, 0.9 * PI], phi=[-PI, -2 * PI], verify=False)
     assert r.success and not r.verified and r.segments[0].verified_error is None
     assert "not independently verified" in r.message
+
+
+def test_results_are_read_only(pike_result):
+    with pytest.raises(ValueError):
+        pike_result.segments[0].coefficients[0, 0] = 1.0
+    with pytest.raises(ValueError):
+        pike_result.waypoints[0, 0] = 1.0

@@ -91,6 +91,9 @@ class SegmentResult:
     message: str
     history: tuple = ()
 
+    def __post_init__(self):
+        _freeze(self, "coefficients", "basis_coefficients", "start", "target")
+
     def input(self, t) -> np.ndarray:
         """Inputs at times ``t`` in :math:`[t_0, t_1]`; shape ``(m, N)``."""
         tau = np.atleast_1d(np.asarray(t, dtype=float)) - self.t0
@@ -111,6 +114,14 @@ class SegmentResult:
             "restarts": self.restarts,
             "sigma_min": _num(self.sigma_min),
         }
+
+
+def _freeze(obj, *names):
+    """Store read-only copies of array fields, so a result cannot be changed after the fact."""
+    for name in names:
+        a = np.array(getattr(obj, name), dtype=float)
+        a.setflags(write=False)
+        object.__setattr__(obj, name, a)
 
 
 def _num(v):
@@ -153,6 +164,9 @@ class PlanResult:
     segments: tuple[SegmentResult, ...] = ()
     infeasible: tuple[dict, ...] = ()
     verified: bool = False
+
+    def __post_init__(self):
+        _freeze(self, "times", "waypoints")
 
     @property
     def success(self) -> bool:
