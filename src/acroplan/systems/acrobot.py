@@ -217,34 +217,42 @@ class Acrobot(ControlAffineSystem):
         (low, high) : tuple of float
             The open interval; ``low == high`` when ``P0 == 0`` or ``A1 == 0`` (a single value).
         """
-        base = theta0 - (float(self.F(phiT)) - float(self.F(phi0)))
-        a = self.P0 * T / (self.M1 + abs(self.A1))
-        b = self.P0 * T / (self.M1 - abs(self.A1))
-        lo, hi = sorted((base + a, base + b))
-        return lo, hi
+        from ..reach import reachable_set
 
-    def check_segment(self, x0, x1, duration):
-        """Refuse a segment whose end :math:`\\theta` lies outside :meth:`reachable_interval`."""
+        R = reachable_set(self, theta0=theta0, phi0=phi0, phiT=phiT, T=T)
+        return R.low, R.high
+
+    def check_segment(self, x0, x1, duration, limits=None):
+        """Refuse a segment whose end :math:`\\theta` is not reachable (see :mod:`acroplan.reach`).
+
+        Without limits the reachable set is the open interval of :meth:`reachable_interval`; with
+        joint or rate limits it is :func:`acroplan.reach.reachable_set`. A target on the boundary
+        is refused too: it is reached by no smooth input.
+        """
+        from ..reach import reachable_set
+
         theta0, phi0 = float(x0[0]), float(x0[1])
         thetaT, phiT = float(x1[0]), float(x1[1])
-        lo, hi = self.reachable_interval(theta0=theta0, phi0=phi0, phiT=phiT, T=duration)
+        where = (f"for theta(0) = {theta0:.12g}, phi(0) = {phi0:.12g}, phi(T) = {phiT:.12g}, "
+                 f"T = {duration:.12g}")
+        R = reachable_set(self, theta0=theta0, phi0=phi0, phiT=phiT, T=duration, limits=limits)
+        lim = "" if limits is None or not limits.active else " under the joint and rate limits"
+        if R.empty:
+            return Infeasibility(f"no joint motion is possible{lim}: {R.reason}", "phi", None)
+        lo, hi = R.low, R.high
         scale = max(1.0, abs(lo), abs(hi))
-        if self.P0 == 0.0:
+        if lo == hi or self.P0 == 0.0:
             if abs(thetaT - lo) <= 1e-12 * scale:
                 return None
-            return Infeasibility(
-                f"P0 = 0 makes the acrobot holonomic (theta + F(phi) is constant): with phi(T) = {phiT:.12g} "
-                f"the only reachable theta(T) is {lo:.12g}, not {thetaT:.12g}",
-                "theta", (lo, lo))
-        if lo == hi:
-            if abs(thetaT - lo) <= 1e-12 * scale:
-                return None
-            return Infeasibility(
-                f"A1 = 0: theta(T) is fixed at {lo:.12g} for phi(T) = {phiT:.12g}, not {thetaT:.12g}",
-                "theta", (lo, lo))
+            why = ("P0 = 0 makes the acrobot holonomic (theta + F(phi) is constant)" if self.P0 == 0.0
+                   else "only one theta(T) is reachable")
+            return Infeasibility(f"{why}: with phi(T) = {phiT:.12g} the only reachable theta(T) is {lo:.12g}, "
+                                 f"not {thetaT:.12g}", "theta", (lo, lo))
         if not (lo < thetaT < hi):
-            return Infeasibility(
-                f"theta(T) = {thetaT:.12g} is outside the reachable open interval ({lo:.12g}, {hi:.12g}) "
-                f"for theta(0) = {theta0:.12g}, phi(0) = {phi0:.12g}, phi(T) = {phiT:.12g}, T = {duration:.12g}",
-                "theta", (lo, hi))
+            kind = "closed" if R.closed else "open"
+            ends = f"[{lo:.12g}, {hi:.12g}]" if R.closed else f"({lo:.12g}, {hi:.12g})"
+            edge = " (its ends are reached only by bang-dwell-bang joint motions, not by a smooth input)" \
+                if R.closed and lo <= thetaT <= hi else ""
+            return Infeasibility(f"theta(T) = {thetaT:.12g} is outside the reachable {kind} interval {ends}{lim} "
+                                 f"{where}{edge}", "theta", (lo, hi))
         return None

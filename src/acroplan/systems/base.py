@@ -145,11 +145,12 @@ class ControlAffineSystem(abc.ABC):
         shape = x.shape
         return np.array([np.broadcast_to(np.asarray(v, dtype=float), shape[1:]) for v in out])
 
-    def check_segment(self, x0: np.ndarray, x1: np.ndarray, duration: float) -> Infeasibility | None:
+    def check_segment(self, x0: np.ndarray, x1: np.ndarray, duration: float, limits=None) -> Infeasibility | None:
         """Exact feasibility test of steering ``x0`` to ``x1`` in ``duration``.
 
         Returns ``None`` when the segment may be feasible (or no test is known), else an
-        :class:`Infeasibility` that proves it is not. The default knows no test.
+        :class:`Infeasibility` that proves it is not. ``limits`` is an :class:`acroplan.Limits` or
+        ``None``. The default knows no test.
         """
         return None
 

@@ -1,0 +1,190 @@
+"""Exact reachable sets of the acrobot, with and without rate and joint limits.
+
+Since :math:`k/h\\,d\\varphi = dF` is exact (NOTES.md),
+
+.. math::  \\theta(T) = \\theta(0) - [F(\\varphi(T)) - F(\\varphi(0))] + P_0\\, J[\\varphi],\\qquad
+           J[\\varphi] = \\int_0^T g(\\varphi(t))\\,dt,\\quad g = 1/h ,
+
+so the reachable :math:`\\theta(T)` is an interval whose ends are :math:`P_0` times the extremes of
+:math:`J` over the admissible joint motions (:math:`\\varphi(0), \\varphi(T)` fixed,
+:math:`\\varphi \\in [\\varphi_{min}, \\varphi_{max}]`, :math:`|\\dot\\varphi| \\le u_{max}`).
+
+Without a rate bound the extremes are :math:`T \\min g` and :math:`T \\max g` over the allowed
+:math:`\\varphi` range, approached but not attained (an open interval).
+
+With a rate bound :math:`U`, the extremal motions are *bang-dwell-bang*: go at full speed from
+:math:`\\varphi(0)` to a point :math:`p`, dwell there, go at full speed to :math:`\\varphi(T)`
+(Pontryagin: bang arcs, and singular arcs only where :math:`g' = 0` or on a joint limit). With
+:math:`G` an antiderivative of :math:`g` and :math:`d(p) = |p - \\varphi_0| + |\\varphi_T - p|`,
+
+.. math::  V(p) = \\frac{|G(p) - G(\\varphi_0)| + |G(\\varphi_T) - G(p)|}{U}
+                  + g(p)\\Big(T - \\frac{d(p)}{U}\\Big),\\qquad d(p) \\le UT ,
+
+and :math:`dV/dp = g'(p)\\,(T - d(p)/U)` outside :math:`[\\varphi_0, \\varphi_T]`, so the extremes of
+:math:`V` lie in a finite candidate set: the critical points :math:`k\\pi` of :math:`g`, the
+points where the dwell vanishes, :math:`\\varphi_0`, :math:`\\varphi_T` and the joint limits. The
+interval is then closed: its ends are attained, by these piecewise-constant controls only.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from ._errors import InvalidInputError
+from .systems.acrobot import Acrobot
+
+__all__ = ["Reach", "reachable_set", "Limits"]
+
+
+@dataclasses.dataclass(frozen=True)
+class Limits:
+    """Joint and rate limits of the acrobot.
+
+    Attributes
+    ----------
+    phi_min, phi_max : float or None
+        Joint limits, :math:`\\varphi_{min} < \\varphi_{max}` (``None``: unlimited).
+    u_max : float or None
+        Joint rate limit :math:`|u| \\le u_{max}`, > 0 (``None``: unlimited).
+    """
+
+    phi_min: float | None = None
+    phi_max: float | None = None
+    u_max: float | None = None
+
+    def __post_init__(self):
+        for name in ("phi_min", "phi_max", "u_max"):
+            v = getattr(self, name)
+            if v is None:
+                continue
+            if isinstance(v, bool) or not isinstance(v, (int, float, np.floating, np.integer)) or not math.isfinite(v):
+                raise InvalidInputError(name, f"must be a finite number, got {v!r}", "give a finite number or leave it out")
+            object.__setattr__(self, name, float(v))
+        if self.u_max is not None and self.u_max <= 0:
+            raise InvalidInputError("u_max", f"must be > 0, got {self.u_max}", "give the joint's top speed in rad/s")
+        if self.phi_min is not None and self.phi_max is not None and not self.phi_min < self.phi_max:
+            raise InvalidInputError("phi_min", f"must be < phi_max, got phi_min = {self.phi_min}, "
+                                    f"phi_max = {self.phi_max}", "swap or widen the joint limits")
+
+    @property
+    def active(self) -> bool:
+        return any(v is not None for v in (self.phi_min, self.phi_max, self.u_max))
+
+    @property
+    def lo(self) -> float:
+        return -math.inf if self.phi_min is None else self.phi_min
+
+    @property
+    def hi(self) -> float:
+        return math.inf if self.phi_max is None else self.phi_max
+
+
+@dataclasses.dataclass(frozen=True)
+class Reach:
+    """The exact set of reachable :math:`\\theta(T)`.
+
+    Attributes
+    ----------
+    low, high : float
+        Its ends (``low == high`` when a single value is reachable).
+    closed : bool
+        Whether the ends are attained (with a rate bound) or only approached (without).
+    empty : bool
+        No admissible joint motion exists (then ``reason`` says why).
+    reason : str
+    extremal : dict
+        For ``"low"`` and ``"high"``: the extremal control as a list of ``(duration, u)`` pieces
+        (only with a rate bound).
+    """
+
+    low: float
+    high: float
+    closed: bool
+    empty: bool = False
+    reason: str = ""
+    extremal: dict = dataclasses.field(default_factory=dict)
+
+    def contains(self, theta: float, *, strict: bool = True) -> bool:
+        """Whether ``theta`` is reachable (``strict``: strictly inside, as a smooth input needs)."""
+        if self.empty:
+            return False
+        if strict:
+            return self.low < theta < self.high
+        return self.low <= theta <= self.high
+
+
+def _G(robot: Acrobot, phi):
+    """Continuous antiderivative of g = 1/h."""
+    a, b = robot.M1, robot.A1
+    if b == 0.0:
+        return np.asarray(phi, dtype=float) / a
+    s = math.sqrt(a * a - b * b)
+    rho = (a - s) / b
+    phi = np.asarray(phi, dtype=float)
+    return (phi - 2.0 * np.arctan2(rho * np.sin(phi), 1.0 + rho * np.cos(phi))) / s
+
+
+def reachable_set(robot: Acrobot, *, theta0: float, phi0: float, phiT: float, T: float,
+                  limits: Limits | None = None) -> Reach:
+    """The exact reachable :math:`\\theta(T)` under optional limits (module docstring).
+
+    Parameters
+    ----------
+    robot : Acrobot
+    theta0, phi0, phiT, T : float
+    limits : Limits, optional
+
+    Returns
+    -------
+    Reach
+    """
+    limits = limits or Limits()
+    lo_lim, hi_lim = limits.lo, limits.hi
+    base = theta0 - (float(robot.F(phiT)) - float(robot.F(phi0)))
+    for name, v in (("phi(0)", phi0), ("phi(T)", phiT)):
+        if not lo_lim <= v <= hi_lim:
+            return Reach(base, base, True, True, f"{name} = {v:.12g} is outside the joint limits "
+                         f"[{lo_lim:.12g}, {hi_lim:.12g}]")
+    g = lambda p: 1.0 / robot.h(p)  # noqa: E731
+    U = limits.u_max
+    if U is None:
+        # sup / inf of g over the allowed range [lo_lim, hi_lim] (it contains phi0 and phiT)
+        if hi_lim - lo_lim >= 2 * math.pi:
+            gmin, gmax = 1.0 / (robot.M1 + abs(robot.A1)), 1.0 / (robot.M1 - abs(robot.A1))
+        else:
+            cands = [lo_lim, hi_lim] + [k * math.pi for k in range(math.ceil(lo_lim / math.pi),
+                                                                    math.floor(hi_lim / math.pi) + 1)]
+            vals = [float(g(p)) for p in cands]
+            gmin, gmax = min(vals), max(vals)
+        a, b = base + robot.P0 * T * gmin, base + robot.P0 * T * gmax
+        return Reach(min(a, b), max(a, b), gmin == gmax)
+    dist = abs(phiT - phi0)
+    if dist > U * T * (1 + 1e-15):
+        return Reach(base, base, True, True, f"phi must move {dist:.12g} rad in T = {T:.12g} s, but u_max = "
+                     f"{U:.12g} rad/s allows only {U * T:.12g} rad")
+    p_lo = max(lo_lim, (phi0 + phiT - U * T) / 2)
+    p_hi = min(hi_lim, (phi0 + phiT + U * T) / 2)
+    cands = {p_lo, p_hi, phi0, phiT}
+    cands.update(k * math.pi for k in range(math.ceil(p_lo / math.pi), math.floor(p_hi / math.pi) + 1))
+    Gs = lambda p: float(_G(robot, p))  # noqa: E731
+
+    def V(p):
+        dwell = max(0.0, T - (abs(p - phi0) + abs(phiT - p)) / U)
+        return (abs(Gs(p) - Gs(phi0)) + abs(Gs(phiT) - Gs(p))) / U + float(g(p)) * dwell, dwell
+
+    scored = sorted((V(p)[0], p) for p in cands)
+    (jmin, pmin), (jmax, pmax) = scored[0], scored[-1]
+
+    def control(p):
+        dwell = V(p)[1]
+        pieces = [(abs(p - phi0) / U, math.copysign(U, p - phi0)), (dwell, 0.0), (abs(phiT - p) / U,
+                                                                                     math.copysign(U, phiT - p))]
+        return [(d, u) for d, u in pieces if d > 0]
+
+    a, b = base + robot.P0 * jmin, base + robot.P0 * jmax
+    ext = {"low": control(pmin), "high": control(pmax)} if robot.P0 >= 0 else {"low": control(pmax),
+                                                                             "high": control(pmin)}
+    return Reach(min(a, b), max(a, b), True, extremal=ext)
