@@ -71,6 +71,22 @@ class InputBasis(abc.ABC):
             out[:, i] = q(s)
         return out
 
+    def integral(self, s) -> np.ndarray:
+        """Values of :math:`\\int_0^s b_i(\\sigma)\\,d\\sigma`; shape ``(N, n)``."""
+        s = np.atleast_1d(np.asarray(s, dtype=float))
+        out = np.empty((s.size, self.n))
+        for i in range(self.n):
+            e = np.zeros(self.n)
+            e[i] = 1.0
+            out[:, i] = _Poly(self.to_power_s(e)).integ()(s)
+        return out
+
+    def gram(self) -> np.ndarray:
+        """:math:`\\int_0^1 b_i b_k\\,ds`, shape ``(n, n)`` (Gauss-Legendre, exact)."""
+        x, w = np.polynomial.legendre.leggauss(self.n + 1)
+        V = self.matrix((x + 1) / 2)
+        return (V * (w / 2)[:, None]).T @ V
+
     def to_power(self, c, T: float) -> np.ndarray:
         """Power-basis coefficients in local time :math:`\\tau = t - t_0` on a segment of length ``T``.
 

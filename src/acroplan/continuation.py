@@ -5,8 +5,10 @@ linear input conditions :math:`B c = d` (values and slopes of the input at the s
 Writing :math:`c = c_p + Z z` with :math:`c_p = B^+ d` and :math:`Z` an orthonormal basis of
 :math:`\\ker B`, the unknown is :math:`z`.
 
-Starting from a non-singular :math:`z_0` with :math:`y_0 = \\Phi(c(z_0))`, the target path is the
-segment :math:`\\pi(\\tau) = y_0 + \\tau (x_1 - y_0)`, :math:`\\tau \\in [0, 1]`, and we pull it back
+Starting from a non-singular :math:`z_0` with :math:`y_0 = \\Phi(c(z_0))`, the target path
+:math:`\\pi(\\tau)` from :math:`y_0` to :math:`x_1` is the system's
+(:meth:`ControlAffineSystem.continuation_path`: a straight segment by default, one that stays inside
+the exact reachable set for the acrobot), and we pull it back
 (text eq. 1-3) by a predictor-corrector:
 
 * the step :math:`\\tau \\to \\tau + \\Delta\\tau` is corrected by damped minimum-norm Newton updates
@@ -175,7 +177,9 @@ def solve_segment(system: ControlAffineSystem, basis: InputBasis, x0, x1, T: flo
     restarts = -1
     for z_start, y_start, A_start in start_points():
         restarts += 1
-        out = _continue(evaluate, counter, z_start, y_start, A_start, x1, tol, scale, max_evaluations, min_step)
+        path = system.continuation_path(y_start, x1, x0, T)
+        out = _continue(evaluate, counter, z_start, y_start, A_start, x1, path, tol, scale, max_evaluations,
+                        min_step)
         if best is None or out["tau"] > best["tau"] or (out["success"] and not best["success"]):
             best = out
         if out["success"] or counter.evaluations >= max_evaluations or restarts + 1 >= starts:
@@ -197,7 +201,7 @@ def solve_segment(system: ControlAffineSystem, basis: InputBasis, x0, x1, T: flo
                         best["tau"], tuple(best["history"]), restarts)
 
 
-def _continue(evaluate, counter, z, y, A, x1, tol, scale, max_evaluations, min_step):
+def _continue(evaluate, counter, z, y, A, x1, path, tol, scale, max_evaluations, min_step):
     y_start = y.copy()
     tau, dtau = 0.0, 1.0
     history = [(0.0, float(np.linalg.norm(y - x1)), float(np.linalg.svd(A, compute_uv=False)[-1]))]
@@ -205,7 +209,7 @@ def _continue(evaluate, counter, z, y, A, x1, tol, scale, max_evaluations, min_s
     mid_tol = 1e-6 * scale
     while counter.evaluations < max_evaluations:
         tau_new = min(1.0, tau + dtau)
-        goal = y_start + tau_new * (x1 - y_start)
+        goal = x1 if tau_new >= 1.0 else path(tau_new)
         last = tau_new >= 1.0
         ok, z_new, y_new, A_new, its = _correct(evaluate, counter, z, y, A, goal, tol if last else mid_tol,
                                                 max_evaluations, last)

@@ -54,6 +54,8 @@ class Limits:
     phi_min: float | None = None
     phi_max: float | None = None
     u_max: float | None = None
+    #: the state the joint limits bound (a state whose rate is an input)
+    state: str = "phi"
 
     def __post_init__(self):
         for name in ("phi_min", "phi_max", "u_max"):

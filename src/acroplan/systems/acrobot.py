@@ -222,6 +222,31 @@ class Acrobot(ControlAffineSystem):
         R = reachable_set(self, theta0=theta0, phi0=phi0, phiT=phiT, T=T)
         return R.low, R.high
 
+    def continuation_path(self, y0, x1, x0, duration):
+        """A target path inside the exact reachable set.
+
+        Along the path :math:`\\varphi` moves linearly from its start to its target value, and
+        :math:`\\theta` keeps a relative position :math:`w \\in (0, 1)` in the reachable interval
+        :math:`(\\theta_{lo}(\\varphi), \\theta_{hi}(\\varphi))` that moves linearly too, so every
+        point of the path is reachable (the straight segment can leave the set, since the interval
+        moves with :math:`\\varphi` through :math:`F`).
+        """
+        theta0, phi0 = float(x0[0]), float(x0[1])
+        ends = lambda phi: self.reachable_interval(theta0=theta0, phi0=phi0, phiT=phi, T=duration)  # noqa: E731
+        lo0, hi0 = ends(float(y0[1]))
+        lo1, hi1 = ends(float(x1[1]))
+        if not (hi0 > lo0 and hi1 > lo1):
+            return super().continuation_path(y0, x1, x0, duration)
+        w0 = (float(y0[0]) - lo0) / (hi0 - lo0)
+        w1 = (float(x1[0]) - lo1) / (hi1 - lo1)
+
+        def path(tau):
+            phi = float(y0[1]) + tau * (float(x1[1]) - float(y0[1]))
+            lo, hi = ends(phi)
+            return np.array([lo + (w0 + tau * (w1 - w0)) * (hi - lo), phi])
+
+        return path
+
     def check_segment(self, x0, x1, duration, limits=None):
         """Refuse a segment whose end :math:`\\theta` is not reachable (see :mod:`acroplan.reach`).
 

@@ -154,6 +154,19 @@ class ControlAffineSystem(abc.ABC):
         """
         return None
 
+    def continuation_path(self, y0, x1, x0, duration):
+        """The target path :math:`\\pi(\\tau)`, :math:`\\tau \\in [0, 1]`, from ``y0`` (the start input's
+        endpoint) to ``x1``, for path deformation. Default: the straight segment.
+
+        Returns
+        -------
+        callable
+            ``pi(tau) -> numpy.ndarray, shape (n,)``.
+        """
+        y0 = np.asarray(y0, dtype=float)
+        x1 = np.asarray(x1, dtype=float)
+        return lambda tau: y0 + tau * (x1 - y0)
+
     def lumped(self) -> dict[str, float]:
         """Parameter values by name."""
         return {name: float(getattr(self, name)) for name in self.param_names}
