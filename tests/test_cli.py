@@ -81,7 +81,7 @@ def test_infeasible_exit_3_with_interval_and_nothing_half_written(tmp_path):
 
 
 def test_not_converged_exit_4_keeps_diagnostics(tmp_path):
-    text = GOOD.format(theta=1.0) + "\n[options]\nn_coefficients = 2\n"
+    text = GOOD.format(theta=1.0) + "\n[options]\nmethod = \"deform\"\nn_coefficients = 2\n"
     out = tmp_path / "out"
     res = run(["plan", write(tmp_path, text), "--out", str(out)])
     assert res.exit_code == 4

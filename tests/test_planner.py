@@ -88,7 +88,8 @@ def test_segment_the_basis_cannot_do_is_named():
     """NOTES.md: with M2 = 0.25, P0 = 1.0 the text's 6-coefficient scheme cannot do the last segment."""
     problem = acroplan.examples.load("pike-dive")
     robot = dataclasses.replace(problem.robot, M2=0.25, P0=1.0)
-    r = acroplan.plan(robot, times=problem.times, theta=problem.theta, phi=problem.phi, conditions="spline")
+    r = acroplan.plan(robot, times=problem.times, theta=problem.theta, phi=problem.phi, conditions="spline",
+                      method="deform", n_coefficients=6)
     assert r.status == "not_converged" and not r.success
     assert len(r.segments) == 5 and all(s.success for s in r.segments[:4]) and not r.segments[4].success
     assert "segment 4 [8, 10]" in r.message and "try more coefficients" in r.message
@@ -97,10 +98,12 @@ def test_segment_the_basis_cannot_do_is_named():
 
 
 def test_too_few_coefficients_for_the_conditions(pike_robot):
-    r = acroplan.plan(pike_robot, times=[0, 2], theta=[-0.5 * PI, 0.9 * PI], phi=[-PI, -2 * PI], n_coefficients=5)
+    r = acroplan.plan(pike_robot, times=[0, 2], theta=[-0.5 * PI, 0.9 * PI], phi=[-PI, -2 * PI], n_coefficients=5,
+                      method="deform")
     assert r.status == "not_converged"
     assert "free coefficient(s) for 2 endpoint equations" in r.message
-    r = acroplan.plan(pike_robot, times=[0, 2], theta=[-0.5 * PI, 0.9 * PI], phi=[-PI, -2 * PI], n_coefficients=2)
+    r = acroplan.plan(pike_robot, times=[0, 2], theta=[-0.5 * PI, 0.9 * PI], phi=[-PI, -2 * PI], n_coefficients=2,
+                      method="deform")
     assert "cannot all be met by 2 coefficient(s)" in r.message
 
 

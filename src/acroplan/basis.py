@@ -106,6 +106,18 @@ class InputBasis(abc.ABC):
         return q / float(T) ** np.arange(self.n)
 
 
+def from_power(basis_cls, p, T: float) -> np.ndarray:
+    """Coefficients in ``basis_cls`` (of size ``len(p)``) of :math:`\\sum_i p_i \\tau^i` on ``[0, T]``."""
+    p = np.asarray(p, dtype=float)
+    q = p * float(T) ** np.arange(p.size)  # power basis in s = tau / T
+    if basis_cls is Monomial:
+        return q
+    leg = _Leg.cast(_Poly(q), domain=[0.0, 1.0])
+    out = np.zeros(p.size)
+    out[: leg.coef.size] = leg.coef
+    return out
+
+
 @dataclasses.dataclass(frozen=True)
 class Monomial(InputBasis):
     """:math:`b_i(s) = s^i` (the text's eq. 7). Built in Horner form for the integrator."""

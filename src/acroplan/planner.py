@@ -11,28 +11,45 @@ conditions
 * ``conditions="free"``: only the waypoint states are imposed; the inputs are continuous at interior
   waypoints (segment :math:`k` starts with the input value segment :math:`k-1` ended with).
 
+Methods (per waypoint interval):
+
+* ``"deform"``: the text's path deformation (:mod:`acroplan.continuation`), then, when joint or rate
+  limits are given and broken, a constrained solve (:mod:`acroplan.constrained`);
+* ``"flat"`` (acrobot): the flat-output planner (:mod:`acroplan.flat`): three pieces, move, dwell,
+  move, exact up to a scalar root;
+* ``"auto"`` (default): path deformation, with more coefficients when it stalls (unless
+  ``n_coefficients`` is given), then the flat-output planner.
+
 Before any work, every segment is checked by the system's exact feasibility test
-(:meth:`ControlAffineSystem.check_segment`); an impossible request is refused with the proof.
-Every successful plan is re-simulated by scipy's DOP853 unless ``verify=False``.
+(:meth:`ControlAffineSystem.check_segment`, with the limits); an impossible request is refused
+with the proof. Every result is checked for compliance with the limits exactly (polynomial
+extremes), and every successful plan is re-simulated by scipy's DOP853 unless ``verify=False``.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
 from scipy.interpolate import CubicSpline
 
 from ._errors import InvalidInputError
-from .basis import make_basis
+from . import _integrate
+from .basis import from_power, make_basis
+from .constrained import COMPLIANCE_TOL, solve_with_limits, violation
 from .continuation import solve_segment
+from .reach import Limits
 from .result import PlanResult, SegmentResult
 from .systems.base import ControlAffineSystem
 from .verify import simulate_segment
 
-__all__ = ["plan", "CONDITIONS", "VERIFY_TOL"]
+__all__ = ["plan", "CONDITIONS", "METHODS", "VERIFY_TOL"]
 
 CONDITIONS = ("spline", "free")
+METHODS = ("auto", "deform", "flat")
+#: basis sizes tried by method="auto" when n_coefficients is not given
+AUTO_SIZES = (6, 10, 14)
 #: Largest endpoint error of the independent re-simulation that a successful plan may have.
 VERIFY_TOL = 1e-9
 
@@ -53,10 +70,11 @@ def _vector(field, value, length=None) -> np.ndarray:
     return a
 
 
-def plan(system: ControlAffineSystem, *, times, conditions: str = "spline", basis: str = "legendre",
-         n_coefficients: int | None = None, verify: bool = True, tol: float = 1e-10,
+def plan(system: ControlAffineSystem, *, times, conditions: str = "spline", method: str = "auto",
+         basis: str = "legendre", n_coefficients: int | None = None, u_max: float | None = None,
+         phi_min: float | None = None, phi_max: float | None = None, verify: bool = True, tol: float = 1e-10,
          max_evaluations: int = 2000, **waypoints) -> PlanResult:
-    """Plan a motion of ``system`` through waypoints.
+    r"""Plan a motion of ``system`` through waypoints.
 
     Parameters
     ----------
@@ -70,17 +88,24 @@ def plan(system: ControlAffineSystem, *, times, conditions: str = "spline", basi
     conditions : {"spline", "free"}
         Input conditions (module docstring). ``"spline"`` needs every input to be the rate of a
         state (:attr:`ControlAffineSystem.rate_inputs`).
+    method : {"auto", "deform", "flat"}
+        How each waypoint interval is planned (module docstring).
     basis : {"legendre", "monomial"}
         Internal basis of each segment's input (results are exported in the power basis).
     n_coefficients : int, optional
-        Coefficients per input per segment; default 6 (the text's choice).
+        Coefficients per input per segment. Default: 6 (the text's choice), raised to 10 and 14 by
+        ``method="auto"`` when a segment stalls.
+    u_max : float, optional
+        Rate limit: :math:`|u| \le u_{max}` for every input (> 0).
+    phi_min, phi_max : float, optional
+        Joint limits on ``phi`` (systems with a state ``phi`` whose rate is an input).
     verify : bool
-        Re-simulate the plan with scipy DOP853 (rtol = atol = 1e-12) and require every waypoint
+        Re-simulate the plan with scipy DOP853 (rtol = atol = 3e-14) and require every waypoint
         within :data:`VERIFY_TOL`. Skip only for speed in batch work.
     tol : float
         Required endpoint error of each segment (compiled integrator).
     max_evaluations : int
-        Evaluation budget per segment.
+        Evaluation budget per segment and basis size.
 
     Returns
     -------
@@ -124,11 +149,19 @@ def plan(system: ControlAffineSystem, *, times, conditions: str = "spline", basi
     if conditions == "spline" and set(system.rate_inputs) != set(system.input_names):
         raise InvalidInputError("conditions", f"\"spline\" needs every input to be the rate of a state, "
                                 f"which {type(system).__name__} does not have", "use conditions=\"free\"")
+    if method not in METHODS:
+        raise InvalidInputError("method", f"must be one of {list(METHODS)}, got {method!r}",
+                                "use \"auto\", \"deform\" (the text's) or \"flat\"")
+    if method == "flat" and not hasattr(system, "F"):
+        raise InvalidInputError("method", f"\"flat\" needs a flat output, which {type(system).__name__} does not "
+                                "provide", "use method=\"deform\"")
+    sizes = AUTO_SIZES if (n_coefficients is None and method == "auto") else None
     if n_coefficients is None:
-        n_coefficients = 6
+        n_coefficients = AUTO_SIZES[0]
     if isinstance(n_coefficients, bool) or not isinstance(n_coefficients, (int, np.integer)) or n_coefficients < 1:
         raise InvalidInputError("n_coefficients", f"must be a whole number >= 1, got {n_coefficients!r}",
                                 "give for example 6")
+    sizes = sizes or (int(n_coefficients),)
     b = make_basis(basis, int(n_coefficients))
     if not (isinstance(tol, (int, float)) and math.isfinite(tol) and tol > 0):
         raise InvalidInputError("tol", f"must be a positive number, got {tol!r}", "give for example 1e-10")
@@ -137,14 +170,25 @@ def plan(system: ControlAffineSystem, *, times, conditions: str = "spline", basi
                                 "give for example 2000")
     if not isinstance(verify, bool):
         raise InvalidInputError("verify", f"must be True or False, got {verify!r}", "give a boolean")
-
-    common = dict(system=system, times=t, waypoints=X, conditions=conditions, basis=b)
+    limits = Limits(phi_min=phi_min, phi_max=phi_max, u_max=u_max)
+    if (phi_min is not None or phi_max is not None):
+        if "phi" not in system.state_names or "phi" not in system.rate_inputs.values():
+            raise InvalidInputError("phi_min", f"joint limits need a state phi whose rate is an input, which "
+                                    f"{type(system).__name__} does not have", "leave phi_min and phi_max out")
+        i = system.state_names.index("phi")
+        for k, v in enumerate(X[:, i]):
+            if not limits.lo <= v <= limits.hi:
+                raise InvalidInputError("phi", f"waypoint {k} (t = {t[k]:g}) has phi = {v:.12g}, outside the joint "
+                                        f"limits [{limits.lo:.12g}, {limits.hi:.12g}]",
+                                        "move the waypoint inside the limits or widen them")
+    common = dict(system=system, times=t, waypoints=X, conditions=conditions, basis=b,
+                  limits=limits if limits.active else None)
     K = t.size - 1
 
     # ---------------------------------------------------------------- exact feasibility, all segments
     infeasible = []
     for k in range(K):
-        proof = system.check_segment(X[k], X[k + 1], t[k + 1] - t[k])
+        proof = system.check_segment(X[k], X[k + 1], t[k + 1] - t[k], limits if limits.active else None)
         if proof is not None:
             infeasible.append({"index": k, "t0": float(t[k]), "t1": float(t[k + 1]), "field": proof.field,
                                "interval": list(proof.interval) if proof.interval else None,
@@ -153,32 +197,31 @@ def plan(system: ControlAffineSystem, *, times, conditions: str = "spline", basi
         msg = "; ".join(f"segment {d['index']} [{d['t0']:g}, {d['t1']:g}]: {d['reason']}" for d in infeasible)
         return PlanResult("infeasible", "infeasible: " + msg, infeasible=tuple(infeasible), **common)
 
-    # ---------------------------------------------------------------- input conditions
+    # ---------------------------------------------------------------- plan each waypoint interval
     m = system.n_inputs
-    cond_rows = []  # per segment: (B, d)
+    splines = None
     if conditions == "spline":
         splines = [CubicSpline(t, X[:, system.state_names.index(system.rate_inputs[name])], bc_type="clamped")
                    for name in system.input_names]
-    segments = []
+    segments: list[SegmentResult] = []
     prev_end_input = None
     for k in range(K):
         T = float(t[k + 1] - t[k])
-        B, d = _conditions(b, m, T, k, conditions, splines if conditions == "spline" else None, t,
-                           prev_end_input)
-        cond_rows.append((B, d))
-        out = solve_segment(system, b, X[k], X[k + 1], T, B=B, d=d, tol=tol, max_evaluations=max_evaluations)
-        seg = SegmentResult(
-            index=k, t0=float(t[k]), t1=float(t[k + 1]), coefficients=b.to_power(out.coefficients, T),
-            basis_coefficients=out.coefficients, start=X[k].copy(), target=X[k + 1].copy(),
-            final_error=out.final_error, verified_error=None, iterations=out.iterations,
-            evaluations=out.evaluations, restarts=out.restarts, sigma_min=out.sigma_min, success=out.success,
-            message=out.message, history=out.history)
-        segments.append(seg)
-        if not out.success:
+        ends = _end_values(m, k, conditions, splines, t, prev_end_input)
+        pieces, ok, why = _solve_interval(system, b, sizes, X[k], X[k + 1], T, ends, limits, method, tol,
+                                          max_evaluations)
+        for i, piece in enumerate(pieces):
+            t1 = float(t[k + 1]) if i == len(pieces) - 1 else piece.t1 + float(t[k])
+            segments.append(dataclasses.replace(piece, index=len(segments), interval=k, t0=piece.t0 + float(t[k]),
+                                                t1=t1))
+        if not ok:
             msg = (f"not converged: segment {k} [{t[k]:g}, {t[k + 1]:g}] from {_fmt(X[k], system)} to "
-                   f"{_fmt(X[k + 1], system)}: {out.message}")
+                   f"{_fmt(X[k + 1], system)}: {why}")
             return PlanResult("not_converged", msg, segments=tuple(segments), **common)
-        prev_end_input = b.matrix([1.0]) @ out.coefficients.T  # shape (1, m)
+        last = pieces[-1]
+        prev_end_input = np.array([np.polynomial.polynomial.polyval(last.t1 - last.t0, row)
+                                   for row in last.coefficients])
+    segments = tuple(segments)
 
     if not verify:
         return PlanResult("success", f"success: {K} segment(s), max endpoint error "
@@ -192,50 +235,121 @@ def plan(system: ControlAffineSystem, *, times, conditions: str = "spline", basi
         sol = simulate_segment(system, x, seg.t0, seg.t1, seg.coefficients)
         x = sol.y[:, -1]
         err = float(np.linalg.norm(x - seg.target)) if sol.success else float("inf")
-        checked.append(_replace(seg, verified_error=err))
+        checked.append(dataclasses.replace(seg, verified_error=err))
     worst = max(s.verified_error for s in checked)
     if not worst <= VERIFY_TOL:
         bad = max(checked, key=lambda s: s.verified_error)
         return PlanResult("not_converged", f"not converged: the independent re-simulation (scipy DOP853) misses "
-                          f"the waypoint at t = {bad.t1:g} by {bad.verified_error:.2e} > {VERIFY_TOL:g}",
+                          f"the planned state at t = {bad.t1:g} by {bad.verified_error:.2e} > {VERIFY_TOL:g}",
                           segments=tuple(checked), verified=True, **common)
     return PlanResult("success", f"success: {K} segment(s), max endpoint error "
                       f"{max(s.final_error for s in checked):.2e}, independently verified to {worst:.2e}",
                       segments=tuple(checked), verified=True, **common)
 
 
-def _replace(seg, **changes):
-    import dataclasses
-
-    return dataclasses.replace(seg, **changes)
-
-
 def _fmt(x, system):
     return "(" + ", ".join(f"{n} = {v:.6g}" for n, v in zip(system.state_names, x)) + ")"
 
 
-def _conditions(b, m, T, k, conditions, splines, t, prev_end_input):
-    """Linear input conditions ``B c = d`` for segment ``k`` (flattened input-major ``c``)."""
+def _end_values(m, k, conditions, splines, t, prev_end_input):
+    """Input conditions of interval ``k`` as values: dict of arrays (m,) for u0, du0, uT, duT."""
+    if conditions == "spline":
+        ends = np.array([t[k], t[k + 1]])
+        vals = np.array([sp_(ends, 1) for sp_ in splines])
+        slopes = np.array([sp_(ends, 2) for sp_ in splines])
+        return {"u0": vals[:, 0], "du0": slopes[:, 0], "uT": vals[:, 1], "duT": slopes[:, 1]}
+    if prev_end_input is not None:
+        return {"u0": np.asarray(prev_end_input, dtype=float)}
+    return {}
+
+
+def _linear_conditions(b, m, T, ends):
+    """``B c = d`` for the end values (flattened input-major ``c``)."""
     n = b.n
     rows, rhs = [], []
-    if conditions == "spline":
-        V = b.matrix([0.0, 1.0], 0)
-        D = b.matrix([0.0, 1.0], 1) / T
-        for j, sp_ in enumerate(splines):
-            ends = np.array([t[k], t[k + 1]])
-            vals, slopes = sp_(ends, 1), sp_(ends, 2)
-            for row, val in ((V[0], vals[0]), (D[0], slopes[0]), (V[1], vals[1]), (D[1], slopes[1])):
-                r = np.zeros(m * n)
-                r[j * n:(j + 1) * n] = row
-                rows.append(r)
-                rhs.append(val)
-    elif prev_end_input is not None:
-        V0 = b.matrix([0.0], 0)[0]
+    V = b.matrix([0.0, 1.0], 0)
+    D = b.matrix([0.0, 1.0], 1) / T
+    which = {"u0": V[0], "du0": D[0], "uT": V[1], "duT": D[1]}
+    for key in ("u0", "du0", "uT", "duT"):
+        if key not in ends:
+            continue
         for j in range(m):
             r = np.zeros(m * n)
-            r[j * n:(j + 1) * n] = V0
+            r[j * n:(j + 1) * n] = which[key]
             rows.append(r)
-            rhs.append(float(prev_end_input[0, j]))
+            rhs.append(float(ends[key][j]))
     if not rows:
         return None, None
     return np.array(rows), np.array(rhs)
+
+
+def _segment(system, basis, x0, x1, T, c, *, t0, final_error, verified_error=None, iterations=0, evaluations=0,
+             restarts=0, sigma_min=float("nan"), success=True, message="", history=(), method="deform", limits=None):
+    v = violation(system, basis, x0, T, c, limits or Limits())
+    return SegmentResult(
+        index=0, t0=float(t0), t1=float(t0 + T), coefficients=basis.to_power(c, T), basis_coefficients=c,
+        start=np.array(x0, dtype=float), target=np.array(x1, dtype=float), final_error=final_error,
+        verified_error=verified_error, iterations=iterations, evaluations=evaluations, restarts=restarts,
+        sigma_min=sigma_min, success=success, message=message, history=history, method=method,
+        max_abs_u=v["max_abs_u"], state_range=v["state_range"])
+
+
+def _compliant(system, basis, x0, T, c, limits):
+    if not limits.active:
+        return True
+    v = violation(system, basis, x0, T, c, limits)
+    return v["u"] <= COMPLIANCE_TOL and v["state"] <= COMPLIANCE_TOL
+
+
+def _solve_interval(system, b, sizes, x0, x1, T, ends, limits, method, tol, max_evaluations):
+    """Plan one waypoint interval. Returns (pieces, ok, reason); pieces have t0 relative to 0."""
+    m = system.n_inputs
+    reasons = []
+    last_failed = None
+    if method in ("auto", "deform"):
+        for n in sizes:
+            bn = type(b)(n)
+            B, d = _linear_conditions(bn, m, T, ends)
+            out = solve_segment(system, bn, x0, x1, T, B=B, d=d, tol=tol, max_evaluations=max_evaluations)
+            info = dict(iterations=out.iterations, evaluations=out.evaluations, restarts=out.restarts,
+                        sigma_min=out.sigma_min, history=out.history)
+            if out.success and _compliant(system, bn, x0, T, out.coefficients, limits):
+                return [_segment(system, bn, x0, x1, T, out.coefficients, t0=0.0, final_error=out.final_error,
+                                 message=out.message, limits=limits, **info)], True, ""
+            if out.success:
+                ok, c, err, ev, msg = solve_with_limits(system, bn, x0, x1, T, limits, out.coefficients, B=B, d=d,
+                                                        tol=tol)
+                info["evaluations"] += ev
+                piece = _segment(system, bn, x0, x1, T, c, t0=0.0, final_error=err, success=ok, message=msg,
+                                 method="deform+limits", limits=limits, **info)
+                if ok:
+                    return [piece], True, ""
+                reasons.append(f"{n} coefficients: path deformation converged but broke the limits, and {msg}")
+                last_failed = piece
+            else:
+                reasons.append(f"{n} coefficients: {out.message}")
+                last_failed = _segment(system, bn, x0, x1, T, out.coefficients, t0=0.0, final_error=out.final_error,
+                                       success=False, message=out.message, limits=limits, **info)
+    if method in ("auto", "flat") and hasattr(system, "F"):
+        from .flat import flat_pieces
+
+        flat_ends = {key: float(v[0]) for key, v in ends.items()}
+        pieces, msg = flat_pieces(system, x0, x1, T, ends=flat_ends, limits=limits if limits.active else None)
+        if pieces is not None:
+            out, x, t0 = [], np.array(x0, dtype=float), 0.0
+            for i, (D, coef) in enumerate(pieces):
+                nb = type(b)(max(len(coef), 1))
+                c = from_power(type(b), np.pad(coef, (0, nb.n - len(coef))), D)[None, :]
+                y, _ = _integrate.endpoint(system, nb, x, D, c)
+                end = np.array(x1, dtype=float) if i == len(pieces) - 1 else y
+                out.append(_segment(system, nb, x, end, D, c, t0=t0, final_error=float(np.linalg.norm(y - end)),
+                                    message=msg, method="flat", limits=limits))
+                x, t0 = end, t0 + D
+            err = out[-1].final_error
+            if err <= tol:
+                return out, True, ""
+            reasons.append(f"flat output: endpoint error {err:.2e} > tol")
+            last_failed = out[-1]
+        else:
+            reasons.append(msg)
+    return ([last_failed] if last_failed is not None else []), False, "; ".join(reasons)

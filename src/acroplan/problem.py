@@ -18,7 +18,13 @@ A problem file has three tables::
     phi = ["-pi", "-2*pi"]
     conditions = "spline"           # or "free"
 
+    [limits]           # optional
+    phi_min = "-2*pi"               # joint limits on phi
+    phi_max = "-pi"
+    u_max = 20.0                    # |u| <= u_max (rad/s)
+
     [options]          # optional
+    method = "auto"                 # or "deform" (the text's), "flat"
     basis = "legendre"              # or "monomial"
     n_coefficients = 6
     tol = 1e-10
@@ -47,7 +53,8 @@ PHYSICAL_KEYS = ("torso_mass", "leg_mass", "torso_inertia", "leg_inertia", "tors
                  "angular_momentum")
 LUMPED_KEYS = ("M1", "A1", "M2", "A2", "P0")
 PLAN_KEYS = ("times", "theta", "phi", "conditions")
-OPTION_KEYS = ("basis", "n_coefficients", "tol", "max_evaluations")
+OPTION_KEYS = ("method", "basis", "n_coefficients", "tol", "max_evaluations")
+LIMIT_KEYS = ("phi_min", "phi_max", "u_max")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -155,7 +162,7 @@ def parse_robot(data: dict) -> Acrobot:
 
 def parse_problem(data: dict, name: str = "") -> Problem:
     """A :class:`Problem` from the parsed TOML document."""
-    _check_keys("<file>", data, ("robot", "plan", "options"))
+    _check_keys("<file>", data, ("robot", "plan", "limits", "options"))
     for table in ("robot", "plan"):
         if table not in data:
             raise InvalidInputError(table, "table is missing", f"add a [{table}] table (see the README)")
@@ -177,6 +184,29 @@ def parse_problem(data: dict, name: str = "") -> Problem:
     opts = data.get("options", {})
     _check_keys("options", opts, OPTION_KEYS)
     options: dict[str, Any] = {}
+    lim = data.get("limits", {})
+    _check_keys("limits", lim, LIMIT_KEYS)
+    for key in LIMIT_KEYS:
+        if key in lim:
+            options[key] = _number(f"limits.{key}", lim[key])
+    if "u_max" in options and options["u_max"] <= 0:
+        raise InvalidInputError("limits.u_max", f"must be > 0, got {options['u_max']}",
+                                "give the joint's top speed in rad/s")
+    if "phi_min" in options and "phi_max" in options and not options["phi_min"] < options["phi_max"]:
+        raise InvalidInputError("limits.phi_min", f"must be < limits.phi_max, got {options['phi_min']} >= "
+                                f"{options['phi_max']}", "swap or widen the joint limits")
+    for key in ("phi_min", "phi_max"):
+        if key in options:
+            bad = [i for i, v in enumerate(phi) if (v < options[key] if key == "phi_min" else v > options[key])]
+            if bad:
+                raise InvalidInputError("plan.phi", f"waypoint {bad[0]} (phi = {phi[bad[0]]:.12g}) is outside the "
+                                        f"joint limits ({key} = {options[key]:.12g})",
+                                        "move the waypoint inside the limits or widen them")
+    if "method" in opts:
+        if opts["method"] not in ("auto", "deform", "flat"):
+            raise InvalidInputError("options.method", f"must be \"auto\", \"deform\" or \"flat\", got "
+                                    f"{opts['method']!r}", "write method = \"auto\"")
+        options["method"] = opts["method"]
     if "basis" in opts:
         if opts["basis"] not in ("legendre", "monomial"):
             raise InvalidInputError("options.basis", f"must be \"legendre\" or \"monomial\", got {opts['basis']!r}",

@@ -55,12 +55,24 @@ class SegmentResult:
     Attributes
     ----------
     index : int
+        Position in the plan. A waypoint interval is one segment, or three pieces (move, dwell,
+        move) when the flat-output planner was used.
+    interval : int
+        The waypoint interval :math:`[t_k, t_{k+1}]` this segment belongs to.
+    method : str
+        ``"deform"`` (path deformation), ``"deform+limits"`` (then the constrained solve) or
+        ``"flat"`` (flat-output pieces).
     t0, t1 : float
     coefficients : numpy.ndarray, shape (m, k)
         Power-basis coefficients in local time: :math:`u_j(t) = \\sum_i p_{j,i}(t - t_0)^i`.
     basis_coefficients : numpy.ndarray, shape (m, k)
         The same input in the planner's basis on :math:`s = (t - t_0)/(t_1 - t_0)`.
     start, target : numpy.ndarray, shape (n,)
+        Planned states at the segment's ends (waypoints, or interior points of a flat plan).
+    max_abs_u : float
+        :math:`\\max |u|` on the segment, exact (roots of :math:`u'`).
+    state_range : tuple or None
+        Exact range of the joint-limited state on the segment, when joint limits were given.
     final_error : float
         Endpoint error of the compiled integrator, :math:`\\|x(t_1) - x_{target}\\|_2`.
     verified_error : float or None
@@ -90,6 +102,10 @@ class SegmentResult:
     success: bool
     message: str
     history: tuple = ()
+    interval: int = 0
+    method: str = "deform"
+    max_abs_u: float = float("nan")
+    state_range: tuple | None = None
 
     def __post_init__(self):
         _freeze(self, "coefficients", "basis_coefficients", "start", "target")
@@ -102,6 +118,8 @@ class SegmentResult:
     def to_dict(self, input_names) -> dict[str, Any]:
         return {
             "index": self.index,
+            "interval": self.interval,
+            "method": self.method,
             "t0": self.t0,
             "t1": self.t1,
             "coefficients": {name: list(map(float, row)) for name, row in zip(input_names, self.coefficients)},
@@ -113,6 +131,8 @@ class SegmentResult:
             "evaluations": self.evaluations,
             "restarts": self.restarts,
             "sigma_min": _num(self.sigma_min),
+            "max_abs_u": _num(self.max_abs_u),
+            "state_range": None if self.state_range is None else [float(v) for v in self.state_range],
         }
 
 
@@ -164,6 +184,7 @@ class PlanResult:
     segments: tuple[SegmentResult, ...] = ()
     infeasible: tuple[dict, ...] = ()
     verified: bool = False
+    limits: object = None
 
     def __post_init__(self):
         _freeze(self, "times", "waypoints")
@@ -217,6 +238,11 @@ class PlanResult:
     def basis_for(self, seg: SegmentResult) -> InputBasis:
         return type(self.basis)(seg.basis_coefficients.shape[1])
 
+    @property
+    def intervals(self) -> tuple[tuple[SegmentResult, ...], ...]:
+        """The segments grouped by waypoint interval."""
+        return tuple(tuple(s for s in self.segments if s.interval == k) for k in range(len(self.times) - 1))
+
     def sample(self, per_segment: int = 200) -> Samples:
         """A dense sample: ``per_segment`` evenly spaced points on each segment, ends included."""
         ts = [np.linspace(s.t0, s.t1, per_segment) for s in self.segments]
@@ -241,6 +267,7 @@ class PlanResult:
             "basis": {"family": self.basis.name, "n_coefficients": self.basis.n,
                       "export": "power basis in local time: u(t) = sum_i c_i (t - t0)^i on [t0, t1]"},
             "verified": self.verified,
+            "limits": None if self.limits is None else {k: v for k, v in dataclasses.asdict(self.limits).items()},
             "segments": [s.to_dict(self.system.input_names) for s in self.segments],
             "infeasible": [dict(d) for d in self.infeasible],
             "diagnostics": {

@@ -14,8 +14,8 @@ from .systems.base import ControlAffineSystem
 
 __all__ = ["simulate_segment", "RTOL", "ATOL"]
 
-RTOL = 1e-12
-ATOL = 1e-12
+RTOL = 3e-14
+ATOL = 3e-14
 
 
 def simulate_segment(system: ControlAffineSystem, x0, t0: float, t1: float, power_coefficients,

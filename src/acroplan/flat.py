@@ -1,0 +1,222 @@
+"""The flat-output planner for one acrobot segment.
+
+:math:`y = \\theta + F(\\varphi)` with :math:`F' = k/h` is a flat output: :math:`\\dot y = P_0/h(\\varphi)`.
+Any joint motion :math:`\\varphi(t)` with the right ends therefore reaches
+
+.. math::  \\theta(T) = \\theta(0) - [F(\\varphi_T) - F(\\varphi_0)] + P_0 \\int_0^T \\frac{dt}{h(\\varphi(t))},
+
+and planning a segment is **one scalar equation** :math:`I[\\varphi] = I^* :=
+(\\theta_T - \\theta_0 + F(\\varphi_T) - F(\\varphi_0))/P_0` for the joint motion, with no ODE to solve.
+
+We use the polynomial family, in :math:`s = t/T`,
+
+.. math::  \\varphi(s) = p + (\\varphi_0 - p)(1 - s)^N + (\\varphi_T - p)\\,s^N + \\sum_k a_k e_k(s),
+
+which leaves :math:`\\varphi_0`, moves to a dwell value :math:`p` and arrives at :math:`\\varphi_T`;
+the :math:`e_k` (:math:`s(1-s)^M`, :math:`s^2(1-s)^M/2` and their mirror images) impose the
+values and slopes of :math:`u = \\dot\\varphi` at the ends that the input conditions ask for. As
+:math:`N` grows, :math:`I \\to T/h(p)`, so the dwell :math:`p` is found by bracketing and Brent's
+method (``scipy.optimize.brentq``), for :math:`N` = 4, 6, 9, 13, 18 in turn. The integral is a
+Gauss-Legendre quadrature of 256 nodes of an analytic integrand.
+
+Where it does not apply: targets whose :math:`I^*` is closer to the extremes
+:math:`T/(M_1 \\pm |A_1|)` than a degree-:math:`N` dwell can get (those need the joint to stay at
+:math:`\\varphi = k\\pi`, where :math:`\\dot y` is extremal, for almost all of :math:`T`), and
+``P0 = 0`` (holonomic, refused before).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.polynomial import Legendre as _Leg
+from numpy.polynomial import Polynomial as _Poly
+from scipy.optimize import brentq
+
+from .reach import Limits
+from .systems.acrobot import Acrobot
+
+__all__ = ["flat_segment", "DEGREES"]
+
+DEGREES = (4, 6, 9, 13, 18)
+_X, _W = np.polynomial.legendre.leggauss(256)
+_S, _WS = (_X + 1) / 2, _W / 2
+
+
+def _family(phi0, phiT, p, N, T, ends):
+    """The joint motion phi(s) as a power-basis polynomial in s."""
+    one_minus = _Poly([1.0, -1.0])
+    s = _Poly([0.0, 1.0])
+    phi = p + (phi0 - p) * one_minus**N + (phiT - p) * s**N
+    if ends:
+        M = max(3, N)
+        e = {
+            "u0": s * one_minus**M, "du0": s**2 * one_minus**M / 2,
+            "uT": -(one_minus * s**M), "duT": one_minus**2 * s**M / 2,
+        }
+        # conditions in s-units: dphi/ds = T u, d2phi/ds2 = T^2 u'
+        d1, d2 = phi.deriv(), phi.deriv(2)
+        if "u0" in ends:
+            phi = phi + (T * ends["u0"] - d1(0.0)) * e["u0"]
+        if "du0" in ends:
+            phi = phi + (T * T * ends["du0"] - phi.deriv(2)(0.0)) * e["du0"]
+        if "uT" in ends:
+            phi = phi + (T * ends["uT"] - phi.deriv()(1.0)) / e["uT"].deriv()(1.0) * e["uT"]
+        if "duT" in ends:
+            phi = phi + (T * T * ends["duT"] - phi.deriv(2)(1.0)) / e["duT"].deriv(2)(1.0) * e["duT"]
+        del d1, d2
+    return phi
+
+
+def _integral(robot: Acrobot, phi: _Poly, T: float) -> float:
+    return T * float(np.sum(_WS / robot.h(phi(_S))))
+
+
+def flat_segment(robot: Acrobot, x0, x1, T: float, *, ends: dict | None = None, limits: Limits | None = None,
+                 degrees=DEGREES):
+    """Plan one segment through the flat output (module docstring).
+
+    Parameters
+    ----------
+    robot : Acrobot
+    x0, x1 : array_like, shape (2,)
+        :math:`(\\theta, \\varphi)` at the segment ends.
+    T : float
+    ends : dict, optional
+        Input conditions at the ends: any of ``u0``, ``du0``, ``uT``, ``duT``.
+    limits : Limits, optional
+        Joint limits restrict the dwell value :math:`p`; rate limits are not imposed here.
+
+    Returns
+    -------
+    (c, message) : (numpy.ndarray of shape (1, n) or None, str)
+        Legendre coefficients of :math:`u` on the segment (``n`` = degree of :math:`\\varphi`), or
+        ``None`` with the reason.
+    """
+    theta0, phi0 = float(x0[0]), float(x0[1])
+    thetaT, phiT = float(x1[0]), float(x1[1])
+    if robot.P0 == 0.0:
+        return None, "P0 = 0: the flat output is constant (holonomic)"
+    target = (thetaT - theta0 + float(robot.F(phiT)) - float(robot.F(phi0))) / robot.P0
+    limits = limits or Limits()
+    mid = 0.5 * (phi0 + phiT)
+    lo = max(limits.lo, mid - math.pi - 0.5 * abs(phiT - phi0))
+    hi = min(limits.hi, mid + math.pi + 0.5 * abs(phiT - phi0))
+    grid = np.linspace(lo, hi, 73)
+    best = None
+    for N in degrees:
+        f = lambda p: _integral(robot, _family(phi0, phiT, p, N, T, ends), T) - target  # noqa: E731
+        vals = np.array([f(p) for p in grid])
+        idx = np.nonzero(np.sign(vals[:-1]) * np.sign(vals[1:]) <= 0)[0]
+        if idx.size == 0:
+            reach = (float(np.min(vals)), float(np.max(vals)))
+            best = (N, reach)
+            continue
+        # the bracket whose dwell is nearest the middle of the motion: the gentlest motion
+        k = idx[np.argmin(np.abs(grid[idx] - mid))]
+        p = brentq(f, grid[k], grid[k + 1], xtol=1e-15, rtol=1e-15, maxiter=200)
+        phi = _family(phi0, phiT, p, N, T, ends)
+        u_s = phi.deriv() / T  # u as a polynomial in s
+        leg = _Leg.cast(u_s, domain=[0.0, 1.0])
+        c = np.zeros(u_s.degree() + 1)
+        c[: leg.coef.size] = leg.coef
+        return c[None, :], f"flat output: dwell p = {p:.6g}, degree {N}"
+    N, (a, b) = best
+    return None, (f"the flat family up to degree {N} reaches int dt/h only in [{a + target:.6g}, {b + target:.6g}]"
+                  f", not the required {target:.6g} (the target is too close to the edge of the reachable "
+                  "interval for a polynomial dwell)")
+
+
+# ----------------------------------------------------------------------------------------- pieces
+#: relative durations of the two transitions tried, gentlest first
+TRANSITIONS = (0.3, 0.15, 0.07, 0.03, 0.012, 0.005, 0.002, 0.0008)
+
+
+def _quintic(q0, v0, a0, q1, v1, a1, D):
+    """The quintic on [0, D] (local time) with the given value, slope and curvature at both ends."""
+    # q(t) = sum_k c_k t^k; solve the 6x6 Hermite system
+    A = np.array([[1, 0, 0, 0, 0, 0], [0, 1, 0, 0, 0, 0], [0, 0, 2, 0, 0, 0],
+                  [1, D, D**2, D**3, D**4, D**5], [0, 1, 2 * D, 3 * D**2, 4 * D**3, 5 * D**4],
+                  [0, 0, 2, 6 * D, 12 * D**2, 20 * D**3]], dtype=float)
+    return _Poly(np.linalg.solve(A, [q0, v0, a0, q1, v1, a1]))
+
+
+def _gl_integral(robot, q: _Poly, D: float) -> float:
+    return D * float(np.sum(_WS / robot.h(q(D * _S))))
+
+
+def flat_pieces(robot: Acrobot, x0, x1, T: float, *, ends: dict | None = None, limits: Limits | None = None):
+    """Plan one segment as three joint-motion pieces: move, dwell, move (module docstring, below).
+
+    The joint leaves :math:`\\varphi_0` along a quintic (honouring ``u0``, ``du0``) and reaches the
+    dwell value :math:`p` with zero rate and curvature in time :math:`\\delta T`, stays at
+    :math:`p`, and reaches :math:`\\varphi_T` along a quintic (honouring ``uT``, ``duT``) in the
+    last :math:`\\delta T`. For each :math:`\\delta` in :data:`TRANSITIONS` (gentlest first) the dwell
+    value solving the flat-output equation is found by Brent's method; the first that brackets the
+    target and keeps the limits is used. As :math:`\\delta \\to 0` this approaches the
+    bang-dwell-bang extremal motions of :mod:`acroplan.reach`, so every target strictly inside the
+    reachable interval is reached for a small enough :math:`\\delta`.
+
+    Returns
+    -------
+    (pieces, message)
+        ``pieces``: list of ``(duration, u_power_coefficients)`` with ``u`` in the power basis of
+        the piece's local time (4 coefficients... up to degree 4), or ``None`` with the reason.
+    """
+    from .constrained import COMPLIANCE_TOL
+
+    theta0, phi0 = float(x0[0]), float(x0[1])
+    thetaT, phiT = float(x1[0]), float(x1[1])
+    if robot.P0 == 0.0:
+        return None, "P0 = 0: the flat output is constant (holonomic)"
+    ends = dict(ends or {})
+    u0, du0 = ends.get("u0", 0.0), ends.get("du0", 0.0)
+    uT, duT = ends.get("uT", 0.0), ends.get("duT", 0.0)
+    target = (thetaT - theta0 + float(robot.F(phiT)) - float(robot.F(phi0))) / robot.P0
+    limits = limits or Limits()
+    mid = 0.5 * (phi0 + phiT)
+    lo = max(limits.lo, min(phi0, phiT) - math.pi)
+    hi = min(limits.hi, max(phi0, phiT) + math.pi)
+    grid = np.linspace(lo, hi, 97)
+    last = "no transition duration worked"
+    for rel in TRANSITIONS:
+        D = rel * T
+
+        def build(p):
+            A = _quintic(phi0, u0, du0, p, 0.0, 0.0, D)
+            C = _quintic(p, 0.0, 0.0, phiT, uT, duT, D)
+            return A, C
+
+        def f(p):
+            A, C = build(p)
+            return _gl_integral(robot, A, D) + (T - 2 * D) / robot.h(p) + _gl_integral(robot, C, D) - target
+
+        vals = np.array([f(p) for p in grid])
+        idx = np.nonzero(np.sign(vals[:-1]) * np.sign(vals[1:]) <= 0)[0]
+        if idx.size == 0:
+            last = (f"with transitions of {rel:g} T the dwell reaches int dt/h in [{vals.min() + target:.6g}, "
+                    f"{vals.max() + target:.6g}], not {target:.6g}")
+            continue
+        for k in idx[np.argsort(np.abs(grid[idx] - mid))]:
+            p = brentq(f, grid[k], grid[k + 1], xtol=1e-15, rtol=1e-15, maxiter=200)
+            A, C = build(p)
+            pieces = [(D, A.deriv().coef), (T - 2 * D, np.zeros(1)), (D, C.deriv().coef)]
+            # limits, exactly: extremes of u at roots of u', of phi at roots of u
+            bad = False
+            for (dur, coef), q in zip((pieces[0], pieces[2]), (A, C)):
+                u = _Poly(coef)
+                pts = np.concatenate([[0.0, dur], [r.real for r in u.deriv().roots() if abs(r.imag) < 1e-12
+                                                   and 0 <= r.real <= dur]])
+                if limits.u_max is not None and np.max(np.abs(u(pts))) > limits.u_max - COMPLIANCE_TOL:
+                    bad = True
+                qp = np.concatenate([[0.0, dur], [r.real for r in u.roots() if abs(r.imag) < 1e-12
+                                                  and 0 <= r.real <= dur]])
+                if np.min(q(qp)) < limits.lo - COMPLIANCE_TOL or np.max(q(qp)) > limits.hi + COMPLIANCE_TOL:
+                    bad = True
+            if bad:
+                last = f"with transitions of {rel:g} T the motion breaks the joint or rate limits"
+                continue
+            return [pc for pc in pieces if pc[0] > 0], f"flat output, three pieces: dwell p = {p:.6g}, " \
+                                                       f"transitions of {rel:g} T"
+    return None, f"the three-piece flat motion found no solution: {last}"
