@@ -68,10 +68,7 @@ def plan_cmd(problem, example, out, force, no_plots, quiet):
       acroplan plan my-dive.toml --out my-dive-out --force
     """
     try:
-        if (problem is None) == (example is None):
-            raise InvalidInputError("PROBLEM", "give either a problem file or --example NAME, not both or neither",
-                                    "for example: acroplan plan --example pike-dive --out out")
-        prob = _examples.load(example) if example is not None else load_problem(problem)
+        prob = _load(problem, example)
         check_out_dir(out, force)
         result = prob.solve(verify=True)
         with atomic_dir(out, force) as tmp:
@@ -90,6 +87,59 @@ def plan_cmd(problem, example, out, force, no_plots, quiet):
         click.echo(result.message)
         click.echo(f"wrote {out}/")
     sys.exit(code)
+
+
+@main.command("reach")
+@click.argument("problem", required=False, type=click.Path(dir_okay=False, path_type=Path))
+@click.option("--example", metavar="NAME", help="Use a bundled example instead of a PROBLEM file.")
+@click.option("--out", "out", required=True, type=click.Path(file_okay=False, path_type=Path),
+              help="Output folder (created; written atomically).")
+@click.option("--force", is_flag=True, help="Replace a non-empty output folder.")
+def reach_cmd(problem, example, out, force):
+    """Write the exact reachable interval of theta(T) for every segment of PROBLEM.
+
+    \b
+    Writes to OUT:
+      reach.json   per segment: the interval without limits and with the problem's limits,
+                   the target, and whether it is reachable
+      reach.png    the reachable band of theta(T) over phi(T) for each segment, target marked
+    Exit code 0 when every target is reachable, 3 when one is not (the outputs are written).
+
+    \b
+    Example:
+      acroplan reach --example pike-dive-limited --out reach-out
+    """
+    import matplotlib.pyplot as plt
+
+    from .plotting import plot_reach
+
+    try:
+        prob = _load(problem, example)
+        check_out_dir(out, force)
+        rows = prob.reach()
+        with atomic_dir(out, force) as tmp:
+            (tmp / "reach.json").write_text(json.dumps({"segments": rows}, indent=2) + "\n", encoding="utf-8")
+            fig = plot_reach(prob)
+            try:
+                fig.savefig(tmp / "reach.png", dpi=120)
+            finally:
+                plt.close(fig)
+    except InvalidInputError as e:
+        _fail(str(e))
+    for r in rows:
+        iv = r["interval_with_limits"]
+        state = "reachable" if r["reachable"] else "NOT reachable"
+        ends = "none" if iv is None else f"[{iv[0]:.9g}, {iv[1]:.9g}]"
+        click.echo(f"segment {r['index']} [{r['t0']:g}, {r['t1']:g}]: theta(T) in {ends}; target "
+                   f"{r['target_theta']:.9g} {state}")
+    sys.exit(EXIT_SUCCESS if all(r["reachable"] for r in rows) else EXIT_INFEASIBLE)
+
+
+def _load(problem, example):
+    if (problem is None) == (example is None):
+        raise InvalidInputError("PROBLEM", "give either a problem file or --example NAME, not both or neither",
+                                "for example: --example pike-dive")
+    return _examples.load(example) if example is not None else load_problem(problem)
 
 
 def _write_csv(result, path: Path, per_segment: int = 200) -> None:

@@ -11,6 +11,7 @@ __all__ = ["names", "load", "robot", "text"]
 
 _DESCRIPTIONS = {
     "pike-dive": "Chapter 3: straight -> pike -> 3.5 somersaults -> straight, 5 segments, spline conditions",
+    "pike-dive-limited": "the pike dive with phi kept in [-2 pi, -pi] (never folding past flat), free conditions",
 }
 
 

@@ -203,11 +203,18 @@ def plan(system: ControlAffineSystem, *, times, conditions: str = "spline", meth
     if conditions == "spline":
         splines = [CubicSpline(t, X[:, system.state_names.index(system.rate_inputs[name])], bc_type="clamped")
                    for name in system.input_names]
+        proof = _spline_against_limits(system, splines, t, X, limits)
+        if proof:
+            return PlanResult("infeasible", "infeasible: " + proof["reason"], infeasible=(proof,), **common)
     segments: list[SegmentResult] = []
     prev_end_input = None
     for k in range(K):
         T = float(t[k + 1] - t[k])
         ends = _end_values(m, k, conditions, splines, t, prev_end_input)
+        if conditions == "free" and limits.active and _at_limit(system, X[k + 1], limits) and k + 1 < K:
+            # an interior waypoint on a joint limit: the joint must arrive there at rest, else the
+            # continuous input carries it out of the limits in the next interval
+            ends = {**ends, "uT": np.zeros(m)}
         pieces, ok, why = _solve_interval(system, b, sizes, X[k], X[k + 1], T, ends, limits, method, tol,
                                           max_evaluations)
         for i, piece in enumerate(pieces):
@@ -245,6 +252,33 @@ def plan(system: ControlAffineSystem, *, times, conditions: str = "spline", meth
     return PlanResult("success", f"success: {K} segment(s), max endpoint error "
                       f"{max(s.final_error for s in checked):.2e}, independently verified to {worst:.2e}",
                       segments=tuple(checked), verified=True, **common)
+
+
+def _at_limit(system, x, limits, tol=1e-12):
+    if limits.phi_min is None and limits.phi_max is None:
+        return False
+    q = float(x[system.state_names.index(limits.state)])
+    return abs(q - limits.lo) <= tol * max(1.0, abs(q)) or abs(q - limits.hi) <= tol * max(1.0, abs(q))
+
+
+def _spline_against_limits(system, splines, t, X, limits):
+    """Spline conditions fix u at every waypoint; prove when that breaks the limits."""
+    if not limits.active:
+        return None
+    for j, (name, sp_) in enumerate(zip(system.input_names, splines)):
+        for k, tk in enumerate(t):
+            u = float(sp_(tk, 1))
+            if limits.u_max is not None and abs(u) > limits.u_max:
+                return {"index": k, "t0": float(tk), "t1": float(tk), "field": name, "interval": None,
+                        "reason": f"conditions=\"spline\" sets {name}(t = {tk:g}) = {u:.6g}, beyond u_max = "
+                                  f"{limits.u_max:g}; use conditions=\"free\" or a larger u_max"}
+            if system.rate_inputs.get(name) == limits.state and _at_limit(system, X[k], limits) and abs(u) > 1e-12:
+                q = X[k, system.state_names.index(limits.state)]
+                return {"index": k, "t0": float(tk), "t1": float(tk), "field": limits.state, "interval": None,
+                        "reason": f"conditions=\"spline\" sets {name}(t = {tk:g}) = {u:.6g} at the waypoint where "
+                                  f"{limits.state} = {q:.12g} is on its joint limit, so the joint leaves the limits "
+                                  f"on one side; use conditions=\"free\""}
+    return None
 
 
 def _fmt(x, system):

@@ -68,3 +68,49 @@ def plot_result(result, *, per_segment: int = 200):
     """Both figures: ``{"input": fig1, "states": fig2}``."""
     samples = result.sample(per_segment)
     return {"input": plot_input(result, samples), "states": plot_states(result, samples)}
+
+
+def plot_reach(problem, *, samples: int = 241):
+    """The reachable band of :math:`\\theta(T)` over :math:`\\varphi(T)`, one panel per segment.
+
+    Each panel shows, for the segment's start state and duration, the exact reachable
+    :math:`\\theta(T)` as a function of the final joint angle (unbounded input, light; under the
+    problem's limits, dark) and the requested target.
+    """
+    from .reach import Limits, reachable_set
+
+    plt = _plt()
+    robot = problem.robot
+    lim = problem.limits
+    K = len(problem.times) - 1
+    cols = min(K, 3)
+    rows = (K + cols - 1) // cols
+    fig, axes = plt.subplots(rows, cols, figsize=(4.4 * cols, 3.6 * rows), squeeze=False, constrained_layout=True)
+    for k in range(K):
+        ax = axes[k // cols][k % cols]
+        T = problem.times[k + 1] - problem.times[k]
+        th0, ph0 = problem.theta[k], problem.phi[k]
+        lo_p = lim.lo if lim.phi_min is not None else ph0 - 2 * np.pi
+        hi_p = lim.hi if lim.phi_max is not None else ph0 + 2 * np.pi
+        lo_p, hi_p = min(lo_p, problem.phi[k + 1]), max(hi_p, problem.phi[k + 1])
+        phis = np.linspace(lo_p, hi_p, samples)
+        free = np.array([[reachable_set(robot, theta0=th0, phi0=ph0, phiT=p, T=T).low,
+                          reachable_set(robot, theta0=th0, phi0=ph0, phiT=p, T=T).high] for p in phis])
+        ax.fill_between(phis, free[:, 0], free[:, 1], color="C0", alpha=0.2, lw=0, label="reachable (no limits)")
+        if lim.active:
+            R = [reachable_set(robot, theta0=th0, phi0=ph0, phiT=p, T=T, limits=lim) for p in phis]
+            ok = np.array([not r.empty for r in R])
+            band = np.array([[r.low, r.high] for r in R])
+            ax.fill_between(phis, np.where(ok, band[:, 0], np.nan), np.where(ok, band[:, 1], np.nan), color="C0",
+                            alpha=0.55, lw=0, label="reachable within limits")
+        ax.plot([problem.phi[k + 1]], [problem.theta[k + 1]], marker="*", ms=13, color="C3", ls="none",
+                label="target")
+        ax.set_title(f"segment {k}: t ∈ [{problem.times[k]:g}, {problem.times[k + 1]:g}]")
+        ax.set_xlabel("φ(T) [rad]")
+        ax.set_ylabel("θ(T) [rad]")
+        ax.grid(alpha=0.3)
+        if k == 0:
+            ax.legend(fontsize=8, loc="best")
+    for k in range(K, rows * cols):
+        axes[k // cols][k % cols].set_visible(False)
+    return fig

@@ -76,6 +76,34 @@ class Problem:
         return plan(self.robot, times=self.times, theta=self.theta, phi=self.phi, conditions=self.conditions,
                     verify=verify, **self.options)
 
+    @property
+    def limits(self):
+        """The problem's :class:`~acroplan.reach.Limits`."""
+        from .reach import Limits
+
+        return Limits(**{k: self.options[k] for k in ("phi_min", "phi_max", "u_max") if k in self.options})
+
+    def reach(self) -> list[dict]:
+        """The exact reachable interval of every segment, without and with the limits."""
+        from .reach import reachable_set
+
+        out = []
+        for k in range(len(self.times) - 1):
+            T = self.times[k + 1] - self.times[k]
+            kw = dict(theta0=self.theta[k], phi0=self.phi[k], phiT=self.phi[k + 1], T=T)
+            free = reachable_set(self.robot, **kw)
+            lim = reachable_set(self.robot, **kw, limits=self.limits) if self.limits.active else free
+            target = self.theta[k + 1]
+            out.append({
+                "index": k, "t0": self.times[k], "t1": self.times[k + 1], "theta0": self.theta[k],
+                "phi0": self.phi[k], "phiT": self.phi[k + 1], "target_theta": target,
+                "interval": [free.low, free.high], "interval_closed": free.closed,
+                "interval_with_limits": None if lim.empty else [lim.low, lim.high],
+                "with_limits_closed": lim.closed, "empty_reason": lim.reason or None,
+                "reachable": lim.contains(target),
+            })
+        return out
+
 
 _OPS = {ast.Add: operator.add, ast.Sub: operator.sub, ast.Mult: operator.mul, ast.Div: operator.truediv,
         ast.USub: operator.neg, ast.UAdd: operator.pos, ast.Pow: operator.pow}
