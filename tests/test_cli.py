@@ -164,3 +164,49 @@ def test_readme_problem_file_is_valid_and_feasible(tmp_path):
     out = tmp_path / "out"
     res = run(["plan", write(tmp_path, block), "--out", str(out), "--no-plots"])
     assert res.exit_code == 0, res.output
+
+
+def test_reach_command(tmp_path):
+    out = tmp_path / "r"
+    res = run(["reach", "--example", "pike-dive-limited", "--out", str(out)])
+    assert res.exit_code == 0, res.output
+    data = json.loads((out / "reach.json").read_text())
+    assert len(data["segments"]) == 5 and all(s["reachable"] for s in data["segments"])
+    assert (out / "reach.png").read_bytes()[:4] == b"\x89PNG"
+    res = run(["reach", write(tmp_path, GOOD.format(theta=50.0)), "--out", str(tmp_path / "r2")])
+    assert res.exit_code == 3 and "NOT reachable" in res.output
+    assert (tmp_path / "r2" / "reach.json").exists()
+
+
+def test_limits_in_the_problem_file(tmp_path):
+    text = GOOD.format(theta=1.0).replace('conditions = "spline"', 'conditions = "free"')
+    text += "\n[limits]\nphi_min = \"-pi\"\nphi_max = 0.0\nu_max = 20.0\n"
+    out = tmp_path / "out"
+    res = run(["plan", write(tmp_path, text), "--out", str(out), "--no-plots"])
+    assert res.exit_code == 0, res.output
+    sol = json.loads((out / "solution.json").read_text())
+    assert sol["limits"]["u_max"] == 20.0
+    assert all(s["max_abs_u"] <= 20.0 + 1e-9 for s in sol["segments"])
+    assert all(-np.pi - 1e-9 <= v <= 1e-9 for s in sol["segments"] for v in s["state_range"])
+
+
+@pytest.mark.parametrize("limits, match", [
+    ("u_max = -1.0", "limits.u_max: must be > 0"),
+    ("u_max = nan", "limits.u_max: must be finite"),
+    ("phi_min = 1.0\nphi_max = 0.0", "limits.phi_min: must be < limits.phi_max"),
+    ("phi_min = -1.0", r"plan.phi: waypoint 0 \(phi = -3.14159265359\) is outside the joint limits"),
+    ("phi_mx = 1.0", "limits.phi_mx: is not a known key"),
+])
+def test_bad_limits_exit_2(tmp_path, limits, match):
+    text = GOOD.format(theta=1.0) + f"\n[limits]\n{limits}\n"
+    res = run(["plan", write(tmp_path, text), "--out", str(tmp_path / "o")])
+    assert res.exit_code == 2
+    import re
+
+    assert re.search(match, res.output), res.output
+
+
+def test_limits_that_make_it_impossible_exit_3(tmp_path):
+    text = GOOD.format(theta=2.0) + "\n[limits]\nu_max = 2.0\n"
+    res = run(["plan", write(tmp_path, text), "--out", str(tmp_path / "o")])
+    assert res.exit_code == 3 and "under the joint and rate limits" in res.output
