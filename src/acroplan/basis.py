@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import abc
 import dataclasses
+import functools
 
 import numpy as np
 from numpy.polynomial import Legendre as _Leg
@@ -43,12 +44,16 @@ class InputBasis(abc.ABC):
         object.__setattr__(self, "n", int(self.n))
 
     @abc.abstractmethod
-    def to_power_s(self, c: np.ndarray) -> np.ndarray:
-        """Coefficients ``q`` with :math:`\\sum_i c_i b_i(s) = \\sum_i q_i s^i`; shape ``(n,)``."""
+    def power_matrix(self) -> np.ndarray:
+        """``P`` with :math:`\\sum_i c_i b_i(s) = \\sum_k (P c)_k s^k`; shape ``(n, n)``."""
 
     @abc.abstractmethod
     def expression(self, s, c):
         """The series :math:`\\sum_i c_i b_i(s)` built from heyoka expressions ``s`` and ``c[i]``."""
+
+    def to_power_s(self, c) -> np.ndarray:
+        """Coefficients ``q`` with :math:`\\sum_i c_i b_i(s) = \\sum_i q_i s^i`; same shape as ``c``."""
+        return np.asarray(c, dtype=float) @ self.power_matrix().T
 
     def matrix(self, s, derivative: int = 0) -> np.ndarray:
         """Values of :math:`d^k b_i / ds^k` at ``s``.
@@ -63,23 +68,16 @@ class InputBasis(abc.ABC):
         numpy.ndarray, shape (N, n)
         """
         s = np.atleast_1d(np.asarray(s, dtype=float))
-        out = np.empty((s.size, self.n))
-        for i in range(self.n):
-            e = np.zeros(self.n)
-            e[i] = 1.0
-            q = _Poly(self.to_power_s(e)).deriv(derivative) if derivative else _Poly(self.to_power_s(e))
-            out[:, i] = q(s)
-        return out
+        P = self.power_matrix()
+        if derivative:
+            P = _power_derivative(self.n, derivative) @ P
+        return np.vander(s, self.n, increasing=True) @ P
 
     def integral(self, s) -> np.ndarray:
         """Values of :math:`\\int_0^s b_i(\\sigma)\\,d\\sigma`; shape ``(N, n)``."""
         s = np.atleast_1d(np.asarray(s, dtype=float))
-        out = np.empty((s.size, self.n))
-        for i in range(self.n):
-            e = np.zeros(self.n)
-            e[i] = 1.0
-            out[:, i] = _Poly(self.to_power_s(e)).integ()(s)
-        return out
+        k = np.arange(1, self.n + 1)
+        return (np.vander(s, self.n + 1, increasing=True)[:, 1:] / k) @ self.power_matrix()
 
     def gram(self) -> np.ndarray:
         """:math:`\\int_0^1 b_i b_k\\,ds`, shape ``(n, n)`` (Gauss-Legendre, exact)."""
@@ -99,11 +97,35 @@ class InputBasis(abc.ABC):
         -------
         numpy.ndarray, same shape as ``c``: :math:`u(\\tau) = \\sum_i p_i \\tau^i`.
         """
-        c = np.asarray(c, dtype=float)
-        if c.ndim == 2:
-            return np.array([self.to_power(row, T) for row in c])
-        q = self.to_power_s(c)
-        return q / float(T) ** np.arange(self.n)
+        return self.to_power_s(c) / float(T) ** np.arange(self.n)
+
+
+@functools.cache
+def _power_derivative(n: int, k: int) -> np.ndarray:
+    """Matrix of d^k/ds^k acting on power coefficients (n x n)."""
+    D = np.zeros((n, n))
+    for i in range(1, n):
+        D[i - 1, i] = i
+    return np.linalg.matrix_power(D, k)
+
+
+@functools.cache
+def _legendre_power(n: int) -> np.ndarray:
+    P = np.zeros((n, n))
+    for i in range(n):
+        e = np.zeros(i + 1)
+        e[i] = 1.0
+        q = _Leg(e, domain=[0.0, 1.0]).convert(kind=_Poly, domain=[0.0, 1.0], window=[0.0, 1.0]).coef
+        P[: q.size, i] = q
+    P.setflags(write=False)
+    return P
+
+
+@functools.cache
+def _legendre_inverse(n: int) -> np.ndarray:
+    Q = np.linalg.inv(_legendre_power(n))
+    Q.setflags(write=False)
+    return Q
 
 
 def from_power(basis_cls, p, T: float) -> np.ndarray:
@@ -112,10 +134,7 @@ def from_power(basis_cls, p, T: float) -> np.ndarray:
     q = p * float(T) ** np.arange(p.size)  # power basis in s = tau / T
     if basis_cls is Monomial:
         return q
-    leg = _Leg.cast(_Poly(q), domain=[0.0, 1.0])
-    out = np.zeros(p.size)
-    out[: leg.coef.size] = leg.coef
-    return out
+    return _legendre_inverse(p.size) @ q
 
 
 @dataclasses.dataclass(frozen=True)
@@ -124,8 +143,8 @@ class Monomial(InputBasis):
 
     name = "monomial"
 
-    def to_power_s(self, c):
-        return np.array(c, dtype=float)
+    def power_matrix(self):
+        return np.eye(self.n)
 
     def expression(self, s, c):
         # Horner form: time**i gives non-finite Taylor coefficients at s = 0 (NOTES.md).
@@ -145,12 +164,8 @@ class Legendre(InputBasis):
 
     name = "legendre"
 
-    def to_power_s(self, c):
-        p = _Leg(np.asarray(c, dtype=float), domain=[0.0, 1.0]).convert(kind=_Poly, domain=[0.0, 1.0],
-                                                                        window=[0.0, 1.0])
-        out = np.zeros(self.n)
-        out[: p.coef.size] = p.coef
-        return out
+    def power_matrix(self):
+        return _legendre_power(self.n)
 
     def expression(self, s, c):
         x = 2.0 * s - 1.0

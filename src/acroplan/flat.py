@@ -220,3 +220,64 @@ def flat_pieces(robot: Acrobot, x0, x1, T: float, *, ends: dict | None = None, l
             return [pc for pc in pieces if pc[0] > 0], f"flat output, three pieces: dwell p = {p:.6g}, " \
                                                        f"transitions of {rel:g} T"
     return None, f"the three-piece flat motion found no solution: {last}"
+
+
+# ----------------------------------------------------------------------------------------- guesses
+_XG, _WG = np.polynomial.legendre.leggauss(64)
+_SG, _WSG = (_XG + 1) / 2, _WG / 2
+
+
+def initial_guess(robot: Acrobot, basis, x0, x1, T: float, ends: dict | None = None):
+    """A start for path deformation from the flat output, or ``None``.
+
+    The joint motion :math:`\\varphi(s) = \\varphi_h(s) + a\\,w(s)`: :math:`\\varphi_h` is the
+    lowest-degree polynomial meeting the end values of :math:`\\varphi` and the given end conditions
+    on :math:`u, u'`, and :math:`w = s^{\\alpha}(1-s)^{\\beta}` vanishes with them. The amplitude
+    :math:`a` solving the flat-output equation (or, failing a bracket, coming closest) is found on
+    a grid and by Brent's method. The guess meets :math:`\\varphi(T)` and the input conditions
+    exactly, and :math:`\\theta(T)` too when bracketed, so the continuation path is short or empty.
+
+    Returns
+    -------
+    numpy.ndarray, shape (1, basis.n), or None when the family does not fit in the basis.
+    """
+    ends = dict(ends or {})
+    theta0, phi0 = float(x0[0]), float(x0[1])
+    thetaT, phiT = float(x1[0]), float(x1[1])
+    if robot.P0 == 0.0:
+        return None
+    rows, rhs = [], []
+    left = [k for k in ("u0", "du0") if k in ends]
+    right = [k for k in ("uT", "duT") if k in ends]
+    deg = 1 + len(left) + len(right)
+    alpha, beta = 1 + len(left), 1 + len(right)
+    if max(deg, alpha + beta) - 1 > basis.n - 1:
+        return None
+    k = np.arange(deg + 1)
+    rows.append((0.0 ** k))
+    rhs.append(phi0)
+    rows.append(np.ones(deg + 1))
+    rhs.append(phiT)
+    for key, s0, order, scale in (("u0", 0.0, 1, T), ("du0", 0.0, 2, T * T), ("uT", 1.0, 1, T),
+                                  ("duT", 1.0, 2, T * T)):
+        if key in ends:
+            rows.append(np.array([_Poly(np.eye(deg + 1)[i]).deriv(order)(s0) for i in range(deg + 1)]))
+            rhs.append(scale * float(ends[key]))
+    phi_h = _Poly(np.linalg.solve(np.array(rows, dtype=float), np.array(rhs, dtype=float)))
+    w = _Poly([0.0, 1.0]) ** alpha * _Poly([1.0, -1.0]) ** beta
+    target = (thetaT - theta0 + float(robot.F(phiT)) - float(robot.F(phi0))) / robot.P0
+    wmax = float(np.max(np.abs(w(_SG))))
+    amps = np.linspace(-4 * np.pi, 4 * np.pi, 161) / wmax
+    PH, W = phi_h(_SG), w(_SG)
+    vals = T * (1.0 / robot.h(PH[None, :] + amps[:, None] * W[None, :])) @ _WSG - target
+    idx = np.nonzero(np.sign(vals[:-1]) * np.sign(vals[1:]) <= 0)[0]
+    if idx.size:
+        kk = idx[np.argmin(np.abs(amps[idx]))]
+        f = lambda a: T * float((1.0 / robot.h(PH + a * W)) @ _WSG) - target  # noqa: E731
+        a = brentq(f, amps[kk], amps[kk + 1], xtol=1e-14, rtol=1e-14)
+    else:
+        a = amps[int(np.argmin(np.abs(vals)))]
+    u_s = (phi_h + a * w).deriv() / T
+    q = np.zeros(basis.n)
+    q[: u_s.coef.size] = u_s.coef
+    return np.linalg.solve(basis.power_matrix(), q)[None, :]

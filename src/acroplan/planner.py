@@ -344,7 +344,13 @@ def _solve_interval(system, b, sizes, x0, x1, T, ends, limits, method, tol, max_
         for n in sizes:
             bn = type(b)(n)
             B, d = _linear_conditions(bn, m, T, ends)
-            out = solve_segment(system, bn, x0, x1, T, B=B, d=d, tol=tol, max_evaluations=max_evaluations)
+            guess = None
+            if method == "auto" and hasattr(system, "F"):
+                from .flat import initial_guess
+
+                guess = initial_guess(system, bn, x0, x1, T, {key: float(v[0]) for key, v in ends.items()})
+            out = solve_segment(system, bn, x0, x1, T, B=B, d=d, tol=tol, max_evaluations=max_evaluations,
+                                initial=guess)
             info = dict(iterations=out.iterations, evaluations=out.evaluations, restarts=out.restarts,
                         sigma_min=out.sigma_min, history=out.history)
             if out.success and _compliant(system, bn, x0, T, out.coefficients, limits):
