@@ -6,7 +6,8 @@ Models
     :class:`Acrobot`, :class:`PhysicalParameters`, :class:`Unicycle`,
     :class:`ControlAffineSystem` (the interface for your own systems).
 Planning
-    :func:`plan` (path deformation through waypoints), :class:`PlanResult`,
+    :func:`plan` (path deformation through waypoints), :func:`plan_many` (batches),
+    :class:`PlanResult`,
     :class:`SegmentResult`, :class:`Samples`.
 Feasibility
     :func:`reachable_interval`.
@@ -21,6 +22,7 @@ Errors
 from . import examples
 from ._errors import InvalidInputError
 from .basis import InputBasis, Legendre, Monomial
+from .batch import plan_many
 from .planner import plan
 from .problem import Problem, load_problem
 from .reach import Limits, Reach, reachable_set
@@ -32,7 +34,7 @@ __version__ = "0.1.0"
 __all__ = [
     "Acrobot", "ControlAffineSystem", "Infeasibility", "InputBasis", "InvalidInputError", "Legendre",
     "Limits", "Monomial", "PhysicalParameters", "Reach", "reachable_set", "PlanResult", "Problem", "Samples", "SegmentResult", "Unicycle",
-    "examples", "load_problem", "plan", "reachable_interval",
+    "examples", "load_problem", "plan", "plan_many", "reachable_interval",
 ]
 
 

@@ -85,8 +85,28 @@ def linear_limits(system, basis: InputBasis, x0, T: float, limits: Limits, grid:
     return np.array(rows), np.array(rhs)
 
 
-def violation(system, basis: InputBasis, x0, T: float, c, limits: Limits, grid: int = 2001) -> dict:
+_GRID = np.linspace(0.0, 1.0, 1025)
+_P = np.polynomial.polynomial
+
+
+def _extremes(p: np.ndarray, crit: np.ndarray):
+    """Min and max of the power series ``p`` on [0, 1], given the power series whose roots are its
+    critical points (exact), and on a dense grid."""
+    nz = np.flatnonzero(crit)
+    if nz.size and nz[-1] > 0:
+        r = _P.polyroots(crit[: nz[-1] + 1])
+        real = r.real[(np.abs(r.imag) < 1e-9) & (r.real >= 0.0) & (r.real <= 1.0)]
+    else:
+        real = np.zeros(0)
+    vals = np.concatenate([_P.polyval(_GRID, p), _P.polyval(real, p)])
+    return float(np.min(vals)), float(np.max(vals))
+
+
+def violation(system, basis: InputBasis, x0, T: float, c, limits: Limits) -> dict:
     """Exact limit violations of one segment (0 when compliant).
+
+    The extremes of the polynomial :math:`u` lie at the roots of :math:`u'` and the ends, those of
+    the joint angle at the roots of :math:`u` and the ends; a grid of 2001 points is checked too.
 
     Returns
     -------
@@ -95,24 +115,19 @@ def violation(system, basis: InputBasis, x0, T: float, c, limits: Limits, grid: 
         limits; ``max_abs_u``, ``state_range``: the extremes found.
     """
     c = np.asarray(c, dtype=float).reshape(system.n_inputs, basis.n)
-    s = np.linspace(0.0, 1.0, grid)
     out = {"u": 0.0, "state": 0.0, "max_abs_u": 0.0, "state_range": None}
+    Q = basis.to_power_s(c)  # (m, n) power series in s
     for j in range(system.n_inputs):
-        p = np.polynomial.Polynomial(basis.to_power_s(c[j]))
-        r = p.deriv().roots() if basis.n > 1 else np.zeros(0)
-        pts = np.concatenate([s, [0.0, 1.0], r.real[(np.abs(r.imag) < 1e-9) & (r.real >= 0) & (r.real <= 1)]])
-        out["max_abs_u"] = max(out["max_abs_u"], float(np.max(np.abs(p(pts)))))
+        lo, hi = _extremes(Q[j], _P.polyder(Q[j]) if basis.n > 1 else np.zeros(1))
+        out["max_abs_u"] = max(out["max_abs_u"], abs(lo), abs(hi))
     if limits.u_max is not None:
         out["u"] = max(0.0, out["max_abs_u"] - limits.u_max)
     b = _bounded(system, limits)
     if b is not None:
         j, i = b
-        p = np.polynomial.Polynomial(basis.to_power_s(c[j]))
-        q = p.integ() * T + float(x0[i])
-        r = p.roots()
-        pts = np.concatenate([s, [0.0, 1.0], r.real[(np.abs(r.imag) < 1e-9) & (r.real >= 0) & (r.real <= 1)]])
-        vals = q(pts)
-        lo, hi = float(np.min(vals)), float(np.max(vals))
+        q = T * _P.polyint(Q[j])
+        q[0] += float(x0[i])
+        lo, hi = _extremes(q, Q[j])
         out["state_range"] = (lo, hi)
         out["state"] = max(0.0, limits.lo - lo, hi - limits.hi)
     return out

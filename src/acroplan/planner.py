@@ -17,8 +17,9 @@ Methods (per waypoint interval):
   limits are given and broken, a constrained solve (:mod:`acroplan.constrained`);
 * ``"flat"`` (acrobot): the flat-output planner (:mod:`acroplan.flat`): three pieces, move, dwell,
   move, exact up to a scalar root;
-* ``"auto"`` (default): path deformation, with more coefficients when it stalls (unless
-  ``n_coefficients`` is given), then the flat-output planner.
+* ``"auto"`` (default): path deformation from a flat-output initial guess (budget
+  :data:`AUTO_BUDGET` evaluations), then the flat-output planner, then path deformation with more
+  coefficients (unless ``n_coefficients`` is given).
 
 Before any work, every segment is checked by the system's exact feasibility test
 (:meth:`ControlAffineSystem.check_segment`, with the limits); an impossible request is refused
@@ -50,6 +51,8 @@ CONDITIONS = ("spline", "free")
 METHODS = ("auto", "deform", "flat")
 #: basis sizes tried by method="auto" when n_coefficients is not given
 AUTO_SIZES = (6, 10, 14)
+#: evaluation budget per basis size under method="auto"
+AUTO_BUDGET = 100
 #: Largest endpoint error of the independent re-simulation that a successful plan may have.
 VERIFY_TOL = 1e-9
 
@@ -125,62 +128,10 @@ def plan(system: ControlAffineSystem, *, times, conditions: str = "spline", meth
     >>> res.status
     'success'
     """
-    if not isinstance(system, ControlAffineSystem):
-        raise InvalidInputError("system", f"must be a ControlAffineSystem, got {type(system).__name__}",
-                                "use for example acroplan.Acrobot(...)")
-    unknown = sorted(set(waypoints) - set(system.state_names))
-    if unknown:
-        raise InvalidInputError(unknown[0], "is not an option of plan() nor a state of "
-                                f"{type(system).__name__}",
-                                f"states are {list(system.state_names)}")
-    t = _vector("times", times)
-    if t.size < 2:
-        raise InvalidInputError("times", f"needs at least 2 values, got {t.size}", "give start and end times")
-    if np.any(np.diff(t) <= 0):
-        raise InvalidInputError("times", "must be strictly increasing", "sort the waypoints by time")
-    missing = [name for name in system.state_names if name not in waypoints]
-    if missing:
-        raise InvalidInputError(missing[0], "is missing", f"give one value per waypoint for every state "
-                                f"{list(system.state_names)}")
-    X = np.stack([_vector(name, waypoints[name], t.size) for name in system.state_names], axis=1)
-    if conditions not in CONDITIONS:
-        raise InvalidInputError("conditions", f"must be one of {list(CONDITIONS)}, got {conditions!r}",
-                                "use \"spline\" (the text's scheme) or \"free\"")
-    if conditions == "spline" and set(system.rate_inputs) != set(system.input_names):
-        raise InvalidInputError("conditions", f"\"spline\" needs every input to be the rate of a state, "
-                                f"which {type(system).__name__} does not have", "use conditions=\"free\"")
-    if method not in METHODS:
-        raise InvalidInputError("method", f"must be one of {list(METHODS)}, got {method!r}",
-                                "use \"auto\", \"deform\" (the text's) or \"flat\"")
-    if method == "flat" and not hasattr(system, "F"):
-        raise InvalidInputError("method", f"\"flat\" needs a flat output, which {type(system).__name__} does not "
-                                "provide", "use method=\"deform\"")
-    sizes = AUTO_SIZES if (n_coefficients is None and method == "auto") else None
-    if n_coefficients is None:
-        n_coefficients = AUTO_SIZES[0]
-    if isinstance(n_coefficients, bool) or not isinstance(n_coefficients, (int, np.integer)) or n_coefficients < 1:
-        raise InvalidInputError("n_coefficients", f"must be a whole number >= 1, got {n_coefficients!r}",
-                                "give for example 6")
-    sizes = sizes or (int(n_coefficients),)
-    b = make_basis(basis, int(n_coefficients))
-    if not (isinstance(tol, (int, float)) and math.isfinite(tol) and tol > 0):
-        raise InvalidInputError("tol", f"must be a positive number, got {tol!r}", "give for example 1e-10")
-    if isinstance(max_evaluations, bool) or not isinstance(max_evaluations, (int, np.integer)) or max_evaluations < 1:
-        raise InvalidInputError("max_evaluations", f"must be a whole number >= 1, got {max_evaluations!r}",
-                                "give for example 2000")
-    if not isinstance(verify, bool):
-        raise InvalidInputError("verify", f"must be True or False, got {verify!r}", "give a boolean")
-    limits = Limits(phi_min=phi_min, phi_max=phi_max, u_max=u_max)
-    if (phi_min is not None or phi_max is not None):
-        if "phi" not in system.state_names or "phi" not in system.rate_inputs.values():
-            raise InvalidInputError("phi_min", f"joint limits need a state phi whose rate is an input, which "
-                                    f"{type(system).__name__} does not have", "leave phi_min and phi_max out")
-        i = system.state_names.index("phi")
-        for k, v in enumerate(X[:, i]):
-            if not limits.lo <= v <= limits.hi:
-                raise InvalidInputError("phi", f"waypoint {k} (t = {t[k]:g}) has phi = {v:.12g}, outside the joint "
-                                        f"limits [{limits.lo:.12g}, {limits.hi:.12g}]",
-                                        "move the waypoint inside the limits or widen them")
+    v = _validated(system, times=times, conditions=conditions, method=method, basis=basis,
+                   n_coefficients=n_coefficients, u_max=u_max, phi_min=phi_min, phi_max=phi_max, verify=verify,
+                   tol=tol, max_evaluations=max_evaluations, waypoints=waypoints)
+    t, X, b, sizes, limits = v["t"], v["X"], v["b"], v["sizes"], v["limits"]
     common = dict(system=system, times=t, waypoints=X, conditions=conditions, basis=b,
                   limits=limits if limits.active else None)
     K = t.size - 1
@@ -281,6 +232,68 @@ def _spline_against_limits(system, splines, t, X, limits):
     return None
 
 
+def _validated(system, *, times, conditions, method, basis, n_coefficients, u_max, phi_min, phi_max, verify, tol,
+               max_evaluations, waypoints) -> dict:
+    """All of plan()'s input checks; returns the normalised inputs. Raises InvalidInputError."""
+    if not isinstance(system, ControlAffineSystem):
+        raise InvalidInputError("system", f"must be a ControlAffineSystem, got {type(system).__name__}",
+                                "use for example acroplan.Acrobot(...)")
+    unknown = sorted(set(waypoints) - set(system.state_names))
+    if unknown:
+        raise InvalidInputError(unknown[0], "is not an option of plan() nor a state of "
+                                f"{type(system).__name__}",
+                                f"states are {list(system.state_names)}")
+    t = _vector("times", times)
+    if t.size < 2:
+        raise InvalidInputError("times", f"needs at least 2 values, got {t.size}", "give start and end times")
+    if np.any(np.diff(t) <= 0):
+        raise InvalidInputError("times", "must be strictly increasing", "sort the waypoints by time")
+    missing = [name for name in system.state_names if name not in waypoints]
+    if missing:
+        raise InvalidInputError(missing[0], "is missing", f"give one value per waypoint for every state "
+                                f"{list(system.state_names)}")
+    X = np.stack([_vector(name, waypoints[name], t.size) for name in system.state_names], axis=1)
+    if conditions not in CONDITIONS:
+        raise InvalidInputError("conditions", f"must be one of {list(CONDITIONS)}, got {conditions!r}",
+                                "use \"spline\" (the text's scheme) or \"free\"")
+    if conditions == "spline" and set(system.rate_inputs) != set(system.input_names):
+        raise InvalidInputError("conditions", f"\"spline\" needs every input to be the rate of a state, "
+                                f"which {type(system).__name__} does not have", "use conditions=\"free\"")
+    if method not in METHODS:
+        raise InvalidInputError("method", f"must be one of {list(METHODS)}, got {method!r}",
+                                "use \"auto\", \"deform\" (the text's) or \"flat\"")
+    if method == "flat" and not hasattr(system, "F"):
+        raise InvalidInputError("method", f"\"flat\" needs a flat output, which {type(system).__name__} does not "
+                                "provide", "use method=\"deform\"")
+    sizes = AUTO_SIZES if (n_coefficients is None and method == "auto") else None
+    if n_coefficients is None:
+        n_coefficients = AUTO_SIZES[0]
+    if isinstance(n_coefficients, bool) or not isinstance(n_coefficients, (int, np.integer)) or n_coefficients < 1:
+        raise InvalidInputError("n_coefficients", f"must be a whole number >= 1, got {n_coefficients!r}",
+                                "give for example 6")
+    sizes = sizes or (int(n_coefficients),)
+    b = make_basis(basis, int(n_coefficients))
+    if not (isinstance(tol, (int, float)) and math.isfinite(tol) and tol > 0):
+        raise InvalidInputError("tol", f"must be a positive number, got {tol!r}", "give for example 1e-10")
+    if isinstance(max_evaluations, bool) or not isinstance(max_evaluations, (int, np.integer)) or max_evaluations < 1:
+        raise InvalidInputError("max_evaluations", f"must be a whole number >= 1, got {max_evaluations!r}",
+                                "give for example 2000")
+    if not isinstance(verify, bool):
+        raise InvalidInputError("verify", f"must be True or False, got {verify!r}", "give a boolean")
+    limits = Limits(phi_min=phi_min, phi_max=phi_max, u_max=u_max)
+    if (phi_min is not None or phi_max is not None):
+        if "phi" not in system.state_names or "phi" not in system.rate_inputs.values():
+            raise InvalidInputError("phi_min", f"joint limits need a state phi whose rate is an input, which "
+                                    f"{type(system).__name__} does not have", "leave phi_min and phi_max out")
+        i = system.state_names.index("phi")
+        for k, v in enumerate(X[:, i]):
+            if not limits.lo <= v <= limits.hi:
+                raise InvalidInputError("phi", f"waypoint {k} (t = {t[k]:g}) has phi = {v:.12g}, outside the joint "
+                                        f"limits [{limits.lo:.12g}, {limits.hi:.12g}]",
+                                        "move the waypoint inside the limits or widen them")
+    return dict(t=t, X=X, b=b, sizes=sizes, limits=limits)
+
+
 def _fmt(x, system):
     return "(" + ", ".join(f"{n} = {v:.6g}" for n, v in zip(system.state_names, x)) + ")"
 
@@ -340,56 +353,75 @@ def _solve_interval(system, b, sizes, x0, x1, T, ends, limits, method, tol, max_
     m = system.n_inputs
     reasons = []
     last_failed = None
-    if method in ("auto", "deform"):
-        for n in sizes:
-            bn = type(b)(n)
-            B, d = _linear_conditions(bn, m, T, ends)
-            guess = None
-            if method == "auto" and hasattr(system, "F"):
-                from .flat import initial_guess
 
-                guess = initial_guess(system, bn, x0, x1, T, {key: float(v[0]) for key, v in ends.items()})
-            out = solve_segment(system, bn, x0, x1, T, B=B, d=d, tol=tol, max_evaluations=max_evaluations,
-                                initial=guess)
-            info = dict(iterations=out.iterations, evaluations=out.evaluations, restarts=out.restarts,
-                        sigma_min=out.sigma_min, history=out.history)
-            if out.success and _compliant(system, bn, x0, T, out.coefficients, limits):
-                return [_segment(system, bn, x0, x1, T, out.coefficients, t0=0.0, final_error=out.final_error,
-                                 message=out.message, limits=limits, **info)], True, ""
-            if out.success:
-                ok, c, err, ev, msg = solve_with_limits(system, bn, x0, x1, T, limits, out.coefficients, B=B, d=d,
-                                                        tol=tol)
-                info["evaluations"] += ev
-                piece = _segment(system, bn, x0, x1, T, c, t0=0.0, final_error=err, success=ok, message=msg,
-                                 method="deform+limits", limits=limits, **info)
-                if ok:
-                    return [piece], True, ""
-                reasons.append(f"{n} coefficients: path deformation converged but broke the limits, and {msg}")
-                last_failed = piece
-            else:
-                reasons.append(f"{n} coefficients: {out.message}")
-                last_failed = _segment(system, bn, x0, x1, T, out.coefficients, t0=0.0, final_error=out.final_error,
-                                       success=False, message=out.message, limits=limits, **info)
-    if method in ("auto", "flat") and hasattr(system, "F"):
+    def deform(n):
+        nonlocal last_failed
+        bn = type(b)(n)
+        B, d = _linear_conditions(bn, m, T, ends)
+        guess = None
+        if method == "auto" and hasattr(system, "F"):
+            from .flat import initial_guess
+
+            guess = initial_guess(system, bn, x0, x1, T, {key: float(v[0]) for key, v in ends.items()})
+        # auto keeps a small budget per size: a continuation that needs hundreds of steps is
+        # better replaced by the next stage than finished (measured: benchmarks/RESULTS.md)
+        budget = min(max_evaluations, AUTO_BUDGET) if method == "auto" else max_evaluations
+        out = solve_segment(system, bn, x0, x1, T, B=B, d=d, tol=tol, max_evaluations=budget, initial=guess)
+        info = dict(iterations=out.iterations, evaluations=out.evaluations, restarts=out.restarts,
+                    sigma_min=out.sigma_min, history=out.history)
+        if out.success and _compliant(system, bn, x0, T, out.coefficients, limits):
+            return [_segment(system, bn, x0, x1, T, out.coefficients, t0=0.0, final_error=out.final_error,
+                             message=out.message, limits=limits, **info)]
+        if out.success:
+            ok, c, err, ev, msg = solve_with_limits(system, bn, x0, x1, T, limits, out.coefficients, B=B, d=d,
+                                                    tol=tol)
+            info["evaluations"] += ev
+            piece = _segment(system, bn, x0, x1, T, c, t0=0.0, final_error=err, success=ok, message=msg,
+                             method="deform+limits", limits=limits, **info)
+            if ok:
+                return [piece]
+            reasons.append(f"{n} coefficients: path deformation converged but broke the limits, and {msg}")
+            last_failed = piece
+        else:
+            reasons.append(f"{n} coefficients: {out.message}")
+            last_failed = _segment(system, bn, x0, x1, T, out.coefficients, t0=0.0, final_error=out.final_error,
+                                   success=False, message=out.message, limits=limits, **info)
+        return None
+
+    def flat():
+        nonlocal last_failed
         from .flat import flat_pieces
 
         flat_ends = {key: float(v[0]) for key, v in ends.items()}
         pieces, msg = flat_pieces(system, x0, x1, T, ends=flat_ends, limits=limits if limits.active else None)
-        if pieces is not None:
-            out, x, t0 = [], np.array(x0, dtype=float), 0.0
-            for i, (D, coef) in enumerate(pieces):
-                nb = type(b)(max(len(coef), 1))
-                c = from_power(type(b), np.pad(coef, (0, nb.n - len(coef))), D)[None, :]
-                y, _ = _integrate.endpoint(system, nb, x, D, c)
-                end = np.array(x1, dtype=float) if i == len(pieces) - 1 else y
-                out.append(_segment(system, nb, x, end, D, c, t0=t0, final_error=float(np.linalg.norm(y - end)),
-                                    message=msg, method="flat", limits=limits))
-                x, t0 = end, t0 + D
-            err = out[-1].final_error
-            if err <= tol:
-                return out, True, ""
-            reasons.append(f"flat output: endpoint error {err:.2e} > tol")
-            last_failed = out[-1]
-        else:
+        if pieces is None:
             reasons.append(msg)
+            return None
+        out, x, t0 = [], np.array(x0, dtype=float), 0.0
+        for i, (D, coef) in enumerate(pieces):
+            nb = type(b)(max(len(coef), 1))
+            c = from_power(type(b), np.pad(coef, (0, nb.n - len(coef))), D)[None, :]
+            y, _ = _integrate.endpoint(system, nb, x, D, c)
+            end = np.array(x1, dtype=float) if i == len(pieces) - 1 else y
+            out.append(_segment(system, nb, x, end, D, c, t0=t0, final_error=float(np.linalg.norm(y - end)),
+                                message=msg, method="flat", limits=limits))
+            x, t0 = end, t0 + D
+        if out[-1].final_error <= tol:
+            return out
+        reasons.append(f"flat output: endpoint error {out[-1].final_error:.2e} > tol")
+        last_failed = out[-1]
+        return None
+
+    has_flat = hasattr(system, "F")
+    if method == "deform":
+        stages = [lambda n=n: deform(n) for n in sizes]
+    elif method == "flat":
+        stages = [flat]
+    else:  # auto: the first size, then the flat output (exact), then more coefficients
+        stages = [lambda: deform(sizes[0])] + ([flat] if has_flat else []) + [lambda n=n: deform(n)
+                                                                               for n in sizes[1:]]
+    for stage in stages:
+        pieces = stage()
+        if pieces is not None:
+            return pieces, True, ""
     return ([last_failed] if last_failed is not None else []), False, "; ".join(reasons)

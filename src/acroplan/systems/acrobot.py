@@ -233,17 +233,27 @@ class Acrobot(ControlAffineSystem):
         """
         theta0, phi0 = float(x0[0]), float(x0[1])
         ends = lambda phi: self.reachable_interval(theta0=theta0, phi0=phi0, phiT=phi, T=duration)  # noqa: E731
-        lo0, hi0 = ends(float(y0[1]))
-        lo1, hi1 = ends(float(x1[1]))
-        if not (hi0 > lo0 and hi1 > lo1):
-            return super().continuation_path(y0, x1, x0, duration)
-        w0 = (float(y0[0]) - lo0) / (hi0 - lo0)
-        w1 = (float(x1[0]) - lo1) / (hi1 - lo1)
+        cache = {}
+
+        def weights():  # computed on first use: a first full step needs no path
+            if not cache:
+                lo0, hi0 = ends(float(y0[1]))
+                lo1, hi1 = ends(float(x1[1]))
+                if hi0 > lo0 and hi1 > lo1:
+                    cache["w"] = ((float(y0[0]) - lo0) / (hi0 - lo0), (float(x1[0]) - lo1) / (hi1 - lo1))
+                else:
+                    cache["w"] = None
+            return cache["w"]
+
+        straight = super().continuation_path(y0, x1, x0, duration)
 
         def path(tau):
+            w = weights()
+            if w is None:
+                return straight(tau)
             phi = float(y0[1]) + tau * (float(x1[1]) - float(y0[1]))
             lo, hi = ends(phi)
-            return np.array([lo + (w0 + tau * (w1 - w0)) * (hi - lo), phi])
+            return np.array([lo + (w[0] + tau * (w[1] - w[0])) * (hi - lo), phi])
 
         return path
 
