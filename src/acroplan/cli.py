@@ -135,6 +135,94 @@ def reach_cmd(problem, example, out, force):
     sys.exit(EXIT_SUCCESS if all(r["reachable"] for r in rows) else EXIT_INFEASIBLE)
 
 
+@main.command("nilpotent")
+@click.argument("problem", required=False, type=click.Path(dir_okay=False, path_type=Path))
+@click.option("--example", metavar="NAME", help="Use a bundled example (chapter4) instead of a PROBLEM file.")
+@click.option("--out", "out", type=click.Path(file_okay=False, path_type=Path),
+              help="Output folder (created; written atomically). Required unless --equations.")
+@click.option("--force", is_flag=True, help="Replace a non-empty output folder.")
+@click.option("--equations", is_flag=True, help="Print the endpoint equations (the text's style) and exit.")
+@click.option("--no-plots", is_flag=True, help="Skip the figures.")
+def nilpotent_cmd(problem, example, out, force, equations, no_plots):
+    """Steer the acrobot by the nilpotentization of Chapter 4, with time moving forward.
+
+    \b
+    Writes to OUT:
+      solution.json    coefficients of v1, v2, the u1 margin, verified_error, status
+      trajectory.csv   t,theta,phi,u (dense; the acrobot's own time)
+      input.png, states.png, u1.png, failure_mode.png
+    Exit codes: 0 success, 2 invalid input, 3 target not reachable (proof: the interval),
+    4 no solution with u1 > 0 found for this degree (the best margin is reported).
+
+    \b
+    Examples:
+      acroplan nilpotent --example chapter4 --equations
+      acroplan nilpotent --example chapter4 --out ch4-out
+    """
+    from . import nilpotent as nil
+    from .reach import Limits, reachable_set
+
+    try:
+        if (problem is None) == (example is None):
+            raise InvalidInputError("PROBLEM", "give either a problem file or --example NAME, not both or neither",
+                                    "for example: --example chapter4")
+        if example is not None:
+            prob, method = _examples.load_nilpotent(example)
+        else:
+            from .problem import load_toml, parse_nilpotent
+
+            prob, method = parse_nilpotent(load_toml(problem), name=problem.stem)
+        if equations:
+            click.echo(nil.format_equations(prob))
+            sys.exit(EXIT_SUCCESS)
+        if out is None:
+            raise InvalidInputError("--out", "is required", "give an output folder, or --equations")
+        check_out_dir(out, force)
+        R = reachable_set(prob.robot, theta0=prob.P[2], phi0=prob.P[0], phiT=prob.Q[0], T=prob.Q[1] - prob.P[1],
+                          limits=Limits(phi_min=-np.pi, phi_max=np.pi))
+        if not R.contains(prob.Q[2]):
+            payload = {"status": "infeasible", "success": False, "interval": [R.low, R.high],
+                       "message": f"theta(Q) = {prob.Q[2]:.12g} is outside the reachable interval ({R.low:.12g}, "
+                                  f"{R.high:.12g}) for |phi| < pi"}
+            with atomic_dir(out, force) as tmp:
+                (tmp / "solution.json").write_text(json.dumps(payload, indent=2) + "\n", encoding="utf-8")
+            click.echo(f"acroplan: infeasible: {payload['message']}", err=True)
+            sys.exit(EXIT_INFEASIBLE)
+        result = nil.solve_nilpotent(prob) if method == "nilpotent" else nil.solve_flat_y(prob)
+        counter = nil.counterexample(prob, result.m) if (result.success and method == "nilpotent") else None
+        with atomic_dir(out, force) as tmp:
+            doc = result.to_dict()
+            if counter is not None:
+                doc["counterexample"] = counter.to_dict()
+            (tmp / "solution.json").write_text(json.dumps(doc, indent=2) + "\n", encoding="utf-8")
+            if result.success:
+                eps = np.linspace(0.0, 1.0, 2001)
+                t, theta, phi, _ = result.curve(eps)
+                u = result.u_of_eps(eps)
+                np.savetxt(tmp / "trajectory.csv", np.column_stack([t, theta, phi, u]), delimiter=",",
+                           header="t,theta,phi,u", comments="", fmt="%.17g")
+                if not no_plots:
+                    import matplotlib.pyplot as plt
+
+                    from .plotting import plot_nilpotent
+
+                    figs = plot_nilpotent(result, counter)
+                    try:
+                        for name, fig in figs.items():
+                            fig.savefig(tmp / f"{name}.png", dpi=120)
+                    finally:
+                        for fig in figs.values():
+                            plt.close(fig)
+    except InvalidInputError as e:
+        _fail(str(e))
+    if not result.success:
+        click.echo(f"acroplan: {result.status}: {result.message}", err=True)
+        sys.exit(EXIT_NOT_CONVERGED)
+    click.echo(result.message)
+    click.echo(f"wrote {out}/")
+    sys.exit(EXIT_SUCCESS)
+
+
 def _load(problem, example):
     if (problem is None) == (example is None):
         raise InvalidInputError("PROBLEM", "give either a problem file or --example NAME, not both or neither",

@@ -12,6 +12,8 @@ __all__ = ["names", "load", "robot", "text"]
 _DESCRIPTIONS = {
     "pike-dive": "Chapter 3: straight -> pike -> 3.5 somersaults -> straight, 5 segments, spline conditions",
     "pike-dive-limited": "the pike dive with phi kept in [-2 pi, -pi] (never folding past flat), free conditions",
+    "chapter4": "Chapter 4: nilpotentization from (pi/4, 0, 0) to (pi/4, 2, 1.4 pi), cubic v1, v2 "
+                "(acroplan nilpotent)",
 }
 
 
@@ -31,7 +33,20 @@ def load(name: str) -> Problem:
     """The example as a validated :class:`~acroplan.problem.Problem`."""
     import tomllib
 
-    return parse_problem(tomllib.loads(text(name)), name=name)
+    data = tomllib.loads(text(name))
+    if "nilpotent" in data:
+        raise InvalidInputError("example", f"{name!r} is a nilpotentization problem",
+                                f"use: acroplan nilpotent --example {name}")
+    return parse_problem(data, name=name)
+
+
+def load_nilpotent(name: str):
+    """A nilpotentization example: ``(NilpotentProblem, method)``."""
+    import tomllib
+
+    from .problem import parse_nilpotent
+
+    return parse_nilpotent(tomllib.loads(text(name)), name=name)
 
 
 def robot(name: str):

@@ -114,3 +114,68 @@ def plot_reach(problem, *, samples: int = 241):
     for k in range(K, rows * cols):
         axes[k // cols][k % cols].set_visible(False)
     return fig
+
+
+def plot_nilpotent(result, counter=None, *, samples: int = 801):
+    """Figures of a nilpotentization result: ``{"input", "states", "u1", "failure_mode"}``.
+
+    ``u1`` shows :math:`u_1(\\varepsilon) = dt/d\\varepsilon` (positive: time moves forward);
+    ``failure_mode`` compares the valid solution with ``counter``, a solution of the same equations
+    along which :math:`u_1 < 0`: its clock :math:`t(\\varepsilon)` runs backwards, so the same curve
+    from P to Q is traversed, but it is no motion of the acrobot.
+    """
+    plt = _plt()
+    eps = np.linspace(0.0, 1.0, samples)
+    t, theta, phi, u1 = result.curve(eps)
+    u = result.u_of_eps(eps)
+    figs = {}
+    fig, ax = plt.subplots(figsize=(7, 3.6), constrained_layout=True)
+    ax.plot(t, u, lw=1.6)
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel("u = dφ/dt [rad/s]")
+    ax.set_title("Input u(t) from the nilpotent solution" if result.method == "nilpotent"
+                 else "Input u(t), flat output as the clock")
+    ax.grid(alpha=0.3)
+    figs["input"] = fig
+    fig, axes = plt.subplots(2, 1, figsize=(7, 5.2), sharex=True, constrained_layout=True)
+    axes[0].plot(t, theta, color="C0", lw=1.6)
+    axes[1].plot(t, phi, color="C1", lw=1.6)
+    for ax, (name, i) in zip(axes, (("θ [rad]", 2), ("φ [rad]", 0))):
+        ax.plot([result.problem.P[1], result.problem.Q[1]], [result.problem.P[i], result.problem.Q[i]], "o",
+                mfc="white", color="k", label="P, Q")
+        ax.set_ylabel(name)
+        ax.grid(alpha=0.3)
+    axes[0].legend()
+    axes[0].set_title("States: θ (upper), φ (lower)")
+    axes[1].set_xlabel("t [s]")
+    figs["states"] = fig
+    fig, ax = plt.subplots(figsize=(7, 3.6), constrained_layout=True)
+    ax.plot(eps, u1, lw=1.6, label="valid: min u1 = %.3g" % result.margin)
+    if counter is not None:
+        ax.plot(eps, counter.curve(eps)[3], lw=1.4, ls="--", color="C3",
+                label="same equations, min u1 = %.3g" % counter.margin)
+    ax.axhline(0.0, color="k", lw=0.8)
+    ax.set_xlabel("ε (virtual time)")
+    ax.set_ylabel("u1 = dt/dε" if result.method == "nilpotent" else "dt/dσ")
+    ax.set_title("Time moves forward where u1 > 0")
+    ax.grid(alpha=0.3)
+    ax.legend()
+    figs["u1"] = fig
+    if counter is not None:
+        tc, thc, phc, _ = counter.curve(eps)
+        fig, axes = plt.subplots(1, 2, figsize=(10, 3.8), constrained_layout=True)
+        axes[0].plot(eps, t, lw=1.6, label="valid")
+        axes[0].plot(eps, tc, lw=1.4, ls="--", color="C3", label="u1 < 0 somewhere")
+        axes[0].set_xlabel("ε")
+        axes[0].set_ylabel("t(ε) [s]")
+        axes[0].set_title("The clock: monotone only for the valid one")
+        axes[1].plot(t, phi, lw=1.6, label="valid")
+        axes[1].plot(tc, phc, lw=1.4, ls="--", color="C3", label="u1 < 0: goes back in time")
+        axes[1].set_xlabel("t [s]")
+        axes[1].set_ylabel("φ [rad]")
+        axes[1].set_title("Orbit-equivalent, not trajectory-equivalent")
+        for ax in axes:
+            ax.grid(alpha=0.3)
+            ax.legend()
+        figs["failure_mode"] = fig
+    return figs

@@ -260,6 +260,57 @@ def parse_problem(data: dict, name: str = "") -> Problem:
     return Problem(robot, times, theta, phi, conditions, options, name)
 
 
+def parse_nilpotent(data: dict, name: str = ""):
+    """A :class:`~acroplan.nilpotent.NilpotentProblem` and its method from a TOML document with
+    ``[robot]`` and ``[nilpotent]`` (``P``, ``Q`` as (phi, t, theta), ``degree``, ``method``)."""
+    from .nilpotent import NilpotentProblem
+
+    _check_keys("<file>", data, ("robot", "nilpotent"))
+    for table in ("robot", "nilpotent"):
+        if table not in data:
+            raise InvalidInputError(table, "table is missing", f"add a [{table}] table (see docs/chapter4.md)")
+    robot = parse_robot(data["robot"])
+    nil = data["nilpotent"]
+    _check_keys("nilpotent", nil, ("P", "Q", "degree", "method"))
+    pts = {}
+    for key in ("P", "Q"):
+        if key not in nil:
+            raise InvalidInputError(f"nilpotent.{key}", "is missing", "give [phi, t, theta]")
+        vals = _numbers(f"nilpotent.{key}", nil[key])
+        if len(vals) != 3:
+            raise InvalidInputError(f"nilpotent.{key}", f"needs 3 values (phi, t, theta), got {len(vals)}",
+                                    "give [phi, t, theta]")
+        pts[key] = vals
+    degree = nil.get("degree", 3)
+    if isinstance(degree, bool) or not isinstance(degree, int):
+        raise InvalidInputError("nilpotent.degree", f"must be a whole number, got {degree!r}", "write degree = 3")
+    method = nil.get("method", "nilpotent")
+    if method not in ("nilpotent", "flat-y"):
+        raise InvalidInputError("nilpotent.method", f"must be \"nilpotent\" or \"flat-y\", got {method!r}",
+                                "write method = \"nilpotent\"")
+    try:
+        prob = NilpotentProblem(robot, pts["P"], pts["Q"], degree)
+    except InvalidInputError as e:
+        raise InvalidInputError(f"nilpotent.{e.field}", e.problem, e.fix) from None
+    return prob, method
+
+
+def load_toml(path) -> dict:
+    """Read a TOML file, with errors as :class:`InvalidInputError`."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise InvalidInputError(str(path), "no such file", "give the path of a problem .toml file") from None
+    except (IsADirectoryError, PermissionError, UnicodeDecodeError) as e:
+        raise InvalidInputError(str(path), f"cannot be read ({e.__class__.__name__})",
+                                "give a readable UTF-8 .toml file") from None
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
+        raise InvalidInputError(str(path), f"is not valid TOML ({e})", "fix the syntax (see the README)") from None
+
+
 def load_problem(path) -> Problem:
     """Read and validate a problem file."""
     path = Path(path)
