@@ -210,3 +210,45 @@ def test_limits_that_make_it_impossible_exit_3(tmp_path):
     text = GOOD.format(theta=2.0) + "\n[limits]\nu_max = 2.0\n"
     res = run(["plan", write(tmp_path, text), "--out", str(tmp_path / "o")])
     assert res.exit_code == 3 and "under the joint and rate limits" in res.output
+
+
+NIL = """
+[robot]
+M1 = "4021/4920"
+A1 = "-39/82"
+M2 = 0.28
+A2 = "-39/164"
+P0 = 1.25
+
+[nilpotent]
+P = ["pi/4", 0, 0]
+Q = {Q}
+degree = 3
+"""
+
+
+def test_nilpotent_equations_and_example(tmp_path):
+    res = run(["nilpotent", "--example", "chapter4", "--equations"])
+    assert res.exit_code == 0 and "m10 + m11/2 + m12/3 + m13/4 - 0.9086469918797" in res.output
+    out = tmp_path / "n"
+    res = run(["nilpotent", "--example", "chapter4", "--out", str(out)])
+    assert res.exit_code == 0, res.output
+    names = sorted(p.name for p in out.iterdir())
+    assert names == ["failure_mode.png", "input.png", "solution.json", "states.png", "trajectory.csv", "u1.png"]
+    sol = json.loads((out / "solution.json").read_text())
+    assert sol["status"] == "success" and sol["u1_margin"] > 0 and sol["verified_error"] <= 1e-8
+    assert sol["counterexample"]["u1_margin"] < 0
+    data = np.loadtxt(out / "trajectory.csv", delimiter=",", skiprows=1)
+    assert np.all(np.diff(data[:, 0]) > 0) and data[-1, 0] == pytest.approx(2.0, abs=1e-12)
+    assert data[-1, 1] == pytest.approx(1.4 * np.pi, abs=1e-8)
+
+
+def test_nilpotent_exit_codes(tmp_path):
+    res = run(["nilpotent", write(tmp_path, NIL.format(Q='["pi/4", 2, 40]')), "--out", str(tmp_path / "a")])
+    assert res.exit_code == 3 and "outside the reachable interval" in res.output
+    res = run(["nilpotent", write(tmp_path, NIL.format(Q='["pi", 2, 4]')), "--out", str(tmp_path / "b")])
+    assert res.exit_code == 2 and "nilpotent.Q.phi: must satisfy |phi| < pi" in res.output
+    res = run(["nilpotent", write(tmp_path, NIL.format(Q='["pi/4", 2]')), "--out", str(tmp_path / "c")])
+    assert res.exit_code == 2 and "nilpotent.Q: needs 3 values" in res.output
+    res = run(["plan", "--example", "chapter4", "--out", str(tmp_path / "d")])
+    assert res.exit_code == 2 and "acroplan nilpotent --example chapter4" in res.output
