@@ -404,6 +404,9 @@ class NilpotentResult:
     def _clock_and_rate(self, e: float):
         """Scalar t(eps) and dt/deps = u1, in plain floats (the hot path of the re-simulation)."""
         prob, r = self.problem, self.problem.robot
+        if self.method == "flat-y":
+            dy = prob.Q[2] + float(r.F(prob.Q[0])) - prob.P[2] - float(r.F(prob.P[0]))
+            return float(_flat_clock(self, np.array([e]))[0]), dy / r.P0 * float(r.h(_horner(self.m, e)))
         v1, v2, V1, V2 = self._polys()
         x1 = prob.P[0] + _horner(V2, e)
         x2 = prob.x2P + _horner(V1, e)
@@ -434,8 +437,6 @@ class NilpotentResult:
         f = lambda x: float(self.clock(x)[0]) - t  # noqa: E731
         if f(lo) * f(hi) > 0:
             return brentq(f, 0.0, 1.0, xtol=1e-15, rtol=1e-15)
-        if self.method != "nilpotent":
-            return brentq(f, lo, hi, xtol=1e-15, rtol=1e-15)
         # Newton on t(eps) = t with dt/deps = u1 > 0, safeguarded by the bracket
         x = 0.5 * (lo + hi)
         for _ in range(30):
