@@ -42,7 +42,8 @@ def test_example_pike_dive_writes_everything(tmp_path):
     out = tmp_path / "out"
     res = run(["plan", "--example", "pike-dive", "--out", str(out)])
     assert res.exit_code == 0, res.output
-    assert sorted(p.name for p in out.iterdir()) == ["input.png", "solution.json", "states.png", "trajectory.csv"]
+    assert sorted(p.name for p in out.iterdir()) == ["continuation.png", "input.png", "solution.json", "states.png",
+                                                     "trajectory.csv"]
     sol = json.loads((out / "solution.json").read_text())
     assert sol["status"] == "success" and sol["verified"] is True
     assert sol["system"]["params"]["M1"] == pytest.approx(4021 / 4920, rel=1e-15)
@@ -144,11 +145,11 @@ def test_console_script_runs():
 def test_a_failure_while_writing_leaves_nothing(tmp_path, monkeypatch):
     import acroplan.cli as cli
 
-    def boom(result, folder):
+    def boom(figs, folder, fmts):
         (folder / "input.png").write_bytes(b"partial")
         raise RuntimeError("disk full")
 
-    monkeypatch.setattr(cli, "_write_plots", boom)
+    monkeypatch.setattr(cli, "_save", boom)
     out = tmp_path / "out"
     res = run(["plan", "--example", "pike-dive", "--out", str(out)])
     assert res.exit_code != 0 and isinstance(res.exception, RuntimeError)

@@ -68,7 +68,7 @@ def _validate(kwargs: dict[str, Any]) -> None:
     system = k.pop("system")
     params = inspect.signature(plan).parameters
     opts = {name: k.pop(name, params[name].default) for name in list(params) if name not in ("system", "waypoints")
-            and params[name].kind is inspect.Parameter.KEYWORD_ONLY}
+            and params[name].kind is inspect.Parameter.KEYWORD_ONLY and name != "progress"}
     _validated(system, **opts, waypoints=k)
 
 

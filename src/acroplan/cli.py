@@ -1,6 +1,8 @@
 """The ``acroplan`` command line.
 
-Exit codes: 0 success, 2 invalid input, 3 infeasible (with proof), 4 not converged.
+Exit codes: 0 success, 2 invalid input, 3 infeasible (with proof), 4 not converged. Errors are one
+line naming the field and the fix (``--debug`` shows the traceback); colours only on a terminal;
+progress bars only on a terminal; ``--json`` prints a machine-readable summary on stdout.
 """
 
 from __future__ import annotations
@@ -18,84 +20,238 @@ from ._output import atomic_dir, check_out_dir
 from .problem import load_problem
 
 EXIT_BY_STATUS = {"success": EXIT_SUCCESS, "infeasible": EXIT_INFEASIBLE, "not_converged": EXIT_NOT_CONVERGED}
+FORMATS = ("png", "pdf")
 
 
 def _fail(message: str, code: int = EXIT_INVALID):
-    click.echo(f"acroplan: error: {message}", err=True)
+    click.echo(click.style("acroplan: error: ", fg="red", bold=True) + message, err=True)
     sys.exit(code)
+
+
+def _formats(text: str) -> tuple[str, ...]:
+    fmts = tuple(f.strip().lower() for f in text.split(",") if f.strip())
+    bad = [f for f in fmts if f not in FORMATS]
+    if bad or not fmts:
+        raise InvalidInputError("--format", f"unknown figure format {bad[0] if bad else text!r}",
+                                "use png, pdf or png,pdf")
+    return fmts
+
+
+def _save(figs: dict, folder: Path, fmts) -> None:
+    import matplotlib.pyplot as plt
+
+    try:
+        for name, fig in figs.items():
+            for f in fmts:
+                fig.savefig(folder / f"{name}.{f}", dpi=120)
+    finally:
+        for fig in figs.values():
+            plt.close(fig)
+
+
+def _progress(total: int, desc: str):
+    """A tqdm bar on a terminal, nothing otherwise; returns (callback, close)."""
+    from tqdm import tqdm
+
+    bar = tqdm(total=total, desc=desc, leave=False, disable=not sys.stderr.isatty(), file=sys.stderr)
+
+    def update(done, _total):
+        bar.update(done - bar.n)
+
+    return update, bar.close
+
+
+def _report(summary: dict, as_json: bool, quiet: bool, lines: list[str], code: int) -> None:
+    if as_json:
+        click.echo(json.dumps(summary))
+    elif code != EXIT_SUCCESS:
+        for line in lines:
+            click.echo(click.style("acroplan: ", fg="yellow", bold=True) + line, err=True)
+    elif not quiet:
+        for line in lines:
+            click.echo(line)
+    sys.exit(code)
+
+
+_COMMON = [
+    click.option("--out", "out", type=click.Path(file_okay=False, path_type=Path),
+                 help="Output folder (created; written atomically)."),
+    click.option("--force", is_flag=True, help="Replace a non-empty output folder."),
+    click.option("--quiet", "-q", is_flag=True, help="Print nothing on success."),
+    click.option("--json", "as_json", is_flag=True, help="Print a machine-readable summary on stdout."),
+]
+
+
+def common(f):
+    for opt in reversed(_COMMON):
+        f = opt(f)
+    return f
 
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(package_name="acroplan")
-def main():
+@click.option("--debug", is_flag=True, help="Show the traceback of an unexpected error.")
+def main(debug):
     """Motion planning for the free-flying two-link acrobot (and other control-affine systems).
 
     \b
-    Example:
-      acroplan plan --example pike-dive --out pike-dive-out
+    Examples:
+      acroplan examples                                  # the bundled problems
+      acroplan plan --example pike-dive --out pike       # Chapter 3
+      acroplan nilpotent --example chapter4 --out ch4    # Chapter 4
+      acroplan init my-dive && acroplan plan my-dive.toml --out my-dive-out --animate
+
+    Exit codes: 0 success, 2 invalid input, 3 infeasible (with proof), 4 not converged.
     """
+
+
+def run():
+    """Console entry point: one readable line for an unexpected error, unless --debug."""
+    try:
+        main(standalone_mode=False)
+    except click.exceptions.Exit as e:
+        sys.exit(e.exit_code)
+    except click.ClickException as e:
+        e.show()
+        sys.exit(EXIT_INVALID)
+    except click.exceptions.Abort:
+        sys.exit(130)
+    except SystemExit:
+        raise
+    except Exception as e:  # noqa: BLE001
+        if "--debug" in sys.argv[1:]:
+            raise
+        _fail(f"unexpected {type(e).__name__}: {e} (run with --debug for the traceback)", 1)
 
 
 @main.command("examples")
 def examples_cmd():
-    """List the bundled example problems."""
+    """List the bundled example problems.
+
+    \b
+    Example:
+      acroplan examples
+    """
     for name, desc in _examples.names().items():
-        click.echo(f"{name:12s} {desc}")
+        click.echo(f"{click.style(f'{name:18s}', bold=True)} {desc}")
+
+
+STARTER = '''# acroplan problem file: plan a motion of the free-flying acrobot through waypoints.
+# Run it with:  acroplan plan {name}.toml --out {name}-out --animate
+# Reference: docs/problem-files.md
+
+[robot]                        # the body (SI units, or any consistent set) ...
+torso_mass = 40.0              # M  (> 0)
+leg_mass = 20.0                # m  (> 0)
+torso_inertia = 1.8            # J  (> 0), about the torso's centre of mass
+leg_inertia = 1.2              # j  (> 0), about the leg's centre of mass
+torso_length = 0.35            # L  (>= 0), torso centre of mass to the joint
+leg_length = 0.45              # l  (>= 0), leg centre of mass to the joint
+angular_momentum = 10.0        # P0, constant in flight
+# ... or instead the lumped parameters of the text's eq. (3): M1, A1, M2, A2, P0 (M1 > |A1|)
+
+[plan]
+times = [0, 1]                 # waypoint times, strictly increasing
+theta = [0, 1.0]               # leg angle at each time (numbers or text like "0.5*pi")
+phi = ["-pi", "-pi/2"]         # joint angle: -pi straight, 0 folded
+conditions = "free"            # "free" (u continuous) or "spline" (the text's scheme)
+
+# [limits]                     # optional
+# phi_min = "-pi"              # joint limits; waypoints must lie inside
+# phi_max = 0.0
+# u_max = 20.0                 # |u| <= u_max (rad/s)
+
+# [options]                    # optional
+# method = "auto"              # "auto", "deform" (the text's path deformation), "flat"
+# basis = "legendre"           # or "monomial"
+# n_coefficients = 6           # per segment (auto raises it when needed if left out)
+'''
+
+
+@main.command("init")
+@click.argument("name")
+@click.option("--force", is_flag=True, help="Overwrite an existing file.")
+def init_cmd(name, force):
+    """Write a commented starter problem file NAME.toml.
+
+    \b
+    Example:
+      acroplan init my-dive && acroplan plan my-dive.toml --out my-dive-out
+    """
+    path = Path(name if name.endswith(".toml") else f"{name}.toml")
+    if path.exists() and not force:
+        _fail(f"{path}: exists; choose another name or add --force")
+    path.write_text(STARTER.format(name=path.stem), encoding="utf-8")
+    click.echo(f"wrote {path}; run: acroplan plan {path} --out {path.stem}-out")
 
 
 @main.command("plan")
 @click.argument("problem", required=False, type=click.Path(dir_okay=False, path_type=Path))
 @click.option("--example", metavar="NAME", help="Plan a bundled example instead of a PROBLEM file.")
-@click.option("--out", "out", required=True, type=click.Path(file_okay=False, path_type=Path),
-              help="Output folder (created; written atomically).")
-@click.option("--force", is_flag=True, help="Replace a non-empty output folder.")
-@click.option("--no-plots", is_flag=True, help="Skip input.png and states.png.")
-@click.option("--quiet", "-q", is_flag=True, help="Print nothing on success.")
-def plan_cmd(problem, example, out, force, no_plots, quiet):
+@common
+@click.option("--no-plots", is_flag=True, help="Skip the figures.")
+@click.option("--format", "fmt", default="png", show_default=True, help="Figure formats: png, pdf or png,pdf.")
+@click.option("--animate", "do_animate", is_flag=True, help="Also write motion.gif and strobe.png.")
+def plan_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do_animate):
     """Plan a motion through the waypoints of PROBLEM (a TOML file) and write the results.
 
     \b
     Writes to OUT:
-      solution.json    robot, waypoints, segments (power-basis coefficients), status, diagnostics
-      trajectory.csv   t,theta,phi,u with 200 samples per segment
-      input.png        u(t), the text's Fig. 1
-      states.png       theta(t) above phi(t), waypoints marked, the text's Fig. 2
+      solution.json      robot, waypoints, segments (power-basis coefficients), status, diagnostics
+      trajectory.csv     t,theta,phi,u with 200 samples per segment
+      input.png          u(t), the text's Fig. 1
+      states.png         theta(t) above phi(t), waypoints marked, the text's Fig. 2
+      continuation.png   target path against what was reached, smallest singular value
     On exit code 3 (infeasible) or 4 (not converged) only solution.json is written.
 
     \b
     Examples:
       acroplan plan --example pike-dive --out pike-dive-out
-      acroplan plan my-dive.toml --out my-dive-out --force
+      acroplan plan my-dive.toml --out my-dive-out --force --format png,pdf --animate
     """
     try:
         prob = _load(problem, example)
+        if out is None:
+            raise InvalidInputError("--out", "is required", "give an output folder, for example --out plan-out")
+        fmts = _formats(fmt)
         check_out_dir(out, force)
-        result = prob.solve(verify=True)
+        update, close = _progress(len(prob.times) - 1, "segments")
+        try:
+            result = prob.solve(verify=True, progress=update)
+        finally:
+            close()
         with atomic_dir(out, force) as tmp:
             (tmp / "solution.json").write_text(result.to_json() + "\n", encoding="utf-8")
             if result.success:
                 _write_csv(result, tmp / "trajectory.csv")
                 if not no_plots:
-                    _write_plots(result, tmp)
+                    _save(result.plot(), tmp, fmts)
+                if do_animate:
+                    _write_animation(tmp)
     except InvalidInputError as e:
         _fail(str(e))
     code = EXIT_BY_STATUS[result.status]
-    if code != EXIT_SUCCESS:
-        click.echo(f"acroplan: {result.message}", err=True)
-        click.echo(f"acroplan: diagnostics written to {out / 'solution.json'}", err=True)
-    elif not quiet:
-        click.echo(result.message)
-        click.echo(f"wrote {out}/")
-    sys.exit(code)
+    d = result.to_dict()
+    summary = {"command": "plan", "status": result.status, "message": result.message, "out": str(out),
+               "segments": len(result.segments), **d["diagnostics"]}
+    lines = [result.message, f"wrote {out}/"] if code == EXIT_SUCCESS else [
+        result.message, f"diagnostics written to {out / 'solution.json'}"]
+    _report(summary, as_json, quiet, lines, code)
+
+
+def _write_csv(result, path: Path, per_segment: int = 200) -> None:
+    s = result.sample(per_segment)
+    names = list(s.state_names) + list(s.input_names)
+    data = np.column_stack([s.t, s.states.T, s.inputs.T])
+    np.savetxt(path, data, delimiter=",", header="t," + ",".join(names), comments="", fmt="%.17g")
 
 
 @main.command("reach")
 @click.argument("problem", required=False, type=click.Path(dir_okay=False, path_type=Path))
 @click.option("--example", metavar="NAME", help="Use a bundled example instead of a PROBLEM file.")
-@click.option("--out", "out", required=True, type=click.Path(file_okay=False, path_type=Path),
-              help="Output folder (created; written atomically).")
-@click.option("--force", is_flag=True, help="Replace a non-empty output folder.")
-def reach_cmd(problem, example, out, force):
+@common
+@click.option("--format", "fmt", default="png", show_default=True, help="Figure formats: png, pdf or png,pdf.")
+def reach_cmd(problem, example, out, force, quiet, as_json, fmt):
     """Write the exact reachable interval of theta(T) for every segment of PROBLEM.
 
     \b
@@ -109,41 +265,41 @@ def reach_cmd(problem, example, out, force):
     Example:
       acroplan reach --example pike-dive-limited --out reach-out
     """
-    import matplotlib.pyplot as plt
-
     from .plotting import plot_reach
 
     try:
         prob = _load(problem, example)
+        if out is None:
+            raise InvalidInputError("--out", "is required", "give an output folder, for example --out reach-out")
+        fmts = _formats(fmt)
         check_out_dir(out, force)
         rows = prob.reach()
         with atomic_dir(out, force) as tmp:
             (tmp / "reach.json").write_text(json.dumps({"segments": rows}, indent=2) + "\n", encoding="utf-8")
-            fig = plot_reach(prob)
-            try:
-                fig.savefig(tmp / "reach.png", dpi=120)
-            finally:
-                plt.close(fig)
+            _save({"reach": plot_reach(prob)}, tmp, fmts)
     except InvalidInputError as e:
         _fail(str(e))
+    lines = []
     for r in rows:
         iv = r["interval_with_limits"]
         state = "reachable" if r["reachable"] else "NOT reachable"
         ends = "none" if iv is None else f"[{iv[0]:.9g}, {iv[1]:.9g}]"
-        click.echo(f"segment {r['index']} [{r['t0']:g}, {r['t1']:g}]: theta(T) in {ends}; target "
-                   f"{r['target_theta']:.9g} {state}")
-    sys.exit(EXIT_SUCCESS if all(r["reachable"] for r in rows) else EXIT_INFEASIBLE)
+        lines.append(f"segment {r['index']} [{r['t0']:g}, {r['t1']:g}]: theta(T) in {ends}; target "
+                     f"{r['target_theta']:.9g} {state}")
+    ok = all(r["reachable"] for r in rows)
+    _report({"command": "reach", "reachable": ok, "segments": rows, "out": str(out)}, as_json, quiet,
+            lines, EXIT_SUCCESS if ok else EXIT_INFEASIBLE)
 
 
 @main.command("nilpotent")
 @click.argument("problem", required=False, type=click.Path(dir_okay=False, path_type=Path))
 @click.option("--example", metavar="NAME", help="Use a bundled example (chapter4) instead of a PROBLEM file.")
-@click.option("--out", "out", type=click.Path(file_okay=False, path_type=Path),
-              help="Output folder (created; written atomically). Required unless --equations.")
-@click.option("--force", is_flag=True, help="Replace a non-empty output folder.")
+@common
 @click.option("--equations", is_flag=True, help="Print the endpoint equations (the text's style) and exit.")
 @click.option("--no-plots", is_flag=True, help="Skip the figures.")
-def nilpotent_cmd(problem, example, out, force, equations, no_plots):
+@click.option("--format", "fmt", default="png", show_default=True, help="Figure formats: png, pdf or png,pdf.")
+@click.option("--animate", "do_animate", is_flag=True, help="Also write motion.gif and strobe.png.")
+def nilpotent_cmd(problem, example, out, force, quiet, as_json, equations, no_plots, fmt, do_animate):
     """Steer the acrobot by the nilpotentization of Chapter 4, with time moving forward.
 
     \b
@@ -157,9 +313,10 @@ def nilpotent_cmd(problem, example, out, force, equations, no_plots):
     \b
     Examples:
       acroplan nilpotent --example chapter4 --equations
-      acroplan nilpotent --example chapter4 --out ch4-out
+      acroplan nilpotent --example chapter4 --out ch4-out --animate
     """
     from . import nilpotent as nil
+    from .problem import system_to_dict
     from .reach import Limits, reachable_set
 
     try:
@@ -177,21 +334,27 @@ def nilpotent_cmd(problem, example, out, force, equations, no_plots):
             sys.exit(EXIT_SUCCESS)
         if out is None:
             raise InvalidInputError("--out", "is required", "give an output folder, or --equations")
+        fmts = _formats(fmt)
         check_out_dir(out, force)
         R = reachable_set(prob.robot, theta0=prob.P[2], phi0=prob.P[0], phiT=prob.Q[0], T=prob.Q[1] - prob.P[1],
                           limits=Limits(phi_min=-np.pi, phi_max=np.pi))
         if not R.contains(prob.Q[2]):
             payload = {"status": "infeasible", "success": False, "interval": [R.low, R.high],
                        "message": f"theta(Q) = {prob.Q[2]:.12g} is outside the reachable interval ({R.low:.12g}, "
-                                  f"{R.high:.12g}) for |phi| < pi"}
+                                  f"{R.high:.12g}) for |phi| < pi", "system": system_to_dict(prob.robot)}
             with atomic_dir(out, force) as tmp:
                 (tmp / "solution.json").write_text(json.dumps(payload, indent=2) + "\n", encoding="utf-8")
-            click.echo(f"acroplan: infeasible: {payload['message']}", err=True)
-            sys.exit(EXIT_INFEASIBLE)
-        result = nil.solve_nilpotent(prob) if method == "nilpotent" else nil.solve_flat_y(prob)
-        counter = nil.counterexample(prob, result.m) if (result.success and method == "nilpotent") else None
+            _report({"command": "nilpotent", **payload, "out": str(out)}, as_json, quiet,
+                    [f"infeasible: {payload['message']}"], EXIT_INFEASIBLE)
+        update, close = _progress(1, "solving")
+        try:
+            result = nil.solve_nilpotent(prob) if method == "nilpotent" else nil.solve_flat_y(prob)
+            counter = nil.counterexample(prob, result.m) if (result.success and method == "nilpotent") else None
+            update(1, 1)
+        finally:
+            close()
         with atomic_dir(out, force) as tmp:
-            doc = result.to_dict()
+            doc = {**result.to_dict(), "system": system_to_dict(prob.robot)}
             if counter is not None:
                 doc["counterexample"] = counter.to_dict()
             (tmp / "solution.json").write_text(json.dumps(doc, indent=2) + "\n", encoding="utf-8")
@@ -202,25 +365,101 @@ def nilpotent_cmd(problem, example, out, force, equations, no_plots):
                 np.savetxt(tmp / "trajectory.csv", np.column_stack([t, theta, phi, u]), delimiter=",",
                            header="t,theta,phi,u", comments="", fmt="%.17g")
                 if not no_plots:
-                    import matplotlib.pyplot as plt
-
                     from .plotting import plot_nilpotent
 
-                    figs = plot_nilpotent(result, counter)
-                    try:
-                        for name, fig in figs.items():
-                            fig.savefig(tmp / f"{name}.png", dpi=120)
-                    finally:
-                        for fig in figs.values():
-                            plt.close(fig)
+                    _save(plot_nilpotent(result, counter), tmp, fmts)
+                if do_animate:
+                    _write_animation(tmp)
     except InvalidInputError as e:
         _fail(str(e))
-    if not result.success:
-        click.echo(f"acroplan: {result.status}: {result.message}", err=True)
-        sys.exit(EXIT_NOT_CONVERGED)
-    click.echo(result.message)
-    click.echo(f"wrote {out}/")
-    sys.exit(EXIT_SUCCESS)
+    code = EXIT_SUCCESS if result.success else EXIT_NOT_CONVERGED
+    summary = {"command": "nilpotent", "status": result.status, "message": result.message, "out": str(out),
+               "u1_margin": result.margin, "verified_error": result.verified_error}
+    lines = [result.message, f"wrote {out}/"] if result.success else [f"{result.status}: {result.message}"]
+    _report(summary, as_json, quiet, lines, code)
+
+
+def _write_animation(folder: Path, *, speed: float = 1.0, fps: int = 25) -> int:
+    """motion.gif (+ motion.mp4 with ffmpeg) and strobe.png from folder/solution.json and trajectory.csv.
+
+    Each file is written under a temporary name and renamed, so none appears half-written.
+    """
+    import os
+
+    import matplotlib.pyplot as plt
+
+    from .animation import animate, geometry_of, strobe
+
+    sol_path = folder / "solution.json"
+    if not sol_path.is_file():
+        raise InvalidInputError(str(folder), "holds no solution.json", "give a folder written by acroplan plan or "
+                                "acroplan nilpotent")
+    try:
+        sol = json.loads(sol_path.read_text(encoding="utf-8"))
+        geom = geometry_of(sol["system"])
+    except (json.JSONDecodeError, UnicodeDecodeError, KeyError, TypeError, ValueError) as e:
+        raise InvalidInputError(str(sol_path), f"is corrupt ({type(e).__name__}: {e})",
+                                "plan again to rewrite it") from None
+    if sol.get("status") != "success" or not (folder / "trajectory.csv").is_file():
+        raise InvalidInputError(str(folder), f"holds no successful motion (status {sol.get('status')!r})",
+                                "animate a folder whose plan succeeded")
+    try:
+        data = np.loadtxt(folder / "trajectory.csv", delimiter=",", skiprows=1, ndmin=2)
+        t, theta, phi, u = data[:, 0], data[:, 1], data[:, 2], data[:, 3]
+    except (ValueError, IndexError) as e:
+        raise InvalidInputError(str(folder / "trajectory.csv"), f"is corrupt ({e})", "plan again to rewrite it") \
+            from None
+    if not (speed > 0 and np.isfinite(speed)):
+        raise InvalidInputError("--speed", f"must be a positive number, got {speed}", "give for example 1 or 0.5")
+    tmp_gif, tmp_mp4, tmp_png = folder / ".motion.tmp.gif", folder / ".motion.tmp.mp4", folder / ".strobe.tmp.png"
+    try:
+        n = animate(t, theta, phi, u, geom, tmp_gif, speed=speed, fps=fps, mp4_path=tmp_mp4)
+        fig = strobe(t, theta, phi, geom)
+        try:
+            fig.savefig(tmp_png, dpi=120)
+        finally:
+            plt.close(fig)
+        os.replace(tmp_gif, folder / "motion.gif")
+        os.replace(tmp_png, folder / "strobe.png")
+        if tmp_mp4.exists():
+            os.replace(tmp_mp4, folder / "motion.mp4")
+    finally:
+        for f in (tmp_gif, tmp_mp4, tmp_png):
+            f.unlink(missing_ok=True)
+    return n
+
+
+@main.command("animate")
+@click.argument("folder", type=click.Path(file_okay=False, path_type=Path))
+@click.option("--speed", type=float, default=1.0, show_default=True, help="Playback speed (1 = real time).")
+@click.option("--fps", type=click.IntRange(1, 100), default=25, show_default=True, help="Frames per second.")
+@click.option("--quiet", "-q", is_flag=True, help="Print nothing on success.")
+def animate_cmd(folder, speed, fps, quiet):
+    """Animate the motion saved in FOLDER (by acroplan plan or nilpotent).
+
+    \b
+    Writes FOLDER/motion.gif (and motion.mp4 when ffmpeg is installed) and FOLDER/strobe.png.
+    The body is drawn to scale in its centre-of-mass frame (a body given only by lumped parameters
+    gets a representative geometry: equal masses, L = l = sqrt|A1|). A motion longer than
+    1500 frames is played faster, with a warning.
+
+    \b
+    Example:
+      acroplan plan --example pike-dive --out pike && acroplan animate pike --speed 0.5
+    """
+    import warnings
+
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            n = _write_animation(folder, speed=speed, fps=fps)
+        for w in caught:
+            if "frames" in str(w.message):
+                click.echo(click.style("acroplan: warning: ", fg="yellow") + str(w.message), err=True)
+    except InvalidInputError as e:
+        _fail(str(e))
+    if not quiet:
+        click.echo(f"wrote {folder}/motion.gif ({n} frames) and {folder}/strobe.png")
 
 
 def _load(problem, example):
@@ -230,24 +469,5 @@ def _load(problem, example):
     return _examples.load(example) if example is not None else load_problem(problem)
 
 
-def _write_csv(result, path: Path, per_segment: int = 200) -> None:
-    s = result.sample(per_segment)
-    names = list(s.state_names) + list(s.input_names)
-    data = np.column_stack([s.t, s.states.T, s.inputs.T])
-    np.savetxt(path, data, delimiter=",", header="t," + ",".join(names), comments="", fmt="%.17g")
-
-
-def _write_plots(result, folder: Path) -> None:
-    import matplotlib.pyplot as plt
-
-    figs = result.plot()
-    try:
-        figs["input"].savefig(folder / "input.png", dpi=120)
-        figs["states"].savefig(folder / "states.png", dpi=120)
-    finally:
-        for f in figs.values():
-            plt.close(f)
-
-
 if __name__ == "__main__":  # pragma: no cover
-    main()
+    run()

@@ -54,8 +54,10 @@ class SegmentSolve:
         Smallest singular value of the reduced Jacobian :math:`JZ` met on accepted steps.
     tau_reached : float
         How far along the path the last attempt got (1.0 on success).
-    history : tuple of (tau, residual, sigma_min)
-        One entry per accepted continuation step.
+    history : tuple of (tau, residual, sigma_min, goal, reached)
+        One entry per accepted continuation step: the path parameter, the residual to the path
+        point, the smallest singular value, the path point :math:`\\pi(\\tau)` and the endpoint
+        reached (arrays of shape (n,)).
     restarts : int
     """
 
@@ -204,7 +206,7 @@ def solve_segment(system: ControlAffineSystem, basis: InputBasis, x0, x1, T: flo
 def _continue(evaluate, counter, z, y, A, x1, path, tol, scale, max_evaluations, min_step):
     y_start = y.copy()
     tau, dtau = 0.0, 1.0
-    history = [(0.0, float(np.linalg.norm(y - x1)), float(np.linalg.svd(A, compute_uv=False)[-1]))]
+    history = [(0.0, 0.0, float(np.linalg.svd(A, compute_uv=False)[-1]), y.copy(), y.copy())]
     why = "evaluation budget spent"
     mid_tol = 1e-6 * scale
     while counter.evaluations < max_evaluations:
@@ -215,7 +217,8 @@ def _continue(evaluate, counter, z, y, A, x1, path, tol, scale, max_evaluations,
                                                 max_evaluations, last)
         if ok:
             tau, z, y, A = tau_new, z_new, y_new, A_new
-            history.append((tau, float(np.linalg.norm(y - goal)), float(np.linalg.svd(A, compute_uv=False)[-1])))
+            history.append((tau, float(np.linalg.norm(y - goal)), float(np.linalg.svd(A, compute_uv=False)[-1]),
+                            np.array(goal, dtype=float), y.copy()))
             if last:
                 return dict(success=True, z=z, tau=1.0, error=float(np.linalg.norm(y - x1)), history=history, why="")
             if its <= 2:

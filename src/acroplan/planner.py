@@ -76,7 +76,7 @@ def _vector(field, value, length=None) -> np.ndarray:
 def plan(system: ControlAffineSystem, *, times, conditions: str = "spline", method: str = "auto",
          basis: str = "legendre", n_coefficients: int | None = None, u_max: float | None = None,
          phi_min: float | None = None, phi_max: float | None = None, verify: bool = True, tol: float = 1e-10,
-         max_evaluations: int = 2000, **waypoints) -> PlanResult:
+         max_evaluations: int = 2000, progress=None, **waypoints) -> PlanResult:
     r"""Plan a motion of ``system`` through waypoints.
 
     Parameters
@@ -109,6 +109,8 @@ def plan(system: ControlAffineSystem, *, times, conditions: str = "spline", meth
         Required endpoint error of each segment (compiled integrator).
     max_evaluations : int
         Evaluation budget per segment and basis size.
+    progress : callable, optional
+        Called as ``progress(done, total)`` after each waypoint interval (for a progress bar).
 
     Returns
     -------
@@ -176,6 +178,8 @@ def plan(system: ControlAffineSystem, *, times, conditions: str = "spline", meth
             msg = (f"not converged: segment {k} [{t[k]:g}, {t[k + 1]:g}] from {_fmt(X[k], system)} to "
                    f"{_fmt(X[k + 1], system)}: {why}")
             return PlanResult("not_converged", msg, segments=tuple(segments), **common)
+        if progress is not None:
+            progress(k + 1, K)
         last = pieces[-1]
         prev_end_input = np.array([np.polynomial.polynomial.polyval(last.t1 - last.t0, row)
                                    for row in last.coefficients])

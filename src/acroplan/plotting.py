@@ -65,9 +65,13 @@ def plot_states(result, samples=None):
 
 
 def plot_result(result, *, per_segment: int = 200):
-    """Both figures: ``{"input": fig1, "states": fig2}``."""
+    """The figures of a plan: ``{"input": Fig. 1, "states": Fig. 2, "continuation": diagnostics}``
+    (the last only when a segment was planned by path deformation)."""
     samples = result.sample(per_segment)
-    return {"input": plot_input(result, samples), "states": plot_states(result, samples)}
+    figs = {"input": plot_input(result, samples), "states": plot_states(result, samples)}
+    if any(s.history for s in result.segments):
+        figs["continuation"] = plot_continuation(result)
+    return figs
 
 
 def plot_reach(problem, *, samples: int = 241):
@@ -179,3 +183,38 @@ def plot_nilpotent(result, counter=None, *, samples: int = 801):
             ax.legend()
         figs["failure_mode"] = fig
     return figs
+
+
+def plot_continuation(result):
+    """Continuation diagnostics of every path-deformation segment of a plan.
+
+    Left: each state's target path :math:`\\pi(\\tau)` (lines) against the endpoint reached at each
+    accepted step (dots). Right: the smallest singular value of the reduced endpoint Jacobian over
+    :math:`\\tau` (log scale): where it approaches 0 the continuation nears a singularity.
+    """
+    plt = _plt()
+    segs = [s for s in result.segments if s.history]
+    fig, axes = plt.subplots(1, 2, figsize=(10, 3.8), constrained_layout=True)
+    names = result.system.state_names
+    for k, seg in enumerate(segs):
+        tau = np.array([h[0] for h in seg.history])
+        goal = np.array([h[3] for h in seg.history])
+        reached = np.array([h[4] for h in seg.history])
+        for i, name in enumerate(names):
+            ls = "-" if i == 0 else "--"
+            line, = axes[0].plot(tau, goal[:, i] - goal[0, i], ls, lw=1.2,
+                                 label=f"seg {seg.index}: {name}" if len(segs) <= 6 else None)
+            axes[0].plot(tau, reached[:, i] - goal[0, i], "o", ms=3, color=line.get_color())
+        axes[1].semilogy(tau, [max(h[2], 1e-300) for h in seg.history], "o-", ms=3, lw=1,
+                         label=f"segment {seg.index}" if len(segs) <= 6 else None)
+    axes[0].set_xlabel("τ (path parameter)")
+    axes[0].set_ylabel("π(τ) − π(0): target (line), reached (dots)")
+    axes[0].set_title("Target path against what was reached")
+    axes[1].set_xlabel("τ")
+    axes[1].set_ylabel("smallest singular value")
+    axes[1].set_title("Distance from singularity")
+    for ax in axes:
+        ax.grid(alpha=0.3)
+        if len(segs) <= 6 and segs:
+            ax.legend(fontsize=7)
+    return fig

@@ -69,12 +69,12 @@ class Problem:
     options: dict[str, Any] = dataclasses.field(default_factory=dict)
     name: str = ""
 
-    def solve(self, *, verify: bool = True):
+    def solve(self, *, verify: bool = True, progress=None):
         """Plan it with :func:`acroplan.plan`."""
         from .planner import plan
 
         return plan(self.robot, times=self.times, theta=self.theta, phi=self.phi, conditions=self.conditions,
-                    verify=verify, **self.options)
+                    verify=verify, progress=progress, **self.options)
 
     @property
     def limits(self):

@@ -83,7 +83,7 @@ class SegmentResult:
         Smallest singular value of the reduced endpoint Jacobian along the continuation.
     success : bool
     message : str
-    history : tuple of (tau, residual, sigma_min)
+    history : tuple of (tau, residual, sigma_min, goal, reached)
     """
 
     index: int
@@ -286,7 +286,8 @@ class PlanResult:
         return json.dumps(self.to_dict(), **kwargs)
 
     def plot(self, *, per_segment: int = 200):
-        """Figures in the text's styles: ``{"input": Fig. 1, "states": Fig. 2}`` (matplotlib)."""
+        """Figures in the text's styles: ``{"input": Fig. 1, "states": Fig. 2}``, plus
+        ``"continuation"`` diagnostics when path deformation was used (matplotlib figures)."""
         from . import plotting
 
         return plotting.plot_result(self, per_segment=per_segment)

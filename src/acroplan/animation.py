@@ -1,0 +1,188 @@
+"""Animation and strobe figures of the acrobot, drawn to scale in the centre-of-mass frame.
+
+Geometry (NOTES.md): from the joint, the torso's centre of mass is at :math:`L\\,e(\\theta+\\varphi)`
+and the leg's at :math:`l\\,e(\\theta)`, :math:`e(a) = (\\cos a, \\sin a)`. Each link is drawn as a
+uniform rod through its centre of mass, from the joint to twice that distance (torso end
+:math:`2L\\,e(\\theta+\\varphi)`, leg end :math:`2l\\,e(\\theta)`). The picture's origin is the body's
+centre of mass :math:`(m\\,l\\,e(\\theta) + M L\\,e(\\theta+\\varphi))/(m+M)` from the joint.
+
+A body known only by its lumped parameters is drawn with a representative geometry: equal masses
+(:math:`\\mu = 1/2`) and :math:`L = l = \\sqrt{|A_1|}`, so that :math:`A_1 = -2\\mu L l` holds.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import shutil
+import warnings
+
+import numpy as np
+
+__all__ = ["Geometry", "geometry_of", "pose", "animate", "strobe", "MAX_FRAMES"]
+
+#: Frame cap: a longer motion is played faster, with a warning, rather than filling the disk.
+MAX_FRAMES = 1500
+
+
+@dataclasses.dataclass(frozen=True)
+class Geometry:
+    """Masses and centre-of-mass distances used for drawing."""
+
+    torso_mass: float
+    leg_mass: float
+    torso_length: float
+    leg_length: float
+    representative: bool = False
+
+
+def geometry_of(system_dict: dict) -> Geometry:
+    """The drawing geometry from a result's ``system`` entry (``solution.json``)."""
+    phys = system_dict.get("physical")
+    if phys:
+        return Geometry(phys["torso_mass"], phys["leg_mass"], phys["torso_length"], phys["leg_length"])
+    A1 = float(system_dict["params"]["A1"])
+    L = math.sqrt(abs(A1)) if A1 != 0 else 1.0
+    return Geometry(1.0, 1.0, L, L, representative=True)
+
+
+def pose(theta, phi, g: Geometry):
+    """Points of the body in the centre-of-mass frame.
+
+    Parameters
+    ----------
+    theta, phi : array_like, shape (N,)
+
+    Returns
+    -------
+    dict of numpy.ndarray, each shape (N, 2)
+        ``joint``, ``torso_end``, ``leg_end``, ``torso_cm``, ``leg_cm``.
+    """
+    theta = np.atleast_1d(np.asarray(theta, dtype=float))
+    phi = np.atleast_1d(np.asarray(phi, dtype=float))
+    e_leg = np.stack([np.cos(theta), np.sin(theta)], axis=1)
+    e_torso = np.stack([np.cos(theta + phi), np.sin(theta + phi)], axis=1)
+    M, m = g.torso_mass, g.leg_mass
+    cm = (m * g.leg_length * e_leg + M * g.torso_length * e_torso) / (m + M)
+    joint = -cm
+    return {"joint": joint, "torso_cm": joint + g.torso_length * e_torso, "leg_cm": joint + g.leg_length * e_leg,
+            "torso_end": joint + 2 * g.torso_length * e_torso, "leg_end": joint + 2 * g.leg_length * e_leg}
+
+
+def _frames(t, speed, fps, max_frames):
+    duration = (t[-1] - t[0]) / speed
+    n = max(2, int(round(duration * fps)) + 1)
+    if n > max_frames:
+        warnings.warn(f"a {t[-1] - t[0]:g} s motion at speed {speed:g} needs {n} frames; capped at {max_frames} "
+                      f"(played {n / max_frames:.3g} times faster)", stacklevel=3)
+        n = max_frames
+    return np.linspace(t[0], t[-1], n)
+
+
+def animate(t, theta, phi, u, g: Geometry, path, *, speed: float = 1.0, fps: int = 25, trail: float = 1.0,
+            max_frames: int = MAX_FRAMES, mp4_path=None):
+    """Write an animated GIF (and an MP4 when ffmpeg is present) of the motion.
+
+    Parameters
+    ----------
+    t, theta, phi, u : array_like, shape (N,)
+        The sampled motion (``trajectory.csv``), t increasing.
+    g : Geometry
+    path : path of the GIF
+    speed : float
+        Playback speed (1 = real time).
+    fps : int
+    trail : float
+        Seconds of fading trail behind the link ends.
+    mp4_path : path, optional
+        Also write an MP4 there if ffmpeg is on the PATH.
+
+    Returns
+    -------
+    int
+        The number of frames.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.animation import FFMpegWriter, FuncAnimation, PillowWriter
+
+    t = np.asarray(t, dtype=float)
+    tf = _frames(t, speed, fps, max_frames)
+    th = np.interp(tf, t, theta)
+    ph = np.interp(tf, t, phi)
+    uf = np.interp(tf, t, u)
+    P = pose(th, ph, g)
+    reach = 1.12 * max(float(np.max(np.hypot(*P[k].T))) for k in ("joint", "torso_end", "leg_end"))
+    fig, ax = plt.subplots(figsize=(4.8, 4.8), dpi=80)
+    ax.set_xlim(-reach, reach)
+    ax.set_ylim(-reach, reach)
+    ax.set_aspect("equal")
+    ax.grid(alpha=0.25)
+    ax.set_title("acroplan: centre-of-mass frame" + (" (representative geometry)" if g.representative else ""),
+                 fontsize=9)
+    torso, = ax.plot([], [], lw=7, solid_capstyle="round", color="C0", label="torso")
+    leg, = ax.plot([], [], lw=5, solid_capstyle="round", color="C1", label="leg")
+    joint, = ax.plot([], [], "o", color="k", ms=6)
+    ax.plot([0], [0], "+", color="0.4", ms=10)
+    tr_t = ax.scatter([], [], s=6, color="C0")
+    tr_l = ax.scatter([], [], s=6, color="C1")
+    text = ax.text(0.02, 0.98, "", transform=ax.transAxes, va="top", family="monospace", fontsize=8)
+    ax.legend(loc="lower right", fontsize=7)
+    n_trail = max(1, int(round(trail * fps / speed)))
+
+    def draw(i):
+        j = P["joint"][i]
+        torso.set_data([j[0], P["torso_end"][i, 0]], [j[1], P["torso_end"][i, 1]])
+        leg.set_data([j[0], P["leg_end"][i, 0]], [j[1], P["leg_end"][i, 1]])
+        joint.set_data([j[0]], [j[1]])
+        lo = max(0, i - n_trail)
+        alpha = np.linspace(0.05, 0.6, i + 1 - lo)
+        for sc, key, c in ((tr_t, "torso_end", "C0"), (tr_l, "leg_end", "C1")):
+            sc.set_offsets(P[key][lo:i + 1])
+            rgba = np.tile(matplotlib.colors.to_rgba(c), (i + 1 - lo, 1))
+            rgba[:, 3] = alpha
+            sc.set_facecolors(rgba)
+            sc.set_edgecolors("none")
+        text.set_text(f"t = {tf[i]:7.3f} s\nθ = {th[i]:7.3f} rad\nφ = {ph[i]:7.3f} rad\nu = {uf[i]:7.3f} rad/s")
+        return torso, leg, joint, tr_t, tr_l, text
+
+    anim = FuncAnimation(fig, draw, frames=len(tf), blit=False)
+    try:
+        anim.save(str(path), writer=PillowWriter(fps=fps))
+        if mp4_path is not None and shutil.which("ffmpeg"):
+            anim.save(str(mp4_path), writer=FFMpegWriter(fps=fps))
+    finally:
+        plt.close(fig)
+    return len(tf)
+
+
+def strobe(t, theta, phi, g: Geometry, *, poses: int = 9, ax=None):
+    """A single image of several poses overlaid, later poses darker, as in diving photography.
+
+    The body drifts along x in the picture (one body length per pose) so that poses do not hide
+    each other; the centre of mass moves in a straight line, as for a body in free flight seen in a
+    frame moving with its horizontal speed.
+    """
+    import matplotlib.pyplot as plt
+
+    ts = np.linspace(t[0], t[-1], poses)
+    P = pose(np.interp(ts, t, theta), np.interp(ts, t, phi), g)
+    step = 2.2 * max(g.torso_length, g.leg_length)
+    own = ax is None
+    if own:
+        fig, ax = plt.subplots(figsize=(1.2 * poses + 1, 3.2), constrained_layout=True)
+    for k in range(poses):
+        dx = np.array([k * step, 0.0])
+        a = 0.25 + 0.75 * k / max(poses - 1, 1)
+        j = P["joint"][k] + dx
+        ax.plot([j[0], P["torso_end"][k, 0] + dx[0]], [j[1], P["torso_end"][k, 1]], lw=5, color="C0", alpha=a,
+                solid_capstyle="round")
+        ax.plot([j[0], P["leg_end"][k, 0] + dx[0]], [j[1], P["leg_end"][k, 1]], lw=3.5, color="C1", alpha=a,
+                solid_capstyle="round")
+        ax.plot([j[0]], [j[1]], "o", color="k", ms=3, alpha=a)
+        ax.text(dx[0], -1.2 * step / 2.2 * 2, f"t = {ts[k]:.3g} s", ha="center", fontsize=7, color="0.3")
+    ax.set_aspect("equal")
+    ax.axis("off")
+    return ax.figure if own else ax
