@@ -1,0 +1,54 @@
+"""Render the public API's numpydoc docstrings into docs/api.md.
+
+Run:  python docs/make_api.py          (tests/test_docs.py checks that docs/api.md is current)
+"""
+
+from __future__ import annotations
+
+import inspect
+import sys
+from pathlib import Path
+
+import acroplan
+from acroplan import lie, nilpotent, reach
+
+SECTIONS = [
+    ("Planning", acroplan, ["plan", "plan_many", "PlanResult", "SegmentResult", "Samples"]),
+    ("Models", acroplan, ["ControlAffineSystem", "Acrobot", "PhysicalParameters", "Unicycle", "Infeasibility"]),
+    ("Feasibility and limits", reach, ["reachable_set", "Reach", "Limits"]),
+    ("Feasibility and limits", acroplan, ["reachable_interval"]),
+    ("Input bases", acroplan, ["InputBasis", "Legendre", "Monomial"]),
+    ("Problems", acroplan, ["Problem", "load_problem", "examples"]),
+    ("Chapter 4: nilpotentization", nilpotent, ["NilpotentProblem", "NilpotentResult", "construction",
+                                                 "endpoint_equations", "format_equations", "iterated_integrals",
+                                                 "solve_nilpotent", "counterexample", "solve_flat_y",
+                                                 "resimulate"]),
+    ("Lie algebra tools", lie, ["bracket", "hall_basis", "hall_count", "evaluate", "derived_distributions",
+                                "growth_vector", "larc", "is_nilpotent", "is_exact", "frobenius"]),
+    ("Errors", acroplan, ["InvalidInputError"]),
+]
+
+
+def render() -> str:
+    out = ["# API reference", "",
+           "Generated from the docstrings by `python docs/make_api.py`; the mathematics is in each entry.", ""]
+    last = None
+    for title, module, names in SECTIONS:
+        if title != last:
+            out += [f"## {title}", ""]
+            last = title
+        for name in names:
+            obj = getattr(module, name)
+            qual = f"{module.__name__}.{name}"
+            try:
+                sig = str(inspect.signature(obj)) if callable(obj) and not inspect.ismodule(obj) else ""
+            except (TypeError, ValueError):
+                sig = ""
+            out += [f"### `{qual}{sig}`", "", "```text", inspect.cleandoc(obj.__doc__ or "(no docstring)"), "```", ""]
+    return "\n".join(out)
+
+
+if __name__ == "__main__":
+    path = Path(__file__).with_name("api.md")
+    path.write_text(render(), encoding="utf-8")
+    print(f"wrote {path}", file=sys.stderr)
