@@ -253,3 +253,23 @@ def test_nilpotent_exit_codes(tmp_path):
     assert res.exit_code == 2 and "nilpotent.Q: needs 3 values" in res.output
     res = run(["plan", "--example", "chapter4", "--out", str(tmp_path / "d")])
     assert res.exit_code == 2 and "acroplan nilpotent --example chapter4" in res.output
+
+
+def test_batch_folder_and_file_of_many(tmp_path):
+    folder = tmp_path / "many"
+    folder.mkdir()
+    (folder / "a.toml").write_text(GOOD.format(theta=1.0))
+    (folder / "b.toml").write_text(GOOD.format(theta=50.0))  # infeasible
+    out = tmp_path / "out"
+    res = run(["plan", str(folder), "--out", str(out), "--no-plots"])
+    assert res.exit_code == 3, res.output
+    import csv
+
+    rows = list(csv.DictReader(open(out / "summary.csv")))
+    assert [(r["name"], r["status"]) for r in rows] == [("a", "success"), ("b", "infeasible")]
+    assert (out / "a" / "trajectory.csv").exists() and not (out / "b" / "trajectory.csv").exists()
+    many = "".join("[[problem]]\n" + f'name = "p{i}"\n' + GOOD.format(theta=0.5 + 0.2 * i)
+                   .replace("[robot]", "[problem.robot]").replace("[plan]", "[problem.plan]") for i in range(3))
+    res = run(["plan", write(tmp_path, many, "many.toml"), "--out", str(tmp_path / "o2"), "--no-plots", "--json"])
+    assert res.exit_code == 0, res.output
+    assert json.loads(res.output)["counts"] == {"success": 3}

@@ -186,7 +186,7 @@ def init_cmd(name, force):
 
 
 @main.command("plan")
-@click.argument("problem", required=False, type=click.Path(dir_okay=False, path_type=Path))
+@click.argument("problem", required=False, type=click.Path(path_type=Path))
 @click.option("--example", metavar="NAME", help="Plan a bundled example instead of a PROBLEM file.")
 @common
 @click.option("--no-plots", is_flag=True, help="Skip the figures.")
@@ -204,11 +204,19 @@ def plan_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do_ani
       continuation.png   target path against what was reached, smallest singular value
     On exit code 3 (infeasible) or 4 (not converged) only solution.json is written.
 
+    PROBLEM may also be a folder of problem files, or a file of many problems ([[problem]] tables,
+    each with an optional name): they are planned on all cores, each into OUT/NAME/, with
+    OUT/summary.csv (name, status, message, segments, evaluations, errors); the exit code is then
+    0 if all succeeded, else 4 if any did not converge, else 3.
+
     \b
     Examples:
       acroplan plan --example pike-dive --out pike-dive-out
       acroplan plan my-dive.toml --out my-dive-out --force --format png,pdf --animate
+      acroplan plan many-dives/ --out results --no-plots
     """
+    if problem is not None and example is None and _is_batch(problem):
+        return _plan_batch(problem, out, force, quiet, as_json, no_plots, fmt)
     try:
         prob = _load(problem, example)
         if out is None:
@@ -237,6 +245,83 @@ def plan_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do_ani
     lines = [result.message, f"wrote {out}/"] if code == EXIT_SUCCESS else [
         result.message, f"diagnostics written to {out / 'solution.json'}"]
     _report(summary, as_json, quiet, lines, code)
+
+
+def _is_batch(path: Path) -> bool:
+    if path.is_dir():
+        return True
+    try:
+        from .problem import load_toml
+
+        return "problem" in load_toml(path)
+    except InvalidInputError:
+        return False
+
+
+def _plan_batch(path, out, force, quiet, as_json, no_plots, fmt):
+    import csv
+
+    from .batch import plan_many
+    from .problem import load_toml, parse_problem
+
+    try:
+        if out is None:
+            raise InvalidInputError("--out", "is required", "give an output folder, for example --out results")
+        fmts = _formats(fmt)
+        named = []
+        if path.is_dir():
+            files = sorted(path.glob("*.toml"))
+            if not files:
+                raise InvalidInputError(str(path), "holds no .toml problem files", "put problem files in the folder")
+            named = [(f.stem, load_problem(f)) for f in files]
+        else:
+            data = load_toml(path)
+            entries = data["problem"]
+            if not isinstance(entries, list) or not entries:
+                raise InvalidInputError("problem", "must be an array of tables ([[problem]])", "see docs/problem-files.md")
+            for i, entry in enumerate(entries):
+                entry = dict(entry)
+                name = str(entry.pop("name", f"problem-{i:04d}"))
+                try:
+                    named.append((name, parse_problem(entry, name=name)))
+                except InvalidInputError as e:
+                    raise InvalidInputError(f"problem[{i}].{e.field}", e.problem, e.fix) from None
+        names = [n for n, _ in named]
+        if len(set(names)) != len(names):
+            raise InvalidInputError("name", "problem names must be unique", "rename the duplicates")
+        check_out_dir(out, force)
+        update, close = _progress(len(named), "problems")
+        try:
+            results = plan_many([p for _, p in named], progress=update)
+        finally:
+            close()
+        with atomic_dir(out, force) as tmp:
+            rows = []
+            for (name, _), r in zip(named, results):
+                folder = tmp / name
+                folder.mkdir()
+                (folder / "solution.json").write_text(r.to_json() + "\n", encoding="utf-8")
+                if r.success:
+                    _write_csv(r, folder / "trajectory.csv")
+                    if not no_plots:
+                        _save(r.plot(), folder, fmts)
+                d = r.to_dict()["diagnostics"]
+                rows.append({"name": name, "status": r.status, "message": r.message.splitlines()[0],
+                             "segments": len(r.segments), "evaluations": d["evaluations"],
+                             "max_final_error": d["max_final_error"], "max_verified_error": d["max_verified_error"]})
+            with open(tmp / "summary.csv", "w", newline="", encoding="utf-8") as f:
+                w = csv.DictWriter(f, fieldnames=list(rows[0]))
+                w.writeheader()
+                w.writerows(rows)
+    except InvalidInputError as e:
+        _fail(str(e))
+    statuses = [r.status for r in results]
+    code = (EXIT_SUCCESS if all(s == "success" for s in statuses) else
+            EXIT_NOT_CONVERGED if "not_converged" in statuses else EXIT_INFEASIBLE)
+    counts = {s: statuses.count(s) for s in sorted(set(statuses))}
+    _report({"command": "plan", "batch": True, "counts": counts, "out": str(out)}, as_json, quiet,
+            [f"{len(results)} problems: " + ", ".join(f"{v} {k}" for k, v in counts.items()),
+             f"wrote {out}/summary.csv"], code)
 
 
 def _write_csv(result, path: Path, per_segment: int = 200) -> None:
