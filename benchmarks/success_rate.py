@@ -22,24 +22,20 @@ import time
 import numpy as np
 
 import acroplan
-from acroplan.zoo import random_body
+from acroplan.zoo import random_segment
 
 BANDS = {"center": [(0.25, 0.75)], "middle": [(0.10, 0.25), (0.75, 0.90)], "edge": [(0.02, 0.10), (0.90, 0.98)],
          "outside": [(-0.2, 0.0), (1.0, 1.2)]}
 
 
 def draw(rng, band):
-    robot = random_body(rng)
-    T = rng.uniform(0.5, 3.0)
-    phi0 = rng.uniform(-np.pi, np.pi)
-    phiT = phi0 + rng.uniform(-np.pi, np.pi)
-    theta0 = rng.uniform(-np.pi, np.pi)
-    lo, hi = robot.reachable_interval(theta0=theta0, phi0=phi0, phiT=phiT, T=T)
-    a, b = BANDS[band][rng.integers(len(BANDS[band]))]
-    w = rng.uniform(a, b)
-    if band == "outside" and w in (0.0, 1.0):
-        w = -0.01
-    return robot, dict(times=[0.0, T], theta=[theta0, lo + w * (hi - lo)], phi=[phi0, phiT])
+    def draw_w(rng):
+        a, b = BANDS[band][rng.integers(len(BANDS[band]))]
+        w = rng.uniform(a, b)
+        return -0.01 if band == "outside" and w in (0.0, 1.0) else w
+
+    p = random_segment(rng, draw_w=draw_w)
+    return p.robot, p.plan_kwargs()
 
 
 def main():

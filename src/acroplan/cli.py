@@ -37,6 +37,15 @@ def _formats(text: str) -> tuple[str, ...]:
     return fmts
 
 
+def _check_outputs(out, force: bool, fmt: str, hint: str) -> tuple[str, ...]:
+    """Validate --out, --force and --format before any work; returns the figure formats."""
+    if out is None:
+        raise InvalidInputError("--out", "is required", f"give an output folder, for example --out {hint}")
+    fmts = _formats(fmt)
+    check_out_dir(out, force)
+    return fmts
+
+
 def _save(figs: dict, folder: Path, fmts) -> None:
     import matplotlib.pyplot as plt
 
@@ -219,10 +228,7 @@ def plan_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do_ani
         return _plan_batch(problem, out, force, quiet, as_json, no_plots, fmt)
     try:
         prob = _load(problem, example)
-        if out is None:
-            raise InvalidInputError("--out", "is required", "give an output folder, for example --out plan-out")
-        fmts = _formats(fmt)
-        check_out_dir(out, force)
+        fmts = _check_outputs(out, force, fmt, "plan-out")
         update, close = _progress(len(prob.times) - 1, "segments")
         try:
             result = prob.solve(verify=True, progress=update)
@@ -265,9 +271,7 @@ def _plan_batch(path, out, force, quiet, as_json, no_plots, fmt):
     from .problem import load_toml, parse_problem
 
     try:
-        if out is None:
-            raise InvalidInputError("--out", "is required", "give an output folder, for example --out results")
-        fmts = _formats(fmt)
+        fmts = _check_outputs(out, force, fmt, "results")
         named = []
         if path.is_dir():
             files = sorted(path.glob("*.toml"))
@@ -289,7 +293,6 @@ def _plan_batch(path, out, force, quiet, as_json, no_plots, fmt):
         names = [n for n, _ in named]
         if len(set(names)) != len(names):
             raise InvalidInputError("name", "problem names must be unique", "rename the duplicates")
-        check_out_dir(out, force)
         update, close = _progress(len(named), "problems")
         try:
             results = plan_many([p for _, p in named], progress=update)
@@ -354,10 +357,7 @@ def reach_cmd(problem, example, out, force, quiet, as_json, fmt):
 
     try:
         prob = _load(problem, example)
-        if out is None:
-            raise InvalidInputError("--out", "is required", "give an output folder, for example --out reach-out")
-        fmts = _formats(fmt)
-        check_out_dir(out, force)
+        fmts = _check_outputs(out, force, fmt, "reach-out")
         rows = prob.reach()
         with atomic_dir(out, force) as tmp:
             (tmp / "reach.json").write_text(json.dumps({"segments": rows}, indent=2) + "\n", encoding="utf-8")
@@ -417,10 +417,7 @@ def nilpotent_cmd(problem, example, out, force, quiet, as_json, equations, no_pl
         if equations:
             click.echo(nil.format_equations(prob))
             sys.exit(EXIT_SUCCESS)
-        if out is None:
-            raise InvalidInputError("--out", "is required", "give an output folder, or --equations")
-        fmts = _formats(fmt)
-        check_out_dir(out, force)
+        fmts = _check_outputs(out, force, fmt, "ch4-out (or use --equations)")
         R = reachable_set(prob.robot, theta0=prob.P[2], phi0=prob.P[0], phiT=prob.Q[0], T=prob.Q[1] - prob.P[1],
                           limits=Limits(phi_min=-np.pi, phi_max=np.pi))
         if not R.contains(prob.Q[2]):

@@ -313,19 +313,7 @@ def load_toml(path) -> dict:
 
 def load_problem(path) -> Problem:
     """Read and validate a problem file."""
-    path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise InvalidInputError(str(path), "no such file", "give the path of a problem .toml file") from None
-    except (IsADirectoryError, PermissionError, UnicodeDecodeError) as e:
-        raise InvalidInputError(str(path), f"cannot be read ({e.__class__.__name__})",
-                                "give a readable UTF-8 .toml file") from None
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as e:
-        raise InvalidInputError(str(path), f"is not valid TOML ({e})", "fix the syntax (see the README)") from None
-    return parse_problem(data, name=path.stem)
+    return parse_problem(load_toml(path), name=Path(path).stem)
 
 
 def system_to_dict(system) -> dict[str, Any]:

@@ -46,13 +46,17 @@ class SegmentProblem:
         return dict(times=[0.0, self.T], theta=[self.theta0, self.thetaT], phi=[self.phi0, self.phiT])
 
 
-def random_segment(rng: np.random.Generator, band: float = 0.96) -> SegmentProblem:
-    """A random feasible single-segment problem (see module docstring)."""
+def random_segment(rng: np.random.Generator, band: float = 0.96, draw_w=None) -> SegmentProblem:
+    """A random single-segment problem (see module docstring).
+
+    ``draw_w(rng)``, if given, draws the target's relative position in the interval instead of the
+    middle ``band`` (values outside [0, 1] make an infeasible problem).
+    """
     robot = random_body(rng)
     T = rng.uniform(0.5, 3.0)
     phi0 = rng.uniform(-np.pi, np.pi)
     phiT = phi0 + rng.uniform(-np.pi, np.pi)
     theta0 = rng.uniform(-np.pi, np.pi)
     lo, hi = robot.reachable_interval(theta0=theta0, phi0=phi0, phiT=phiT, T=T)
-    w = rng.uniform(0.5 - band / 2, 0.5 + band / 2)
+    w = draw_w(rng) if draw_w is not None else rng.uniform(0.5 - band / 2, 0.5 + band / 2)
     return SegmentProblem(robot, T, theta0, phi0, lo + w * (hi - lo), phiT, (lo, hi))
