@@ -169,19 +169,19 @@ def solve_segment(system: ControlAffineSystem, basis: InputBasis, x0, x1, T: flo
             s = np.linalg.svd(A, compute_uv=False)
             ratio = s[-1] / (s[0] + 1e-300)
             if k == 0 and ratio > 1e-8:
-                yield z, y, A
+                yield z, y, A, s[-1]
             else:
-                tried.append((ratio, k, z, y, A))
-        for _, _, z, y, A in sorted(tried, key=lambda item: (-item[0], item[1])):
-            yield z, y, A
+                tried.append((ratio, k, z, y, A, s[-1]))
+        for _, _, z, y, A, smin in sorted(tried, key=lambda item: (-item[0], item[1])):
+            yield z, y, A, smin
 
     best = None
     restarts = -1
-    for z_start, y_start, A_start in start_points():
+    for z_start, y_start, A_start, s_start in start_points():
         restarts += 1
         path = system.continuation_path(y_start, x1, x0, T)
-        out = _continue(evaluate, counter, z_start, y_start, A_start, x1, path, tol, scale, max_evaluations,
-                        min_step)
+        out = _continue(evaluate, counter, z_start, y_start, A_start, s_start, x1, path, tol, scale,
+                        max_evaluations, min_step)
         if best is None or out["tau"] > best["tau"] or (out["success"] and not best["success"]):
             best = out
         if out["success"] or counter.evaluations >= max_evaluations or restarts + 1 >= starts:
@@ -203,10 +203,10 @@ def solve_segment(system: ControlAffineSystem, basis: InputBasis, x0, x1, T: flo
                         best["tau"], tuple(best["history"]), restarts)
 
 
-def _continue(evaluate, counter, z, y, A, x1, path, tol, scale, max_evaluations, min_step):
+def _continue(evaluate, counter, z, y, A, sigma0, x1, path, tol, scale, max_evaluations, min_step):
     y_start = y.copy()
     tau, dtau = 0.0, 1.0
-    history = [(0.0, 0.0, float(np.linalg.svd(A, compute_uv=False)[-1]), y.copy(), y.copy())]
+    history = [(0.0, 0.0, float(sigma0), y.copy(), y.copy())]
     why = "evaluation budget spent"
     mid_tol = 1e-6 * scale
     while counter.evaluations < max_evaluations:

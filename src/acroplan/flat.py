@@ -234,7 +234,7 @@ def flat_pieces(robot: Acrobot, x0, x1, T: float, *, ends: dict | None = None, l
 # ----------------------------------------------------------------------------------------- guesses
 _XG, _WG = np.polynomial.legendre.leggauss(40)
 _SG, _WSG = (_XG + 1) / 2, _WG / 2
-_AMPS = np.linspace(-4 * np.pi, 4 * np.pi, 41)
+_AMPS = np.linspace(-4 * np.pi, 4 * np.pi, 25)
 
 
 @functools.lru_cache(maxsize=64)
@@ -295,8 +295,26 @@ def initial_guess(robot: Acrobot, basis, x0, x1, T: float, ends: dict | None = N
     idx = np.nonzero(np.sign(vals[:-1]) * np.sign(vals[1:]) <= 0)[0]
     if idx.size:
         kk = idx[np.argmin(np.abs(amps[idx]))]
-        f = lambda a: T * float((1.0 / (M1 + A1 * np.cos(PH + a * W))) @ _WSG) - target  # noqa: E731
-        a = brentq(f, amps[kk], amps[kk + 1], xtol=1e-9 * (amps[-1] - amps[0]))  # Newton polishes after
+        lo, hi, flo = amps[kk], amps[kk + 1], vals[kk]
+        # safeguarded Newton on I(a) = target: dI/da = T sum w A1 sin(phi) W / h^2
+        a = lo - flo * (hi - lo) / (vals[kk + 1] - flo) if vals[kk + 1] != flo else 0.5 * (lo + hi)
+        for _ in range(20):
+            ph_ = PH + a * W
+            h = M1 + A1 * np.cos(ph_)
+            fa = T * float((1.0 / h) @ _WSG) - target
+            if fa == 0.0:
+                break
+            if (fa < 0) == (flo < 0):
+                lo, flo = a, fa
+            else:
+                hi = a
+            d = T * float((A1 * np.sin(ph_) * W / (h * h)) @ _WSG)
+            step = a - fa / d if d != 0.0 else 0.5 * (lo + hi)
+            a_new = step if lo < step < hi else 0.5 * (lo + hi)
+            if abs(a_new - a) <= 1e-12 * (1.0 + abs(a)):
+                a = a_new
+                break
+            a = a_new
     else:
         a = amps[int(np.argmin(np.abs(vals)))]
     phi = np.zeros(max(ph.size, w.size))

@@ -316,6 +316,8 @@ def _end_values(m, k, conditions, splines, t, prev_end_input):
 
 def _linear_conditions(b, m, T, ends):
     """``B c = d`` for the end values (flattened input-major ``c``)."""
+    if not ends:
+        return None, None
     n = b.n
     rows, rhs = [], []
     V = b.matrix([0.0, 1.0], 0)
@@ -357,6 +359,12 @@ def _solve_interval(system, b, sizes, x0, x1, T, ends, limits, method, tol, max_
     m = system.n_inputs
     reasons = []
     last_failed = None
+    spent = [0]  # evaluations of the stages that did not succeed, charged to the result
+
+    def charge(pieces):
+        if spent[0] and pieces:
+            pieces = [dataclasses.replace(pieces[0], evaluations=pieces[0].evaluations + spent[0])] + pieces[1:]
+        return pieces
 
     def deform(n):
         nonlocal last_failed
@@ -374,8 +382,8 @@ def _solve_interval(system, b, sizes, x0, x1, T, ends, limits, method, tol, max_
         info = dict(iterations=out.iterations, evaluations=out.evaluations, restarts=out.restarts,
                     sigma_min=out.sigma_min, history=out.history)
         if out.success and _compliant(system, bn, x0, T, out.coefficients, limits):
-            return [_segment(system, bn, x0, x1, T, out.coefficients, t0=0.0, final_error=out.final_error,
-                             message=out.message, limits=limits, **info)]
+            return charge([_segment(system, bn, x0, x1, T, out.coefficients, t0=0.0, final_error=out.final_error,
+                                    message=out.message, limits=limits, **info)])
         if out.success:
             ok, c, err, ev, msg = solve_with_limits(system, bn, x0, x1, T, limits, out.coefficients, B=B, d=d,
                                                     tol=tol)
@@ -383,10 +391,12 @@ def _solve_interval(system, b, sizes, x0, x1, T, ends, limits, method, tol, max_
             piece = _segment(system, bn, x0, x1, T, c, t0=0.0, final_error=err, success=ok, message=msg,
                              method="deform+limits", limits=limits, **info)
             if ok:
-                return [piece]
+                return charge([piece])
+            spent[0] += info["evaluations"]
             reasons.append(f"{n} coefficients: path deformation converged but broke the limits, and {msg}")
             last_failed = piece
         else:
+            spent[0] += info["evaluations"]
             reasons.append(f"{n} coefficients: {out.message}")
             last_failed = _segment(system, bn, x0, x1, T, out.coefficients, t0=0.0, final_error=out.final_error,
                                    success=False, message=out.message, limits=limits, **info)
@@ -411,7 +421,7 @@ def _solve_interval(system, b, sizes, x0, x1, T, ends, limits, method, tol, max_
                                 message=msg, method="flat", limits=limits))
             x, t0 = end, t0 + D
         if out[-1].final_error <= tol:
-            return out
+            return charge(out)
         reasons.append(f"flat output: endpoint error {out[-1].final_error:.2e} > tol")
         last_failed = out[-1]
         return None
