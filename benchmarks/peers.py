@@ -98,7 +98,7 @@ class CasadiMS:
         self.opti, self.X, self.U, self.p, self.T, self.x0, self.x1 = opti, X, U, p, T, x0, x1
 
     def solve(self, robot, T, x0, x1):
-        ca, opti, N = self.ca, self.opti, self.N
+        opti, N = self.opti, self.N
         opti.set_value(self.p, robot.params)
         opti.set_value(self.T, T)
         opti.set_value(self.x0, x0)

@@ -204,7 +204,6 @@ def solve_segment(system: ControlAffineSystem, basis: InputBasis, x0, x1, T: flo
 
 
 def _continue(evaluate, counter, z, y, A, sigma0, x1, path, tol, scale, max_evaluations, min_step):
-    y_start = y.copy()
     tau, dtau = 0.0, 1.0
     history = [(0.0, 0.0, float(sigma0), y.copy(), y.copy())]
     why = "evaluation budget spent"

@@ -8,21 +8,20 @@ Any joint motion :math:`\\varphi(t)` with the right ends therefore reaches
 and planning a segment is **one scalar equation** :math:`I[\\varphi] = I^* :=
 (\\theta_T - \\theta_0 + F(\\varphi_T) - F(\\varphi_0))/P_0` for the joint motion, with no ODE to solve.
 
-We use the polynomial family, in :math:`s = t/T`,
+Two uses:
 
-.. math::  \\varphi(s) = p + (\\varphi_0 - p)(1 - s)^N + (\\varphi_T - p)\\,s^N + \\sum_k a_k e_k(s),
+* :func:`flat_pieces` (``method="flat"``): the joint moves along a quintic to a dwell value
+  :math:`p`, dwells, and moves along a quintic to :math:`\\varphi_T` (honouring the input conditions
+  at the ends); :math:`p` solves the equation (Brent's method), for transition times from 30% of
+  the segment down to 0.08% until one brackets the target. As the transitions shorten this
+  approaches the bang-dwell-bang extremals of :mod:`acroplan.reach`, so every target strictly
+  inside the exact interval is reached.
+* :func:`initial_guess`: a one-parameter polynomial joint motion that fits the path-deformation
+  basis, whose amplitude solves the same equation (safeguarded Newton): a start that usually
+  already meets the target.
 
-which leaves :math:`\\varphi_0`, moves to a dwell value :math:`p` and arrives at :math:`\\varphi_T`;
-the :math:`e_k` (:math:`s(1-s)^M`, :math:`s^2(1-s)^M/2` and their mirror images) impose the
-values and slopes of :math:`u = \\dot\\varphi` at the ends that the input conditions ask for. As
-:math:`N` grows, :math:`I \\to T/h(p)`, so the dwell :math:`p` is found by bracketing and Brent's
-method (``scipy.optimize.brentq``), for :math:`N` = 4, 6, 9, 13, 18 in turn. The integral is a
-Gauss-Legendre quadrature of 256 nodes of an analytic integrand.
-
-Where it does not apply: targets whose :math:`I^*` is closer to the extremes
-:math:`T/(M_1 \\pm |A_1|)` than a degree-:math:`N` dwell can get (those need the joint to stay at
-:math:`\\varphi = k\\pi`, where :math:`\\dot y` is extremal, for almost all of :math:`T`), and
-``P0 = 0`` (holonomic, refused before).
+Where it does not apply: ``P0 = 0`` (holonomic, refused before planning), and, with a rate bound,
+targets whose transitions would have to be faster than :math:`u_{max}` allows (it says so).
 """
 
 from __future__ import annotations
@@ -31,102 +30,16 @@ import functools
 import math
 
 import numpy as np
-from numpy.polynomial import Legendre as _Leg
 from numpy.polynomial import Polynomial as _Poly
 from scipy.optimize import brentq
 
 from .reach import Limits
 from .systems.acrobot import Acrobot
 
-__all__ = ["flat_segment", "DEGREES"]
+__all__ = ["flat_pieces", "initial_guess", "TRANSITIONS"]
 
-DEGREES = (4, 6, 9, 13, 18)
 _X, _W = np.polynomial.legendre.leggauss(256)
 _S, _WS = (_X + 1) / 2, _W / 2
-
-
-def _family(phi0, phiT, p, N, T, ends):
-    """The joint motion phi(s) as a power-basis polynomial in s."""
-    one_minus = _Poly([1.0, -1.0])
-    s = _Poly([0.0, 1.0])
-    phi = p + (phi0 - p) * one_minus**N + (phiT - p) * s**N
-    if ends:
-        M = max(3, N)
-        e = {
-            "u0": s * one_minus**M, "du0": s**2 * one_minus**M / 2,
-            "uT": -(one_minus * s**M), "duT": one_minus**2 * s**M / 2,
-        }
-        # conditions in s-units: dphi/ds = T u, d2phi/ds2 = T^2 u'
-        d1, d2 = phi.deriv(), phi.deriv(2)
-        if "u0" in ends:
-            phi = phi + (T * ends["u0"] - d1(0.0)) * e["u0"]
-        if "du0" in ends:
-            phi = phi + (T * T * ends["du0"] - phi.deriv(2)(0.0)) * e["du0"]
-        if "uT" in ends:
-            phi = phi + (T * ends["uT"] - phi.deriv()(1.0)) / e["uT"].deriv()(1.0) * e["uT"]
-        if "duT" in ends:
-            phi = phi + (T * T * ends["duT"] - phi.deriv(2)(1.0)) / e["duT"].deriv(2)(1.0) * e["duT"]
-        del d1, d2
-    return phi
-
-
-def _integral(robot: Acrobot, phi: _Poly, T: float) -> float:
-    return T * float(np.sum(_WS / robot.h(phi(_S))))
-
-
-def flat_segment(robot: Acrobot, x0, x1, T: float, *, ends: dict | None = None, limits: Limits | None = None,
-                 degrees=DEGREES):
-    """Plan one segment through the flat output (module docstring).
-
-    Parameters
-    ----------
-    robot : Acrobot
-    x0, x1 : array_like, shape (2,)
-        :math:`(\\theta, \\varphi)` at the segment ends.
-    T : float
-    ends : dict, optional
-        Input conditions at the ends: any of ``u0``, ``du0``, ``uT``, ``duT``.
-    limits : Limits, optional
-        Joint limits restrict the dwell value :math:`p`; rate limits are not imposed here.
-
-    Returns
-    -------
-    (c, message) : (numpy.ndarray of shape (1, n) or None, str)
-        Legendre coefficients of :math:`u` on the segment (``n`` = degree of :math:`\\varphi`), or
-        ``None`` with the reason.
-    """
-    theta0, phi0 = float(x0[0]), float(x0[1])
-    thetaT, phiT = float(x1[0]), float(x1[1])
-    if robot.P0 == 0.0:
-        return None, "P0 = 0: the flat output is constant (holonomic)"
-    target = (thetaT - theta0 + float(robot.F(phiT)) - float(robot.F(phi0))) / robot.P0
-    limits = limits or Limits()
-    mid = 0.5 * (phi0 + phiT)
-    lo = max(limits.lo, mid - math.pi - 0.5 * abs(phiT - phi0))
-    hi = min(limits.hi, mid + math.pi + 0.5 * abs(phiT - phi0))
-    grid = np.linspace(lo, hi, 73)
-    best = None
-    for N in degrees:
-        f = lambda p: _integral(robot, _family(phi0, phiT, p, N, T, ends), T) - target  # noqa: E731
-        vals = np.array([f(p) for p in grid])
-        idx = np.nonzero(np.sign(vals[:-1]) * np.sign(vals[1:]) <= 0)[0]
-        if idx.size == 0:
-            reach = (float(np.min(vals)), float(np.max(vals)))
-            best = (N, reach)
-            continue
-        # the bracket whose dwell is nearest the middle of the motion: the gentlest motion
-        k = idx[np.argmin(np.abs(grid[idx] - mid))]
-        p = brentq(f, grid[k], grid[k + 1], xtol=1e-15, rtol=1e-15, maxiter=200)
-        phi = _family(phi0, phiT, p, N, T, ends)
-        u_s = phi.deriv() / T  # u as a polynomial in s
-        leg = _Leg.cast(u_s, domain=[0.0, 1.0])
-        c = np.zeros(u_s.degree() + 1)
-        c[: leg.coef.size] = leg.coef
-        return c[None, :], f"flat output: dwell p = {p:.6g}, degree {N}"
-    N, (a, b) = best
-    return None, (f"the flat family up to degree {N} reaches int dt/h only in [{a + target:.6g}, {b + target:.6g}]"
-                  f", not the required {target:.6g} (the target is too close to the edge of the reachable "
-                  "interval for a polynomial dwell)")
 
 
 # ----------------------------------------------------------------------------------------- pieces

@@ -89,13 +89,6 @@ def evaluate(word, fields: Sequence, x: Sequence[sp.Symbol], _cache=None) -> sp.
     return out
 
 
-def word_str(word, names: Sequence[str] | None = None) -> str:
-    """``[Y1, [Y1, Y2]]``-style text for a word."""
-    if isinstance(word, int):
-        return names[word] if names else f"g{word + 1}"
-    return f"[{word_str(word[0], names)}, {word_str(word[1], names)}]"
-
-
 # ------------------------------------------------------------------------------ distributions
 def derived_distributions(fields: Sequence, x: Sequence[sp.Symbol], point: dict, depth: int) -> list[int]:
     """Dimensions of :math:`D^0 \\subset D^1 \\subset \\dots \\subset D^{depth}` at ``point``.

@@ -81,7 +81,7 @@ def plot_reach(problem, *, samples: int = 241):
     :math:`\\theta(T)` as a function of the final joint angle (unbounded input, light; under the
     problem's limits, dark) and the requested target.
     """
-    from .reach import Limits, reachable_set
+    from .reach import reachable_set
 
     plt = _plt()
     robot = problem.robot
