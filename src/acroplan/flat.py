@@ -147,7 +147,7 @@ def flat_pieces(robot: Acrobot, x0, x1, T: float, *, ends: dict | None = None, l
 # ----------------------------------------------------------------------------------------- guesses
 _XG, _WG = np.polynomial.legendre.leggauss(40)
 _SG, _WSG = (_XG + 1) / 2, _WG / 2
-_AMPS = np.linspace(-4 * np.pi, 4 * np.pi, 25)
+_AMPS = np.linspace(-4 * np.pi, 4 * np.pi, 41)
 
 
 @functools.lru_cache(maxsize=64)
