@@ -61,22 +61,25 @@ def _compiled(system_cls: type[ControlAffineSystem], basis_cls: type[InputBasis]
     wrt = [c for row in coeffs for c in row]
     vsys = hy.var_ode_sys(sys, wrt, order=1)
     ta = hy.taylor_adaptive(vsys, [0.0] * n_x, tol=TOL, pars=[0.0] * (n_p + 1 + m * n))
-    return ta, threading.Lock()
+    # the state and parameter arrays are views on the integrator's memory: bound once
+    return ta, threading.Lock(), ta.state, ta.pars, n_p
 
 
-def _prepare(system, basis, x0, T, c):
-    ta, lock = _compiled(type(system), type(basis), basis.n)
-    c = np.asarray(c, dtype=float).reshape(-1)
+_TIME_LIMIT = hy.taylor_outcome.time_limit
+
+
+def _load(system, basis, x0, T, c):
+    """The compiled integrator for (system, basis), reset to ``x0`` with the runtime parameters set.
+    Call with its lock held. Returns (integrator, its state view, number of states)."""
+    ta, _, state, pars, n_p = _compiled(type(system), type(basis), basis.n)
     n_x = system.n_states
-    pars = np.concatenate([system.params, [float(T)], c])
-    return ta, lock, n_x, pars
-
-
-def _reset(ta, n_x, x0, pars):
     ta.time = 0.0
-    ta.state[:] = 0.0
-    ta.state[:n_x] = x0
-    ta.pars[:] = pars
+    state[:] = 0.0
+    state[:n_x] = x0
+    pars[:n_p] = system.params
+    pars[n_p] = T
+    pars[n_p + 1:] = np.ravel(c)
+    return ta, state, n_x
 
 
 def endpoint(system: ControlAffineSystem, basis: InputBasis, x0, T: float, c) -> tuple[np.ndarray, np.ndarray]:
@@ -99,14 +102,13 @@ def endpoint(system: ControlAffineSystem, basis: InputBasis, x0, T: float, c) ->
     J : numpy.ndarray, shape (n, m * basis.n)
         :math:`\\partial x(T) / \\partial c`, columns in flattened ``c`` order.
     """
-    ta, lock, n_x, pars = _prepare(system, basis, x0, T, c)
-    with lock:
-        _reset(ta, n_x, x0, pars)
+    with _compiled(type(system), type(basis), basis.n)[1]:
+        ta, state, n_x = _load(system, basis, x0, T, c)
         res = ta.propagate_until(1.0)
-        state = ta.state.copy()
-    if res[0] != hy.taylor_outcome.time_limit or not np.all(np.isfinite(state)):
+        out = state.copy()
+    if res[0] != _TIME_LIMIT or not np.isfinite(out).all():
         raise IntegrationError(f"integration stopped with outcome {res[0]} at s = {ta.time}")
-    return state[:n_x], state[n_x:].reshape(n_x, -1)
+    return out[:n_x], out[n_x:].reshape(n_x, -1)
 
 
 def sample(system: ControlAffineSystem, basis: InputBasis, x0, T: float, c, s) -> np.ndarray:
@@ -116,12 +118,11 @@ def sample(system: ControlAffineSystem, basis: InputBasis, x0, T: float, c, s) -
     -------
     numpy.ndarray, shape (n, len(s))
     """
-    ta, lock, n_x, pars = _prepare(system, basis, x0, T, c)
     s = np.asarray(s, dtype=float)
-    with lock:
-        _reset(ta, n_x, x0, pars)
+    with _compiled(type(system), type(basis), basis.n)[1]:
+        ta, _, n_x = _load(system, basis, x0, T, c)
         res = ta.propagate_grid(s)
     out = res[-1]
-    if res[0] != hy.taylor_outcome.time_limit or not np.all(np.isfinite(out)):
+    if res[0] != _TIME_LIMIT or not np.isfinite(out).all():
         raise IntegrationError(f"integration stopped with outcome {res[0]}")
     return out[:, :n_x].T.copy()

@@ -55,6 +55,11 @@ class InputBasis(abc.ABC):
         """Coefficients ``q`` with :math:`\\sum_i c_i b_i(s) = \\sum_i q_i s^i`; same shape as ``c``."""
         return np.asarray(c, dtype=float) @ self.power_matrix().T
 
+    def from_power_s(self, q) -> np.ndarray:
+        """Coefficients ``c`` with :math:`\\sum_i c_i b_i(s) = \\sum_i q_i s^i`; the inverse of
+        :meth:`to_power_s` (last axis of length ``n``)."""
+        return np.asarray(q, dtype=float) @ _inverse_power(type(self), self.n).T
+
     def matrix(self, s, derivative: int = 0) -> np.ndarray:
         """Values of :math:`d^k b_i / ds^k` at ``s``.
 
@@ -98,6 +103,13 @@ class InputBasis(abc.ABC):
         numpy.ndarray, same shape as ``c``: :math:`u(\\tau) = \\sum_i p_i \\tau^i`.
         """
         return self.to_power_s(c) / float(T) ** np.arange(self.n)
+
+
+@functools.cache
+def _inverse_power(basis_cls, n: int) -> np.ndarray:
+    Q = np.linalg.inv(basis_cls(n).power_matrix())
+    Q.setflags(write=False)
+    return Q
 
 
 @functools.cache
@@ -166,6 +178,13 @@ class Legendre(InputBasis):
 
     def power_matrix(self):
         return _legendre_power(self.n)
+
+    def matrix(self, s, derivative: int = 0) -> np.ndarray:
+        if derivative:
+            return super().matrix(s, derivative)
+        # values by the three-term recurrence: no power series, accurate at every size
+        s = np.atleast_1d(np.asarray(s, dtype=float))
+        return np.polynomial.legendre.legvander(2.0 * s - 1.0, self.n - 1)
 
     def expression(self, s, c):
         x = 2.0 * s - 1.0

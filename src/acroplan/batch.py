@@ -12,6 +12,7 @@ error, reported as ``not_converged`` with the error) never stops the others.
 from __future__ import annotations
 
 import concurrent.futures as cf
+import functools
 import os
 import traceback
 from typing import Any, Iterable
@@ -58,17 +59,23 @@ def _run(kwargs: dict[str, Any]) -> PlanResult:
                           basis=make_basis(kwargs.get("basis", "legendre"), kwargs.get("n_coefficients") or 6))
 
 
-def _validate(kwargs: dict[str, Any]) -> None:
-    """plan()'s own input checks, without planning."""
+@functools.cache
+def _plan_options() -> tuple[tuple[str, Any], ...]:
+    """plan()'s keyword-only options (but ``progress``) with their defaults."""
     import inspect
 
+    params = inspect.signature(plan).parameters
+    return tuple((name, p.default) for name, p in params.items()
+                 if p.kind is inspect.Parameter.KEYWORD_ONLY and name != "progress")
+
+
+def _validate(kwargs: dict[str, Any]) -> None:
+    """plan()'s own input checks, without planning."""
     from .planner import _validated
 
     k = dict(kwargs)
     system = k.pop("system")
-    params = inspect.signature(plan).parameters
-    opts = {name: k.pop(name, params[name].default) for name in list(params) if name not in ("system", "waypoints")
-            and params[name].kind is inspect.Parameter.KEYWORD_ONLY and name != "progress"}
+    opts = {name: k.pop(name, default) for name, default in _plan_options()}
     _validated(system, **opts, waypoints=k)
 
 

@@ -86,6 +86,8 @@ def linear_limits(system, basis: InputBasis, x0, T: float, limits: Limits, grid:
 
 
 _GRID = np.linspace(0.0, 1.0, 257)
+_VGRID = np.vander(_GRID, 64, increasing=True)  # power series on the grid by one product
+_VGRID.flags.writeable = False
 _P = np.polynomial.polynomial
 
 
@@ -98,8 +100,12 @@ def _extremes(p: np.ndarray, crit: np.ndarray):
         real = r.real[(np.abs(r.imag) < 1e-9) & (r.real >= 0.0) & (r.real <= 1.0)]
     else:
         real = np.zeros(0)
-    vals = np.concatenate([_P.polyval(_GRID, p), _P.polyval(real, p)])
-    return float(np.min(vals)), float(np.max(vals))
+    on_grid = _VGRID[:, : p.size] @ p if p.size <= _VGRID.shape[1] else _P.polyval(_GRID, p)
+    lo, hi = float(on_grid.min()), float(on_grid.max())
+    if real.size:
+        at = _P.polyval(real, p)
+        lo, hi = min(lo, float(at.min())), max(hi, float(at.max()))
+    return lo, hi
 
 
 def violation(system, basis: InputBasis, x0, T: float, c, limits: Limits) -> dict:

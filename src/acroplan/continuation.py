@@ -24,6 +24,7 @@ the exact reachable set for the acrobot), and we pull it back
 from __future__ import annotations
 
 import dataclasses
+import math
 
 import numpy as np
 
@@ -87,6 +88,11 @@ def _null_space(B: np.ndarray, N: int):
     return Vt[rank:].T
 
 
+def _norm(v: np.ndarray) -> float:
+    """Euclidean norm of a short vector (cheaper than numpy.linalg.norm for the planner's sizes)."""
+    return math.sqrt(float(v @ v))
+
+
 def _damped_step(A: np.ndarray, r: np.ndarray, lam_rel: float):
     U, s, Vt = np.linalg.svd(A, full_matrices=False)
     lam = lam_rel * (s[0] if s.size else 1.0)
@@ -133,14 +139,16 @@ def solve_segment(system: ControlAffineSystem, basis: InputBasis, x0, x1, T: flo
     d = np.zeros(0) if d is None else np.asarray(d, dtype=float)
     c_p = np.linalg.lstsq(B, d, rcond=None)[0] if B.shape[0] else np.zeros(N)
     Z = _null_space(B, N)
+    free = B.shape[0] == 0  # no conditions: z is c itself
     n_x = system.n_states
     counter = _Counter()
-    scale = 1.0 + float(np.max(np.abs(x1)))
+    scale = 1.0 + max(abs(float(v)) for v in x1)
 
     def evaluate(z):
         counter.evaluations += 1
-        c = c_p + Z @ z
-        y, J = _integrate.endpoint(system, basis, x0, T, c)
+        if free:
+            return _integrate.endpoint(system, basis, x0, T, z)
+        y, J = _integrate.endpoint(system, basis, x0, T, c_p + Z @ z)
         return y, J @ Z
 
     if B.shape[0] and np.linalg.norm(B @ c_p - d) > 1e-9 * (1.0 + np.linalg.norm(d)):
@@ -152,21 +160,47 @@ def solve_segment(system: ControlAffineSystem, basis: InputBasis, x0, x1, T: flo
                             f"endpoint equations; use more coefficients (at least {B.shape[0] + n_x})",
                             c_p.reshape(m, n), float("nan"), 0, 0, 0.0, 0.0, (), 0)
 
-    # ---------------------------------------------------------------- non-singular starts
+    # ---------------------------------------------------------------- polish a good initial input
     z_base = np.zeros(Z.shape[1]) if initial is None else Z.T @ (np.asarray(initial, float).reshape(-1) - c_p)
-    rng = np.random.default_rng(20240601)  # fixed: the same problem gives the same answer
+    first = None
+    if initial is not None:
+        # an initial input that (nearly) meets the target, as the flat-output guess does, needs
+        # only Newton corrections: no path, no restarts
+        try:
+            y, A = evaluate(z_base)
+        except _integrate.IntegrationError:
+            y = None
+        if y is not None:
+            s0 = np.linalg.svd(A, compute_uv=False)
+            first = (y, A, s0)
+            if s0[-1] > 1e-8 * s0[0] and _norm(x1 - y) <= 1e-6 * scale:
+                ok, z, y1, A1, _ = _correct(evaluate, counter, z_base, y, A, x1, tol, max_evaluations, True)
+                if ok:
+                    err = _norm(y1 - x1)
+                    s1 = s0[-1] if A1 is A else float(np.linalg.svd(A1, compute_uv=False)[-1])
+                    history = ((0.0, 0.0, float(s0[-1]), y.copy(), y.copy()), (1.0, err, float(s1), x1.copy(), y1.copy()))
+                    return SegmentSolve(True, f"converged: endpoint error {err:.2e} after {counter.evaluations} "
+                                        "evaluations", (c_p + Z @ z).reshape(m, n), err, counter.iterations,
+                                        counter.evaluations, min(float(s0[-1]), float(s1)), 1.0, history, 0)
+
+    # ---------------------------------------------------------------- non-singular starts
     c_scale = 1.0 + float(np.linalg.norm(c_p)) + float(np.linalg.norm(x1 - x0)) / max(T, 1e-12)
 
     def start_points():
-        """The minimum-norm start if non-singular, then the best conditioned of random perturbations."""
+        """The minimum-norm (or initial) start if non-singular, then the best conditioned of random
+        perturbations."""
+        rng = np.random.default_rng(20240601)  # fixed: the same problem gives the same answer
         tried = []
         for k in range(1 + 2 * starts):
             z = z_base if k == 0 else z_base + 0.3 * c_scale * rng.standard_normal(Z.shape[1]) / np.sqrt(Z.shape[1])
-            try:
-                y, A = evaluate(z)
-            except _integrate.IntegrationError:
-                continue
-            s = np.linalg.svd(A, compute_uv=False)
+            if k == 0 and first is not None:
+                (y, A, s) = first
+            else:
+                try:
+                    y, A = evaluate(z)
+                except _integrate.IntegrationError:
+                    continue
+                s = np.linalg.svd(A, compute_uv=False)
             ratio = s[-1] / (s[0] + 1e-300)
             if k == 0 and ratio > 1e-8:
                 yield z, y, A, s[-1]
@@ -239,7 +273,7 @@ def _correct(evaluate, counter, z, y, A, goal, tol, max_evaluations, last):
     target = tol * 1e-3 if last else tol
     max_its = 12 if last else 6
     r = goal - y
-    res = float(np.linalg.norm(r))
+    res = _norm(r)
     for its in range(max_its):
         if res <= target:
             return True, z, y, A, its
@@ -255,7 +289,7 @@ def _correct(evaluate, counter, z, y, A, goal, tol, max_evaluations, last):
             except _integrate.IntegrationError:
                 alpha /= 4.0
                 continue
-            res_t = float(np.linalg.norm(goal - y_t))
+            res_t = _norm(goal - y_t)
             if res_t < (1.0 - 1e-4 * alpha) * res:
                 accepted = True
                 break

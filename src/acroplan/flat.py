@@ -16,9 +16,10 @@ Two uses:
   the segment down to 0.08% until one brackets the target. As the transitions shorten this
   approaches the bang-dwell-bang extremals of :mod:`acroplan.reach`, so every target strictly
   inside the exact interval is reached.
-* :func:`initial_guess`: a one-parameter polynomial joint motion that fits the path-deformation
-  basis, whose amplitude solves the same equation (safeguarded Newton): a start that usually
-  already meets the target.
+* :func:`flat_guess`: a polynomial joint motion that fits the path-deformation basis and solves
+  the same equation (a one-parameter bump first; failing a bracket, a line towards a polynomial
+  imitation of a dwell at an extreme of :math:`1/h`): a start that already meets the target, so
+  that path deformation only polishes.
 
 Where it does not apply: ``P0 = 0`` (holonomic, refused before planning), and, with a rate bound,
 targets whose transitions would have to be faster than :math:`u_{max}` allows (it says so).
@@ -26,6 +27,7 @@ targets whose transitions would have to be faster than :math:`u_{max}` allows (i
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 
@@ -36,7 +38,7 @@ from scipy.optimize import brentq
 from .reach import Limits
 from .systems.acrobot import Acrobot
 
-__all__ = ["flat_pieces", "initial_guess", "TRANSITIONS"]
+__all__ = ["flat_pieces", "flat_guess", "FlatGuess", "TRANSITIONS"]
 
 _X, _W = np.polynomial.legendre.leggauss(256)
 _S, _WS = (_X + 1) / 2, _W / 2
@@ -145,9 +147,39 @@ def flat_pieces(robot: Acrobot, x0, x1, T: float, *, ends: dict | None = None, l
 
 
 # ----------------------------------------------------------------------------------------- guesses
-_XG, _WG = np.polynomial.legendre.leggauss(40)
+_XG, _WG = np.polynomial.legendre.leggauss(64)
 _SG, _WSG = (_XG + 1) / 2, _WG / 2
+_SQW = np.sqrt(_WSG)
+_VSG = np.vander(_SG, 32, increasing=True)  # power series at the nodes by one product
+_VSG.flags.writeable = False
+# a coarser rule only to scan the amplitude grid for sign changes (the root uses the 64 nodes)
+_XC, _WC = np.polynomial.legendre.leggauss(24)
+_SC, _WSC = (_XC + 1) / 2, _WC / 2
+_VSC = np.vander(_SC, 32, increasing=True)
+_VSC.flags.writeable = False
 _AMPS = np.linspace(-4 * np.pi, 4 * np.pi, 41)
+
+
+@dataclasses.dataclass(frozen=True)
+class FlatGuess:
+    """An input from the flat output, for path deformation to start from.
+
+    Attributes
+    ----------
+    coefficients : numpy.ndarray, shape (1, n)
+        Coefficients of :math:`u` in the basis it was made for.
+    bracketed : bool
+        True when the flat-output equation is met (up to the 64-node quadrature's error), i.e.
+        the input already reaches the target; False when no member of the families came across
+        the target and this is the closest one.
+    family : str
+        ``"amplitude"`` (the one-parameter bump), ``"dwell"`` (between the bump and a polynomial
+        fitted to a dwell at an extreme of :math:`1/h`) or ``"closest"``.
+    """
+
+    coefficients: np.ndarray
+    bracketed: bool
+    family: str
 
 
 @functools.lru_cache(maxsize=64)
@@ -163,25 +195,109 @@ def _hermite(keys: tuple, deg: int) -> np.ndarray:
 
 
 @functools.lru_cache(maxsize=64)
-def _bump(alpha: int, beta: int) -> np.ndarray:
-    """Power coefficients of s^alpha (1 - s)^beta."""
-    return np.polynomial.polynomial.polymul(np.eye(alpha + 1)[alpha],
-                                            np.polynomial.polynomial.polypow([1.0, -1.0], beta))
+def _family(alpha: int, beta: int, n: int, deg: int):
+    """The joint-motion directions that keep the end conditions, for a basis of ``n`` coefficients.
+
+    :math:`v_j(s) = s^{\\alpha}(1-s)^{\\beta}(2s-1)^j`, :math:`j = 0..n-\\alpha-\\beta`, all of degree
+    <= n, so :math:`\\varphi' \\propto u` fits the basis. Returns, read-only: their values at the
+    quadrature nodes ``V`` (64, d+1) and their derivatives ``Vd`` (64, d+1), both evaluated in
+    product form (no power series: accurate at every degree), the weighted least-squares
+    pseudo-inverse on the nodes ``pinv`` (d+1, 64), the largest :math:`|v_0|` on the nodes, and
+    the dwell shape ``B`` (64,): :math:`(1 - (2s-1)^{2k})^{a}`, :math:`a = \\max(\\alpha, \\beta)`, which
+    vanishes with the directions and is flat in the middle, with the largest :math:`k` that keeps
+    :math:`\\deg \\varphi_h + 2ka \\le n` (``None`` when even k = 1 does not fit).
+    """
+    d = n - alpha - beta
+    x = 2.0 * _SG - 1.0
+    w = _SG**alpha * (1.0 - _SG) ** beta
+    dw = alpha * _SG ** (alpha - 1) * (1.0 - _SG) ** beta - beta * _SG**alpha * (1.0 - _SG) ** (beta - 1)
+    j = np.arange(d + 1)
+    X = x[:, None] ** j[None, :]
+    Xd = np.where(j > 0, 2.0 * j * x[:, None] ** np.maximum(j - 1, 0), 0.0)
+    V = w[:, None] * X
+    Vd = dw[:, None] * X + w[:, None] * Xd
+    pinv = np.linalg.pinv(V * _SQW[:, None]) * _SQW[None, :]
+    a = max(alpha, beta)
+    k = (n - deg) // (2 * a)
+    B = (1.0 - x ** (2 * k)) ** a if k >= 1 else None
+    for arr in (V, Vd, pinv) + ((B,) if B is not None else ()):
+        arr.flags.writeable = False
+    return V, Vd, pinv, float(np.max(np.abs(V[:, 0]))), B
 
 
-def initial_guess(robot: Acrobot, basis, x0, x1, T: float, ends: dict | None = None):
+@functools.lru_cache(maxsize=64)
+def _projection(basis_cls, n: int) -> np.ndarray:
+    """Least-squares projection from values at the 64 nodes to coefficients of ``basis_cls(n)``:
+    exact for polynomials of degree < n."""
+    P = np.linalg.pinv(basis_cls(n).matrix(_SG))
+    P.flags.writeable = False
+    return P
+
+
+def _integral(T, M1, A1, phi):
+    """:math:`T \\int_0^1 ds / h(\\varphi(s))` by the 64-node rule; ``phi`` has the nodes last."""
+    return T * ((1.0 / (M1 + A1 * np.cos(phi))) @ _WSG)
+
+
+def _root(T, M1, A1, phi0, dphi, target, f0, f1):
+    """:math:`\\lambda \\in [0, 1]` with :math:`I[\\varphi_0 + \\lambda\\,\\delta\\varphi] = I^*`, given
+    ``f0``, ``f1`` (the residuals at 0 and 1) of opposite signs: safeguarded Newton."""
+    lo, hi, flo = 0.0, 1.0, f0
+    lam = -f0 / (f1 - f0) if f1 != f0 else 0.5
+    tol = 4e-16 * (1.0 + abs(target))
+    for _ in range(40):
+        phi = phi0 + lam * dphi
+        h = M1 + A1 * np.cos(phi)
+        g = 1.0 / h
+        f = T * float(g @ _WSG) - target
+        if abs(f) <= tol:
+            break
+        if (f < 0) == (flo < 0):
+            lo, flo = lam, f
+        else:
+            hi = lam
+        df = T * float((A1 * np.sin(phi) * dphi * g * g) @ _WSG)
+        step = lam - f / df if df != 0.0 else 0.5 * (lo + hi)
+        new = step if lo < step < hi else 0.5 * (lo + hi)
+        if abs(new - lam) <= 1e-15:
+            lam = new
+            break
+        lam = new
+    return lam
+
+
+def flat_guess(robot: Acrobot, basis, x0, x1, T: float, ends: dict | None = None, *,
+               steep: bool = True) -> FlatGuess | None:
     """A start for path deformation from the flat output, or ``None``.
 
-    The joint motion :math:`\\varphi(s) = \\varphi_h(s) + a\\,w(s)`: :math:`\\varphi_h` is the
+    Joint motions :math:`\\varphi(s) = \\varphi_h(s) + w(s)\\,q(s)`: :math:`\\varphi_h` is the
     lowest-degree polynomial meeting the end values of :math:`\\varphi` and the given end conditions
-    on :math:`u, u'`, and :math:`w = s^{\\alpha}(1-s)^{\\beta}` vanishes with them. The amplitude
-    :math:`a` solving the flat-output equation (or, failing a bracket, coming closest) is found on
-    a grid and by Brent's method. The guess meets :math:`\\varphi(T)` and the input conditions
-    exactly, and :math:`\\theta(T)` too when bracketed, so the continuation path is short or empty.
+    on :math:`u, u'`; :math:`w = s^{\\alpha}(1-s)^{\\beta}` vanishes with them; :math:`q` is a
+    polynomial of degree :math:`n - \\alpha - \\beta`, so that :math:`u = \\dot\\varphi` fits the
+    basis of ``basis.n`` coefficients. Two families, cheapest first, each solving the scalar
+    flat-output equation :math:`T\\int_0^1 ds/h(\\varphi(s)) = I^*` (64-node Gauss-Legendre,
+    safeguarded Newton):
+
+    1. *amplitude*: :math:`q = a` constant, :math:`a` on a grid of 41 values, the root nearest
+       :math:`a = 0`;
+    2. *dwell*: polynomial imitations of the bang-dwell-bang extremals that bound the reachable
+       interval, moving the joint to an extreme of :math:`1/h` (:math:`\\varphi^* \\in \\pi\\mathbb{Z}`
+       within :math:`\\pi` of the motion, nearest first) and keeping it there: first the gentle
+       :math:`\\varphi_h + (\\varphi^* - \\varphi_h)B` with the flat-topped :math:`B` of
+       :func:`_family`, then (``steep=True``) the weighted least-squares fit of :math:`q` to a
+       dwell at :math:`\\varphi^*` on the nodes, which reaches further with much larger rates. The
+       root is sought on the straight line from the closest amplitude member to the first of
+       these on the other side of the target.
+
+    ``u`` is evaluated at the nodes in product form and projected on the basis (exact for its
+    degree), never through power series, so the guess stays accurate at 10 and 14 coefficients.
+
+    The guess meets :math:`\\varphi(T)` and the input conditions exactly, and :math:`\\theta(T)` up to
+    the quadrature error when ``bracketed``; path deformation then only polishes.
 
     Returns
     -------
-    numpy.ndarray, shape (1, basis.n), or None when the family does not fit in the basis.
+    FlatGuess, or None when the family does not fit in the basis (or ``P0 = 0``).
     """
     ends = ends or {}
     theta0, phi0 = float(x0[0]), float(x0[1])
@@ -190,50 +306,63 @@ def initial_guess(robot: Acrobot, basis, x0, x1, T: float, ends: dict | None = N
         return None
     keys = tuple(k for k in ("u0", "du0", "uT", "duT") if k in ends)
     left = sum(k in ends for k in ("u0", "du0"))
-    right = len(keys) - left
     deg = 1 + len(keys)
-    alpha, beta = 1 + left, 1 + right
-    if max(deg, alpha + beta) > basis.n:
+    alpha, beta = 1 + left, 1 + len(keys) - left
+    n = basis.n
+    if max(deg, alpha + beta) > n:
         return None
     scale = {"u0": T, "du0": T * T, "uT": T, "duT": T * T}
     rhs = np.array([phi0, phiT] + [scale[k] * float(ends[k]) for k in keys])
     ph = _hermite(keys, deg) @ rhs
-    w = _bump(alpha, beta)
-    PH = np.polynomial.polynomial.polyval(_SG, ph)
-    W = np.polynomial.polynomial.polyval(_SG, w)
+    V, Vd, pinv, wmax, dwell = _family(alpha, beta, n, deg)
+    PH = _VSG[:, : ph.size] @ ph
+    W = V[:, 0]
     target = (thetaT - theta0 + float(robot.F(phiT)) - float(robot.F(phi0))) / robot.P0
-    amps = _AMPS / float(np.max(np.abs(W)))
     M1, A1 = robot.M1, robot.A1
-    vals = T * (1.0 / (M1 + A1 * np.cos(PH[None, :] + amps[:, None] * W[None, :]))) @ _WSG - target
-    idx = np.nonzero(np.sign(vals[:-1]) * np.sign(vals[1:]) <= 0)[0]
+
+    # 1. amplitude family: scan the grid with the coarse rule, confirm the bracket with the fine one
+    amps = _AMPS / wmax
+    PHc, Wc = _VSC[:, : ph.size] @ ph, _SC**alpha * (1.0 - _SC) ** beta
+    coarse = T * ((1.0 / (M1 + A1 * np.cos(PHc[None, :] + amps[:, None] * Wc[None, :]))) @ _WSC) - target
+    idx = np.flatnonzero(np.sign(coarse[:-1]) * np.sign(coarse[1:]) <= 0)
+    vals = None
     if idx.size:
         kk = idx[np.argmin(np.abs(amps[idx]))]
-        lo, hi, flo = amps[kk], amps[kk + 1], vals[kk]
-        # safeguarded Newton on I(a) = target: dI/da = T sum w A1 sin(phi) W / h^2
-        a = lo - flo * (hi - lo) / (vals[kk + 1] - flo) if vals[kk + 1] != flo else 0.5 * (lo + hi)
-        for _ in range(20):
-            ph_ = PH + a * W
-            h = M1 + A1 * np.cos(ph_)
-            fa = T * float((1.0 / h) @ _WSG) - target
-            if fa == 0.0:
-                break
-            if (fa < 0) == (flo < 0):
-                lo, flo = a, fa
-            else:
-                hi = a
-            d = T * float((A1 * np.sin(ph_) * W / (h * h)) @ _WSG)
-            step = a - fa / d if d != 0.0 else 0.5 * (lo + hi)
-            a_new = step if lo < step < hi else 0.5 * (lo + hi)
-            if abs(a_new - a) <= 1e-12 * (1.0 + abs(a)):
-                a = a_new
-                break
-            a = a_new
+        f01 = _integral(T, M1, A1, PH[None, :] + amps[kk:kk + 2, None] * W[None, :]) - target
+    if not idx.size or f01[0] * f01[1] > 0:  # none, or the rules disagree near the root: the fine rule
+        vals = _integral(T, M1, A1, PH[None, :] + amps[:, None] * W[None, :]) - target
+        idx = np.flatnonzero(np.sign(vals[:-1]) * np.sign(vals[1:]) <= 0)
+        if idx.size:
+            kk = idx[np.argmin(np.abs(amps[idx]))]
+            f01 = vals[kk:kk + 2]
+    q = np.zeros(V.shape[1])
+    if idx.size:
+        da = amps[kk + 1] - amps[kk]
+        lam = _root(T, M1, A1, PH + amps[kk] * W, da * W, target, f01[0], f01[1])
+        q[0] = amps[kk] + lam * da
+        family, bracketed = "amplitude", True
     else:
-        a = amps[int(np.argmin(np.abs(vals)))]
-    phi = np.zeros(max(ph.size, w.size))
-    phi[: ph.size] += ph
-    phi[: w.size] += a * w
-    q = np.zeros(basis.n)
-    du = phi[1:] * np.arange(1, phi.size) / T
-    q[: du.size] = du
-    return np.linalg.solve(basis.power_matrix(), q)[None, :]
+        i = int(np.argmin(np.abs(vals)))
+        q[0], f_a = amps[i], vals[i]
+        family, bracketed = "closest", False
+        # 2. dwell family: phi_h + (phi* - phi_h) B, a flat-topped move to phi* in pi Z near the
+        #    motion (gentle), then the least-squares fit of a dwell at phi* (steeper), nearest first
+        if V.shape[1] > 1 and (steep or dwell is not None):
+            lo_, hi_ = min(phi0, phiT) - math.pi, max(phi0, phiT) + math.pi
+            stars = np.pi * np.arange(math.ceil(lo_ / math.pi), math.floor(hi_ / math.pi) + 1)
+            stars = stars[np.argsort(np.abs(stars - 0.5 * (phi0 + phiT)), kind="stable")]
+            gap = stars[:, None] - PH[None, :]
+            shapes = ([gap * dwell[None, :]] if dwell is not None else []) + ([gap] if steep else [])
+            Q = np.concatenate([g @ pinv.T for g in shapes])
+            fq = _integral(T, M1, A1, PH[None, :] + Q @ V.T) - target
+            across = np.flatnonzero(np.sign(fq) != np.sign(f_a))
+            if across.size:
+                j = across[0]
+                dq = Q[j] - q
+                lam = _root(T, M1, A1, PH + V @ q, V @ dq, target, f_a, fq[j])
+                q = q + lam * dq
+                family, bracketed = "dwell", True
+    # u = phi'/T at the nodes, in product form, projected on the basis (exact for its degree)
+    dph = ph[1:] * np.arange(1, ph.size)
+    u = (_VSG[:, : dph.size] @ dph + Vd @ q) / T
+    return FlatGuess((_projection(type(basis), n) @ u)[None, :], bracketed, family)

@@ -68,7 +68,7 @@ def _vector(field, value, length=None) -> np.ndarray:
     if length is not None and a.size != length:
         raise InvalidInputError(field, f"has {a.size} value(s) but times has {length}",
                                 "give one value per waypoint time")
-    if not np.all(np.isfinite(a)):
+    if not np.isfinite(a).all():
         raise InvalidInputError(field, "contains NaN or infinite values", "give finite numbers")
     return a
 
@@ -172,8 +172,10 @@ def plan(system: ControlAffineSystem, *, times, conditions: str = "spline", meth
                                           max_evaluations)
         for i, piece in enumerate(pieces):
             t1 = float(t[k + 1]) if i == len(pieces) - 1 else piece.t1 + float(t[k])
-            segments.append(dataclasses.replace(piece, index=len(segments), interval=k, t0=piece.t0 + float(t[k]),
-                                                t1=t1))
+            t0 = piece.t0 + float(t[k])
+            if (piece.index, piece.interval, piece.t0, piece.t1) != (len(segments), k, t0, t1):
+                piece = dataclasses.replace(piece, index=len(segments), interval=k, t0=t0, t1=t1)
+            segments.append(piece)
         if not ok:
             msg = (f"not converged: segment {k} [{t[k]:g}, {t[k + 1]:g}] from {_fmt(X[k], system)} to "
                    f"{_fmt(X[k + 1], system)}: {why}")
@@ -250,7 +252,7 @@ def _validated(system, *, times, conditions, method, basis, n_coefficients, u_ma
     t = _vector("times", times)
     if t.size < 2:
         raise InvalidInputError("times", f"needs at least 2 values, got {t.size}", "give start and end times")
-    if np.any(np.diff(t) <= 0):
+    if (np.diff(t) <= 0).any():
         raise InvalidInputError("times", "must be strictly increasing", "sort the waypoints by time")
     missing = [name for name in system.state_names if name not in waypoints]
     if missing:
@@ -338,13 +340,16 @@ def _linear_conditions(b, m, T, ends):
 
 def _segment(system, basis, x0, x1, T, c, *, t0, final_error, verified_error=None, iterations=0, evaluations=0,
              restarts=0, sigma_min=float("nan"), success=True, message="", history=(), method="deform", limits=None):
-    v = violation(system, basis, x0, T, c, limits or Limits())
+    ext = None
+    if limits is not None and limits.active:
+        v = violation(system, basis, x0, T, c, limits)
+        ext = {"max_abs_u": v["max_abs_u"], "state_range": v["state_range"]}
     return SegmentResult(
         index=0, t0=float(t0), t1=float(t0 + T), coefficients=basis.to_power(c, T), basis_coefficients=c,
         start=np.array(x0, dtype=float), target=np.array(x1, dtype=float), final_error=final_error,
         verified_error=verified_error, iterations=iterations, evaluations=evaluations, restarts=restarts,
         sigma_min=sigma_min, success=success, message=message, history=history, method=method,
-        max_abs_u=v["max_abs_u"], state_range=v["state_range"])
+        extremes=ext)
 
 
 def _compliant(system, basis, x0, T, c, limits):
@@ -371,10 +376,10 @@ def _solve_interval(system, b, sizes, x0, x1, T, ends, limits, method, tol, max_
         bn = type(b)(n)
         B, d = _linear_conditions(bn, m, T, ends)
         guess = None
-        if method == "auto" and hasattr(system, "F"):
-            from .flat import initial_guess
-
-            guess = initial_guess(system, bn, x0, x1, T, {key: float(v[0]) for key, v in ends.items()})
+        if method == "auto":
+            g = guess_for(n, False)
+            guess = g if g is not None and g.bracketed else guess_for(n)
+            guess = None if guess is None else guess.coefficients
         # auto keeps a small budget per size: a continuation that needs hundreds of steps is
         # better replaced by the next stage than finished (measured: benchmarks/RESULTS.md)
         budget = min(max_evaluations, AUTO_BUDGET) if method == "auto" else max_evaluations
@@ -427,13 +432,31 @@ def _solve_interval(system, b, sizes, x0, x1, T, ends, limits, method, tol, max_
         return None
 
     has_flat = hasattr(system, "F")
+    guesses = {}
+
+    def guess_for(n, steep=True):
+        if not has_flat:
+            return None
+        if (n, steep) not in guesses:
+            from .flat import flat_guess
+
+            guesses[n, steep] = flat_guess(system, type(b)(n), x0, x1, T, {key: float(v[0]) for key, v in ends.items()},
+                                           steep=steep)
+        return guesses[n, steep]
+
     if method == "deform":
         stages = [lambda n=n: deform(n) for n in sizes]
     elif method == "flat":
         stages = [flat]
-    else:  # auto: the first size, then the flat output (exact), then more coefficients
-        stages = [lambda: deform(sizes[0])] + ([flat] if has_flat else []) + [lambda n=n: deform(n)
-                                                                               for n in sizes[1:]]
+    else:
+        # auto: the smallest size whose flat-output guess meets the target (deformation then only
+        # polishes), gentle guesses at every size before steep ones; then the first size from its
+        # closest guess, the flat output (exact), and the remaining sizes
+        first = next((n for steep in (False, True) for n in sizes
+                      if (g := guess_for(n, steep)) is not None and g.bracketed), None)
+        order = ([first] if first is not None else []) + [n for n in sizes if n != first]
+        stages = [lambda: deform(order[0])] + ([flat] if has_flat else []) + [lambda n=n: deform(n)
+                                                                               for n in order[1:]]
     for stage in stages:
         pieces = stage()
         if pieces is not None:

@@ -70,7 +70,8 @@ class SegmentResult:
     start, target : numpy.ndarray, shape (n,)
         Planned states at the segment's ends (waypoints, or interior points of a flat plan).
     max_abs_u : float
-        :math:`\\max |u|` on the segment, exact (roots of :math:`u'`).
+        :math:`\\max |u|` on the segment, exact (roots of :math:`u'`); computed on first use
+        when the plan had no limits.
     state_range : tuple or None
         Exact range of the joint-limited state on the segment, when joint limits were given.
     final_error : float
@@ -104,11 +105,33 @@ class SegmentResult:
     history: tuple = ()
     interval: int = 0
     method: str = "deform"
-    max_abs_u: float = float("nan")
-    state_range: tuple | None = None
+    #: ``{"max_abs_u": float, "state_range": tuple or None}`` when known at construction (the
+    #: planner's limit checks); otherwise computed from the coefficients on first use
+    extremes: dict | None = dataclasses.field(default=None, repr=False, compare=False)
 
     def __post_init__(self):
         _freeze(self, "coefficients", "basis_coefficients", "start", "target")
+
+    def _extremes(self) -> dict:
+        if self.extremes is None:
+            from .constrained import _extremes
+
+            k = self.coefficients.shape[1]
+            q = self.coefficients * (self.t1 - self.t0) ** np.arange(k)  # power series in s
+            top = 0.0
+            for row in q:
+                lo, hi = _extremes(row, row[1:] * np.arange(1, k) if k > 1 else np.zeros(1))
+                top = max(top, abs(lo), abs(hi))
+            object.__setattr__(self, "extremes", {"max_abs_u": top, "state_range": None})
+        return self.extremes
+
+    @property
+    def max_abs_u(self) -> float:
+        return self._extremes()["max_abs_u"]
+
+    @property
+    def state_range(self) -> tuple | None:
+        return self._extremes()["state_range"]
 
     def input(self, t) -> np.ndarray:
         """Inputs at times ``t`` in :math:`[t_0, t_1]`; shape ``(m, N)``."""

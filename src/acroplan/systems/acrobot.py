@@ -192,8 +192,15 @@ class Acrobot(ControlAffineSystem):
 
         and :math:`k/h = A_2/A_1 + (M_2 - A_2 M_1/A_1)/h` for :math:`A_1 \\ne 0`.
         """
-        phi = np.asarray(phi, dtype=float)
         a, b = self.M1, self.A1
+        if isinstance(phi, float):  # scalar fast path (the planner's feasibility and flat-output work)
+            if b == 0.0:
+                return (self.M2 * phi + self.A2 * math.sin(phi)) / a
+            s = math.sqrt(a * a - b * b)
+            rho = (a - s) / b
+            G = (phi - 2.0 * math.atan2(rho * math.sin(phi), 1.0 + rho * math.cos(phi))) / s
+            return (self.A2 / b) * phi + (self.M2 - self.A2 * a / b) * G
+        phi = np.asarray(phi, dtype=float)
         if b == 0.0:
             return (self.M2 * phi + self.A2 * np.sin(phi)) / a
         s = math.sqrt(a * a - b * b)
