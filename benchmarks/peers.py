@@ -55,9 +55,8 @@ def run_acroplan(robot, times, theta, phi):
     t0 = time.perf_counter()
     r = acroplan.plan(robot, times=times, theta=theta, phi=phi, conditions="free", verify=False)
     dt = time.perf_counter() - t0
-    pieces = [(s.t0, s.t1, (lambda c, a: (lambda t: np.polynomial.polynomial.polyval(t - a, c)))(s.coefficients[0],
-                                                                                               s.t0))
-              for s in r.segments]
+    # the result's own input evaluation (numpy's Legendre series: accurate at every basis size)
+    pieces = [(s.t0, s.t1, (lambda seg: (lambda t: float(seg.input(t)[0, 0])))(s)) for s in r.segments]
     return r.success, dt, pieces
 
 

@@ -13,7 +13,7 @@ import acroplan
 from acroplan import lie, nilpotent, reach
 
 SECTIONS = [
-    ("Planning", acroplan, ["plan", "plan_many", "PlanResult", "SegmentResult", "Samples"]),
+    ("Planning", acroplan, ["plan", "plan_many", "warm_up", "PlanResult", "SegmentResult", "Samples"]),
     ("Models", acroplan, ["ControlAffineSystem", "Acrobot", "PhysicalParameters", "Unicycle", "Infeasibility"]),
     ("Feasibility and limits", reach, ["reachable_set", "Reach", "Limits"]),
     ("Feasibility and limits", acroplan, ["reachable_interval"]),

@@ -7,6 +7,7 @@ Models
     :class:`ControlAffineSystem` (the interface for your own systems).
 Planning
     :func:`plan` (path deformation through waypoints), :func:`plan_many` (batches),
+    :func:`warm_up` (compile ahead of the first plan),
     :class:`PlanResult`,
     :class:`SegmentResult`, :class:`Samples`.
 Feasibility
@@ -23,7 +24,7 @@ from . import examples
 from ._errors import InvalidInputError
 from .basis import InputBasis, Legendre, Monomial
 from .batch import plan_many
-from .planner import plan
+from .planner import plan, warm_up
 from .problem import Problem, load_problem
 from .reach import Limits, Reach, reachable_set
 from .result import PlanResult, Samples, SegmentResult
@@ -34,7 +35,7 @@ __version__ = "0.1.0"
 __all__ = [
     "Acrobot", "ControlAffineSystem", "Infeasibility", "InputBasis", "InvalidInputError", "Legendre",
     "Limits", "Monomial", "PhysicalParameters", "Reach", "reachable_set", "PlanResult", "Problem", "Samples", "SegmentResult", "Unicycle",
-    "examples", "load_problem", "plan", "plan_many", "reachable_interval",
+    "examples", "load_problem", "plan", "plan_many", "reachable_interval", "warm_up",
 ]
 
 

@@ -1,8 +1,9 @@
 """Many independent problems at once: :func:`plan_many`.
 
 Problems are planned by worker processes (``executor="process"``, the default: the planner is
-mostly Python, so threads share one interpreter lock), by threads, or one after another. Each
-worker compiles the integrator once. Results come back in input order and are bit-for-bit those
+mostly Python, so threads share one interpreter lock), by threads, or one after another. The
+parent compiles the integrators first (:func:`acroplan.warm_up`, ~0.1 s), so forked workers
+inherit them (where processes are spawned instead, each worker compiles its own). Results come back in input order and are bit-for-bit those
 of :func:`acroplan.plan` called one by one (same code, same deterministic arithmetic). Every
 problem is validated before any work starts, so bad input fails fast and names the problem; once
 planning has started, one problem's failure (infeasible, not converged, or even an unexpected
@@ -18,7 +19,7 @@ import traceback
 from typing import Any, Iterable
 
 from ._errors import InvalidInputError
-from .planner import plan
+from .planner import AUTO_SIZES, plan, warm_up
 from .problem import Problem
 from .result import PlanResult
 
@@ -127,6 +128,12 @@ def plan_many(problems: Iterable, *, executor: str = "process", workers: int | N
             if progress:
                 progress(i + 1, n)
         return results  # type: ignore[return-value]
+    if executor == "process":
+        # compile in the parent: forked workers inherit the compiled integrators instead of each
+        # compiling its own
+        for cls, basis, size in {(type(kw["system"]), kw.get("basis", "legendre"), kw.get("n_coefficients"))
+                                 for kw in jobs}:
+            warm_up(cls, basis=basis, sizes=AUTO_SIZES if size is None else (size,) + AUTO_SIZES)
     pool_cls = cf.ProcessPoolExecutor if executor == "process" else cf.ThreadPoolExecutor
     chunks = max(1, min(64, n // (4 * workers)))
     with pool_cls(max_workers=workers) as pool:

@@ -45,7 +45,7 @@ from .result import PlanResult, SegmentResult
 from .systems.base import ControlAffineSystem
 from .verify import simulate_segment
 
-__all__ = ["plan", "CONDITIONS", "METHODS", "VERIFY_TOL"]
+__all__ = ["plan", "warm_up", "CONDITIONS", "METHODS", "VERIFY_TOL"]
 
 CONDITIONS = ("spline", "free")
 METHODS = ("auto", "deform", "flat")
@@ -196,7 +196,7 @@ def plan(system: ControlAffineSystem, *, times, conditions: str = "spline", meth
     checked = []
     x = X[0].copy()
     for seg in segments:
-        sol = simulate_segment(system, x, seg.t0, seg.t1, seg.coefficients)
+        sol = simulate_segment(system, x, seg.t0, seg.t1, seg.input)
         x = sol.y[:, -1]
         err = float(np.linalg.norm(x - seg.target)) if sol.success else float("inf")
         checked.append(dataclasses.replace(seg, verified_error=err))
@@ -209,6 +209,28 @@ def plan(system: ControlAffineSystem, *, times, conditions: str = "spline", meth
     return PlanResult("success", f"success: {K} segment(s), max endpoint error "
                       f"{max(s.final_error for s in checked):.2e}, independently verified to {worst:.2e}",
                       segments=tuple(checked), verified=True, **common)
+
+
+def warm_up(system: ControlAffineSystem | type, *, basis: str = "legendre", sizes=AUTO_SIZES) -> None:
+    """Compile the integrators :func:`plan` uses for ``system``, so that the first plan is warm.
+
+    One compiled integrator serves every instance of a system class (parameters, durations and
+    coefficients are runtime values); this builds the ones for each basis size in ``sizes``
+    (default: those ``method="auto"`` may use). :func:`plan_many` calls it before starting worker
+    processes, which then inherit the compiled code.
+
+    Parameters
+    ----------
+    system : ControlAffineSystem or its class
+    basis : {"legendre", "monomial"}
+    sizes : iterable of int
+    """
+    cls = system if isinstance(system, type) else type(system)
+    if not (isinstance(cls, type) and issubclass(cls, ControlAffineSystem)):
+        raise InvalidInputError("system", f"must be a ControlAffineSystem, got {cls!r}",
+                                "use for example acroplan.Acrobot(...)")
+    for n in sizes:
+        _integrate._compiled(cls, type(make_basis(basis, int(n))), int(n))
 
 
 def _at_limit(system, x, limits, tol=1e-12):
@@ -349,7 +371,7 @@ def _segment(system, basis, x0, x1, T, c, *, t0, final_error, verified_error=Non
         start=np.array(x0, dtype=float), target=np.array(x1, dtype=float), final_error=final_error,
         verified_error=verified_error, iterations=iterations, evaluations=evaluations, restarts=restarts,
         sigma_min=sigma_min, success=success, message=message, history=history, method=method,
-        extremes=ext)
+        extremes=ext, basis=basis)
 
 
 def _compliant(system, basis, x0, T, c, limits):

@@ -108,6 +108,8 @@ class SegmentResult:
     #: ``{"max_abs_u": float, "state_range": tuple or None}`` when known at construction (the
     #: planner's limit checks); otherwise computed from the coefficients on first use
     extremes: dict | None = dataclasses.field(default=None, repr=False, compare=False)
+    #: the segment's basis (family and size of ``basis_coefficients``)
+    basis: InputBasis | None = dataclasses.field(default=None, repr=False)
 
     def __post_init__(self):
         _freeze(self, "coefficients", "basis_coefficients", "start", "target")
@@ -134,9 +136,18 @@ class SegmentResult:
         return self._extremes()["state_range"]
 
     def input(self, t) -> np.ndarray:
-        """Inputs at times ``t`` in :math:`[t_0, t_1]`; shape ``(m, N)``."""
-        tau = np.atleast_1d(np.asarray(t, dtype=float)) - self.t0
-        return np.array([np.polynomial.polynomial.polyval(tau, row) for row in self.coefficients])
+        """Inputs at times ``t`` in :math:`[t_0, t_1]`; shape ``(m, N)``.
+
+        Evaluated from ``basis_coefficients`` in the segment's basis (for Legendre by the
+        three-term recurrence), which stays accurate at every basis size; the power-basis
+        ``coefficients`` lose digits to cancellation from about 10 coefficients on (measured:
+        ``benchmarks/RESULTS.md``).
+        """
+        t = np.atleast_1d(np.asarray(t, dtype=float))
+        if self.basis is None:
+            return np.array([np.polynomial.polynomial.polyval(t - self.t0, row) for row in self.coefficients])
+        s = (t - self.t0) / (self.t1 - self.t0)
+        return self.basis_coefficients @ self.basis.matrix(s).T
 
     def to_dict(self, input_names) -> dict[str, Any]:
         return {
@@ -146,6 +157,8 @@ class SegmentResult:
             "t0": self.t0,
             "t1": self.t1,
             "coefficients": {name: list(map(float, row)) for name, row in zip(input_names, self.coefficients)},
+            "basis_coefficients": {name: list(map(float, row))
+                                   for name, row in zip(input_names, self.basis_coefficients)},
             "success": self.success,
             "message": self.message,
             "final_error": _num(self.final_error),
@@ -157,6 +170,13 @@ class SegmentResult:
             "max_abs_u": _num(self.max_abs_u),
             "state_range": None if self.state_range is None else [float(v) for v in self.state_range],
         }
+
+
+_BASIS_NOTE = {
+    "legendre": "u(t) = sum_i b_i P_i(2 s - 1), s = (t - t0) / (t1 - t0), P_i the Legendre polynomials: "
+                "accurate at every size (the power basis loses digits from about 10 coefficients on)",
+    "monomial": "u(t) = sum_i b_i s^i, s = (t - t0) / (t1 - t0)",
+}
 
 
 def _freeze(obj, *names):
@@ -288,7 +308,8 @@ class PlanResult:
             },
             "conditions": self.conditions,
             "basis": {"family": self.basis.name, "n_coefficients": self.basis.n,
-                      "export": "power basis in local time: u(t) = sum_i c_i (t - t0)^i on [t0, t1]"},
+                      "export": "power basis in local time: u(t) = sum_i c_i (t - t0)^i on [t0, t1]",
+                      "basis_coefficients": _BASIS_NOTE.get(self.basis.name, self.basis.name)},
             "verified": self.verified,
             "limits": None if self.limits is None else {k: v for k, v in dataclasses.asdict(self.limits).items()},
             "segments": [s.to_dict(self.system.input_names) for s in self.segments],
