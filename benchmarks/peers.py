@@ -17,7 +17,9 @@ segment are chained segment by segment).
 Every system's input is re-simulated by one independent integrator (scipy DOP853, rtol = atol =
 3e-14, at least 16 steps per input piece) from the initial state; the endpoint error is the largest
 |state - waypoint| there. A solve counts as a success when its solver reports success and the
-re-simulated endpoint error is <= 1e-6.
+re-simulated endpoint error is <= 1e-6. DOP853's own error at rtol 3e-14 grows with |theta| (about
+1e-13 |theta|), so acroplan's plans are also checked by the exact flat-output identity
+(exact_error: quadrature, no ODE integrator), which resolves errors down to rounding.
 
 Run:  python benchmarks/peers.py [--n 100] [--seed 11]     (needs: pip install ".[bench]")
 """
@@ -50,11 +52,40 @@ def resimulate(robot, x0, pieces):
     return x
 
 
+def exact_error(robot, x0, x1, segments) -> float:
+    """Endpoint error of a polynomial plan by the flat-output identity, no ODE integrator:
+    theta(T) = theta(0) - [F(phi(T)) - F(phi(0))] + P0 int dt / h(phi(t)), with phi(t) integrated
+    exactly from the Legendre series of u (numpy's legint) and the time integral by composite
+    Gauss-Legendre (32 panels x 64 nodes): accurate to rounding, so it resolves errors below the
+    floor of any adaptive integrator at rtol ~ 3e-14 (whose own error grows with |theta|)."""
+    L = np.polynomial.legendre
+    xg, wg = L.leggauss(64)
+    theta, ph = float(x0[0]), float(x0[1])
+    for seg in segments:
+        if seg.basis is None or seg.basis.name != "legendre":
+            return float("nan")
+        T = seg.t1 - seg.t0
+        c = np.asarray(seg.basis_coefficients[0], dtype=float)
+        prim = L.legint(c, lbnd=-1) * (T / 2)  # phi - phi(0) as a series in x = 2 s - 1
+        total = 0.0
+        for a in np.linspace(-1.0, 1.0, 33)[:-1]:
+            x = a + (xg + 1) * (1.0 / 32)
+            total += float(np.sum(wg * (1.0 / 32) / robot.h(ph + L.legval(x, prim)))) * (T / 2)
+        ph_end = ph + float(L.legval(1.0, prim))
+        theta = theta - (float(robot.F(ph_end)) - float(robot.F(ph))) + robot.P0 * total
+        ph = ph_end
+    return float(max(abs(theta - x1[0]), abs(ph - x1[1])))
+
+
 # ------------------------------------------------------------------------------- acroplan
+LAST = {}  # the last acroplan result, for the exact check
+
+
 def run_acroplan(robot, times, theta, phi):
     t0 = time.perf_counter()
     r = acroplan.plan(robot, times=times, theta=theta, phi=phi, conditions="free", verify=False)
     dt = time.perf_counter() - t0
+    LAST["result"] = r
     # the result's own input evaluation (numpy's Legendre series: accurate at every basis size)
     pieces = [(s.t0, s.t1, (lambda seg: (lambda t: float(seg.input(t)[0, 0])))(s)) for s in r.segments]
     return r.success, dt, pieces
@@ -217,6 +248,7 @@ def run_flatsys(robot, times, theta, phi, n_basis=8):
 # ------------------------------------------------------------------------------- driver
 def evaluate(name, fn, problems):
     rows = []
+    exact = []
     for robot, times, theta, phi in problems:
         try:
             ok, dt, pieces = fn(robot, times, theta, phi)
@@ -231,6 +263,12 @@ def evaluate(name, fn, problems):
             x = resimulate(robot, [theta[0], phi[0]], pieces)
             err = float(np.max(np.abs(x - [theta[-1], phi[-1]])))
         rows.append((bool(ok) and err <= SUCCESS_ERR, dt, err))
+        if name == "acroplan" and ok:
+            exact.append(exact_error(robot, [theta[0], phi[0]], [theta[-1], phi[-1]], LAST["result"].segments))
+    if exact:
+        e = np.array(exact)
+        print(f"  acroplan endpoint error by the exact flat-output identity (no ODE integrator): median "
+              f"{np.median(e):.1e}, max {e.max():.1e}, {int(np.sum(e > 1e-12))} of {e.size} above 1e-12")
     return rows
 
 
@@ -269,6 +307,7 @@ def main():
     systems = {"acroplan": run_acroplan, "casadi": lambda *a: run_casadi(ms, *a), "lsq": run_lsq,
                "flatsys": run_flatsys}
     # warm up: compile, import, build once
+    acroplan.warm_up(acroplan.Acrobot)
     for fn in systems.values():
         try:
             fn(*single[0])

@@ -134,6 +134,28 @@ def _legendre_power(n: int) -> np.ndarray:
 
 
 @functools.cache
+def _legendre_derivative(n: int, k: int) -> np.ndarray:
+    """Legendre coefficients of :math:`d^k b_i/ds^k` (column i), shape (n, n)."""
+    D = np.zeros((n, n))
+    for i in range(n):
+        d = np.polynomial.legendre.legder(np.eye(n)[i], k, scl=2.0)
+        D[: d.size, i] = d
+    D.setflags(write=False)
+    return D
+
+
+@functools.cache
+def _legendre_integral(n: int) -> np.ndarray:
+    """Legendre coefficients of :math:`\\int_0^s b_i` (column i), shape (n+1, n)."""
+    Q = np.zeros((n + 1, n))
+    for i in range(n):
+        q = np.polynomial.legendre.legint(np.eye(n)[i], lbnd=-1.0, scl=0.5)
+        Q[: q.size, i] = q
+    Q.setflags(write=False)
+    return Q
+
+
+@functools.cache
 def _legendre_inverse(n: int) -> np.ndarray:
     Q = np.linalg.inv(_legendre_power(n))
     Q.setflags(write=False)
@@ -179,12 +201,18 @@ class Legendre(InputBasis):
     def power_matrix(self):
         return _legendre_power(self.n)
 
+    # values, derivatives and integrals through Legendre series (three-term recurrence), never
+    # through power series, which lose digits from about 10 coefficients on
     def matrix(self, s, derivative: int = 0) -> np.ndarray:
-        if derivative:
-            return super().matrix(s, derivative)
-        # values by the three-term recurrence: no power series, accurate at every size
         s = np.atleast_1d(np.asarray(s, dtype=float))
-        return np.polynomial.legendre.legvander(2.0 * s - 1.0, self.n - 1)
+        V = np.polynomial.legendre.legvander(2.0 * s - 1.0, self.n - 1)
+        if derivative:
+            return V @ _legendre_derivative(self.n, derivative)
+        return V
+
+    def integral(self, s) -> np.ndarray:
+        s = np.atleast_1d(np.asarray(s, dtype=float))
+        return np.polynomial.legendre.legvander(2.0 * s - 1.0, self.n) @ _legendre_integral(self.n)
 
     def expression(self, s, c):
         x = 2.0 * s - 1.0

@@ -21,6 +21,8 @@ extremes of a polynomial :math:`u` lie at the roots of :math:`u'` and of :math:`
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 from scipy.optimize import minimize
 
@@ -86,33 +88,47 @@ def linear_limits(system, basis: InputBasis, x0, T: float, limits: Limits, grid:
 
 
 _GRID = np.linspace(0.0, 1.0, 257)
-_VGRID = np.vander(_GRID, 64, increasing=True)  # power series on the grid by one product
-_VGRID.flags.writeable = False
 _P = np.polynomial.polynomial
 
 
-def _extremes(p: np.ndarray, crit: np.ndarray):
-    """Min and max of the power series ``p`` on [0, 1], given the power series whose roots are its
-    critical points (exact), and on a dense grid."""
+@functools.lru_cache(maxsize=64)
+def _grid_matrix(basis: InputBasis, kind: str) -> np.ndarray:
+    """Values (``"u"``) or integrals from 0 (``"int"``) of the basis on the check grid, read-only."""
+    M = basis.matrix(_GRID) if kind == "u" else basis.integral(_GRID)
+    M.flags.writeable = False
+    return M
+
+
+def _extremes(crit: np.ndarray, values, on_grid: np.ndarray):
+    """Min and max on [0, 1] of a polynomial whose critical points are the real roots of the power
+    series ``crit`` in [0, 1] (exact), given ``values(s)`` and its values on the check grid (the
+    ends included, so the grid also guards the root finder)."""
     nz = np.flatnonzero(crit)
+    lo, hi = float(on_grid.min()), float(on_grid.max())
     if nz.size and nz[-1] > 0:
         r = _P.polyroots(crit[: nz[-1] + 1])
         real = r.real[(np.abs(r.imag) < 1e-9) & (r.real >= 0.0) & (r.real <= 1.0)]
-    else:
-        real = np.zeros(0)
-    on_grid = _VGRID[:, : p.size] @ p if p.size <= _VGRID.shape[1] else _P.polyval(_GRID, p)
-    lo, hi = float(on_grid.min()), float(on_grid.max())
-    if real.size:
-        at = _P.polyval(real, p)
-        lo, hi = min(lo, float(at.min())), max(hi, float(at.max()))
+        if real.size:
+            at = values(real)
+            lo, hi = min(lo, float(at.min())), max(hi, float(at.max()))
     return lo, hi
+
+
+def input_extremes(basis: InputBasis, c) -> tuple[float, float]:
+    """Exact min and max of :math:`u(s) = \\sum_i c_i b_i(s)` on [0, 1]: at the ends and the roots
+    of :math:`u'`, all values evaluated in the basis (stable at every size)."""
+    c = np.asarray(c, dtype=float)
+    Q = basis.to_power_s(c)
+    crit = Q[1:] * np.arange(1, basis.n) if basis.n > 1 else np.zeros(1)
+    return _extremes(crit, lambda s: basis.matrix(s) @ c, _grid_matrix(basis, "u") @ c)
 
 
 def violation(system, basis: InputBasis, x0, T: float, c, limits: Limits) -> dict:
     """Exact limit violations of one segment (0 when compliant).
 
     The extremes of the polynomial :math:`u` lie at the roots of :math:`u'` and the ends, those of
-    the joint angle at the roots of :math:`u` and the ends; a grid of 2001 points is checked too.
+    the joint angle at the roots of :math:`u` and the ends (roots from the power series, values
+    from the basis); a grid of 257 points is checked too.
 
     Returns
     -------
@@ -122,18 +138,17 @@ def violation(system, basis: InputBasis, x0, T: float, c, limits: Limits) -> dic
     """
     c = np.asarray(c, dtype=float).reshape(system.n_inputs, basis.n)
     out = {"u": 0.0, "state": 0.0, "max_abs_u": 0.0, "state_range": None}
-    Q = basis.to_power_s(c)  # (m, n) power series in s
     for j in range(system.n_inputs):
-        lo, hi = _extremes(Q[j], Q[j][1:] * np.arange(1, basis.n) if basis.n > 1 else np.zeros(1))
+        lo, hi = input_extremes(basis, c[j])
         out["max_abs_u"] = max(out["max_abs_u"], abs(lo), abs(hi))
     if limits.u_max is not None:
         out["u"] = max(0.0, out["max_abs_u"] - limits.u_max)
     b = _bounded(system, limits)
     if b is not None:
         j, i = b
-        q = T * _P.polyint(Q[j])
-        q[0] += float(x0[i])
-        lo, hi = _extremes(q, Q[j])
+        q0, cj = float(x0[i]), c[j]
+        lo, hi = _extremes(basis.to_power_s(cj), lambda s: q0 + T * (basis.integral(s) @ cj),
+                           q0 + T * (_grid_matrix(basis, "int") @ cj))
         out["state_range"] = (lo, hi)
         out["state"] = max(0.0, limits.lo - lo, hi - limits.hi)
     return out

@@ -137,12 +137,13 @@ def solve_segment(system: ControlAffineSystem, basis: InputBasis, x0, x1, T: flo
     N = m * n
     B = np.zeros((0, N)) if B is None else np.atleast_2d(np.asarray(B, dtype=float))
     d = np.zeros(0) if d is None else np.asarray(d, dtype=float)
-    c_p = np.linalg.lstsq(B, d, rcond=None)[0] if B.shape[0] else np.zeros(N)
-    Z = _null_space(B, N)
-    free = B.shape[0] == 0  # no conditions: z is c itself
+    free = B.shape[0] == 0  # no conditions: z is c itself (c_p = 0, Z = identity)
+    c_p = np.zeros(N) if free else np.linalg.lstsq(B, d, rcond=None)[0]
+    Z = None if free else _null_space(B, N)  # free: the identity, built only if needed below
+    n_z = N if free else Z.shape[1]
     n_x = system.n_states
     counter = _Counter()
-    scale = 1.0 + max(abs(float(v)) for v in x1)
+    scale = 1.0 + max(map(abs, x1.tolist()))
 
     def evaluate(z):
         counter.evaluations += 1
@@ -155,13 +156,17 @@ def solve_segment(system: ControlAffineSystem, basis: InputBasis, x0, x1, T: flo
         return SegmentSolve(False, f"the {B.shape[0]} input conditions cannot all be met by {n} coefficient(s) "
                             f"per input; use more coefficients (at least {B.shape[0] + n_x})",
                             c_p.reshape(m, n), float("nan"), 0, 0, 0.0, 0.0, (), 0)
-    if Z.shape[1] < n_x:
-        return SegmentSolve(False, f"the input conditions leave {Z.shape[1]} free coefficient(s) for {n_x} "
+    if n_z < n_x:
+        return SegmentSolve(False, f"the input conditions leave {n_z} free coefficient(s) for {n_x} "
                             f"endpoint equations; use more coefficients (at least {B.shape[0] + n_x})",
                             c_p.reshape(m, n), float("nan"), 0, 0, 0.0, 0.0, (), 0)
 
     # ---------------------------------------------------------------- polish a good initial input
-    z_base = np.zeros(Z.shape[1]) if initial is None else Z.T @ (np.asarray(initial, float).reshape(-1) - c_p)
+    if initial is None:
+        z_base = np.zeros(n_z)
+    else:
+        z_base = np.asarray(initial, dtype=float).reshape(-1)
+        z_base = z_base.copy() if free else Z.T @ (z_base - c_p)
     first = None
     if initial is not None:
         # an initial input that (nearly) meets the target, as the flat-output guess does, needs
@@ -178,12 +183,15 @@ def solve_segment(system: ControlAffineSystem, basis: InputBasis, x0, x1, T: flo
                 if ok:
                     err = _norm(y1 - x1)
                     s1 = s0[-1] if A1 is A else float(np.linalg.svd(A1, compute_uv=False)[-1])
-                    history = ((0.0, 0.0, float(s0[-1]), y.copy(), y.copy()), (1.0, err, float(s1), x1.copy(), y1.copy()))
+                    history = ((0.0, 0.0, float(s0[-1]), y, y), (1.0, err, float(s1), x1.copy(), y1))
                     return SegmentSolve(True, f"converged: endpoint error {err:.2e} after {counter.evaluations} "
-                                        "evaluations", (c_p + Z @ z).reshape(m, n), err, counter.iterations,
-                                        counter.evaluations, min(float(s0[-1]), float(s1)), 1.0, history, 0)
+                                        "evaluations", (z if free else c_p + Z @ z).reshape(m, n), err,
+                                        counter.iterations, counter.evaluations, min(float(s0[-1]), float(s1)), 1.0,
+                                        history, 0)
 
     # ---------------------------------------------------------------- non-singular starts
+    if Z is None:
+        Z = np.eye(N)
     c_scale = 1.0 + float(np.linalg.norm(c_p)) + float(np.linalg.norm(x1 - x0)) / max(T, 1e-12)
 
     def start_points():

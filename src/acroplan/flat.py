@@ -205,7 +205,8 @@ def _family(alpha: int, beta: int, n: int, deg: int):
     pseudo-inverse on the nodes ``pinv`` (d+1, 64), the largest :math:`|v_0|` on the nodes, and
     the dwell shape ``B`` (64,): :math:`(1 - (2s-1)^{2k})^{a}`, :math:`a = \\max(\\alpha, \\beta)`, which
     vanishes with the directions and is flat in the middle, with the largest :math:`k` that keeps
-    :math:`\\deg \\varphi_h + 2ka \\le n` (``None`` when even k = 1 does not fit).
+    :math:`\\deg \\varphi_h + 2ka \\le n` (``None`` when even k = 1 does not fit), and
+    :math:`v_0` on the 24 coarse nodes.
     """
     d = n - alpha - beta
     x = 2.0 * _SG - 1.0
@@ -220,9 +221,10 @@ def _family(alpha: int, beta: int, n: int, deg: int):
     a = max(alpha, beta)
     k = (n - deg) // (2 * a)
     B = (1.0 - x ** (2 * k)) ** a if k >= 1 else None
-    for arr in (V, Vd, pinv) + ((B,) if B is not None else ()):
+    Wc = _SC**alpha * (1.0 - _SC) ** beta
+    for arr in (V, Vd, pinv, Wc) + ((B,) if B is not None else ()):
         arr.flags.writeable = False
-    return V, Vd, pinv, float(np.max(np.abs(V[:, 0]))), B
+    return V, Vd, pinv, float(np.max(np.abs(V[:, 0]))), B, Wc
 
 
 @functools.lru_cache(maxsize=64)
@@ -232,6 +234,14 @@ def _projection(basis_cls, n: int) -> np.ndarray:
     P = np.linalg.pinv(basis_cls(n).matrix(_SG))
     P.flags.writeable = False
     return P
+
+
+_MID0 = (_AMPS.size - 9) // 2  # first of the 9 grid amplitudes nearest 0
+
+
+def _coarse(T, M1, A1, PHc, amps, Wc):
+    """The flat-output integral on the coarse rule for the amplitudes ``amps`` (a scan only)."""
+    return T * ((1.0 / (M1 + A1 * np.cos(PHc[None, :] + amps[:, None] * Wc[None, :]))) @ _WSC)
 
 
 def _integral(T, M1, A1, phi):
@@ -314,37 +324,39 @@ def flat_guess(robot: Acrobot, basis, x0, x1, T: float, ends: dict | None = None
     scale = {"u0": T, "du0": T * T, "uT": T, "duT": T * T}
     rhs = np.array([phi0, phiT] + [scale[k] * float(ends[k]) for k in keys])
     ph = _hermite(keys, deg) @ rhs
-    V, Vd, pinv, wmax, dwell = _family(alpha, beta, n, deg)
+    V, Vd, pinv, wmax, dwell, Wc = _family(alpha, beta, n, deg)
     PH = _VSG[:, : ph.size] @ ph
     W = V[:, 0]
     target = (thetaT - theta0 + float(robot.F(phiT)) - float(robot.F(phi0))) / robot.P0
     M1, A1 = robot.M1, robot.A1
 
-    # 1. amplitude family: scan the grid with the coarse rule, confirm the bracket with the fine one
+    # 1. amplitude family: scan the grid with the coarse rule (the 9 amplitudes nearest 0 first:
+    #    a sign change among them is nearer 0 than any outside), confirm with the fine rule
     amps = _AMPS / wmax
-    PHc, Wc = _VSC[:, : ph.size] @ ph, _SC**alpha * (1.0 - _SC) ** beta
-    coarse = T * ((1.0 / (M1 + A1 * np.cos(PHc[None, :] + amps[:, None] * Wc[None, :]))) @ _WSC) - target
-    idx = np.flatnonzero(np.sign(coarse[:-1]) * np.sign(coarse[1:]) <= 0)
-    vals = None
+    PHc = _VSC[:, : ph.size] @ ph
+    coarse = _coarse(T, M1, A1, PHc, amps[_MID0:_MID0 + 9], Wc) - target
+    idx = np.flatnonzero(np.sign(coarse[:-1]) * np.sign(coarse[1:]) <= 0) + _MID0
+    if not idx.size:
+        coarse = _coarse(T, M1, A1, PHc, amps, Wc) - target
+        idx = np.flatnonzero(np.sign(coarse[:-1]) * np.sign(coarse[1:]) <= 0)
+    bracketed = False
     if idx.size:
         kk = idx[np.argmin(np.abs(amps[idx]))]
         f01 = _integral(T, M1, A1, PH[None, :] + amps[kk:kk + 2, None] * W[None, :]) - target
-    if not idx.size or f01[0] * f01[1] > 0:  # none, or the rules disagree near the root: the fine rule
-        vals = _integral(T, M1, A1, PH[None, :] + amps[:, None] * W[None, :]) - target
-        idx = np.flatnonzero(np.sign(vals[:-1]) * np.sign(vals[1:]) <= 0)
-        if idx.size:
-            kk = idx[np.argmin(np.abs(amps[idx]))]
-            f01 = vals[kk:kk + 2]
+        bracketed = f01[0] * f01[1] <= 0  # the rules agree (they differ only by quadrature error)
     q = np.zeros(V.shape[1])
-    if idx.size:
+    if bracketed:
         da = amps[kk + 1] - amps[kk]
         lam = _root(T, M1, A1, PH + amps[kk] * W, da * W, target, f01[0], f01[1])
         q[0] = amps[kk] + lam * da
-        family, bracketed = "amplitude", True
+        family = "amplitude"
     else:
-        i = int(np.argmin(np.abs(vals)))
-        q[0], f_a = amps[i], vals[i]
-        family, bracketed = "closest", False
+        if coarse.size < amps.size:
+            coarse = _coarse(T, M1, A1, PHc, amps, Wc) - target
+        i = int(np.argmin(np.abs(coarse)))
+        q[0] = amps[i]
+        f_a = float(_integral(T, M1, A1, PH + amps[i] * W)) - target
+        family = "closest"
         # 2. dwell family: phi_h + (phi* - phi_h) B, a flat-topped move to phi* in pi Z near the
         #    motion (gentle), then the least-squares fit of a dwell at phi* (steeper), nearest first
         if V.shape[1] > 1 and (steep or dwell is not None):

@@ -274,7 +274,8 @@ def _validated(system, *, times, conditions, method, basis, n_coefficients, u_ma
     t = _vector("times", times)
     if t.size < 2:
         raise InvalidInputError("times", f"needs at least 2 values, got {t.size}", "give start and end times")
-    if (np.diff(t) <= 0).any():
+    tl = t.tolist()
+    if any(b <= a for a, b in zip(tl, tl[1:])):
         raise InvalidInputError("times", "must be strictly increasing", "sort the waypoints by time")
     missing = [name for name in system.state_names if name not in waypoints]
     if missing:

@@ -118,6 +118,9 @@ class Reach:
         return self.low <= theta <= self.high
 
 
+_NO_LIMITS = Limits()
+
+
 def _G(robot: Acrobot, phi):
     """Continuous antiderivative of g = 1/h."""
     a, b = robot.M1, robot.A1
@@ -143,7 +146,7 @@ def reachable_set(robot: Acrobot, *, theta0: float, phi0: float, phiT: float, T:
     -------
     Reach
     """
-    limits = limits or Limits()
+    limits = limits or _NO_LIMITS
     lo_lim, hi_lim = limits.lo, limits.hi
     base = theta0 - (float(robot.F(phiT)) - float(robot.F(phi0)))
     for name, v in (("phi(0)", phi0), ("phi(T)", phiT)):

@@ -116,13 +116,17 @@ class SegmentResult:
 
     def _extremes(self) -> dict:
         if self.extremes is None:
-            from .constrained import _extremes
+            from .basis import Monomial
+            from .constrained import input_extremes
 
-            k = self.coefficients.shape[1]
-            q = self.coefficients * (self.t1 - self.t0) ** np.arange(k)  # power series in s
+            if self.basis is not None:
+                basis, rows = self.basis, self.basis_coefficients
+            else:  # power basis in local time -> in s
+                k = self.coefficients.shape[1]
+                basis, rows = Monomial(k), self.coefficients * (self.t1 - self.t0) ** np.arange(k)
             top = 0.0
-            for row in q:
-                lo, hi = _extremes(row, row[1:] * np.arange(1, k) if k > 1 else np.zeros(1))
+            for row in rows:
+                lo, hi = input_extremes(basis, row)
                 top = max(top, abs(lo), abs(hi))
             object.__setattr__(self, "extremes", {"max_abs_u": top, "state_range": None})
         return self.extremes

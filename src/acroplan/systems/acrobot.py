@@ -275,8 +275,6 @@ class Acrobot(ControlAffineSystem):
 
         theta0, phi0 = float(x0[0]), float(x0[1])
         thetaT, phiT = float(x1[0]), float(x1[1])
-        where = (f"for theta(0) = {theta0:.12g}, phi(0) = {phi0:.12g}, phi(T) = {phiT:.12g}, "
-                 f"T = {duration:.12g}")
         R = reachable_set(self, theta0=theta0, phi0=phi0, phiT=phiT, T=duration, limits=limits)
         lim = "" if limits is None or not limits.active else " under the joint and rate limits"
         if R.empty:
@@ -291,6 +289,8 @@ class Acrobot(ControlAffineSystem):
             return Infeasibility(f"{why}: with phi(T) = {phiT:.12g} the only reachable theta(T) is {lo:.12g}, "
                                  f"not {thetaT:.12g}", "theta", (lo, lo))
         if not (lo < thetaT < hi):
+            where = (f"for theta(0) = {theta0:.12g}, phi(0) = {phi0:.12g}, phi(T) = {phiT:.12g}, "
+                     f"T = {duration:.12g}")
             kind = "closed" if R.closed else "open"
             ends = f"[{lo:.12g}, {hi:.12g}]" if R.closed else f"({lo:.12g}, {hi:.12g})"
             edge = " (its ends are reached only by bang-dwell-bang joint motions, not by a smooth input)" \
