@@ -236,7 +236,8 @@ def _projection(basis_cls, n: int) -> np.ndarray:
     return P
 
 
-_MID0 = (_AMPS.size - 9) // 2  # first of the 9 grid amplitudes nearest 0
+_NMID = 13  # the grid amplitudes nearest 0, scanned first
+_MID0 = (_AMPS.size - _NMID) // 2
 
 
 def _coarse(T, M1, A1, PHc, amps, Wc):
@@ -330,11 +331,11 @@ def flat_guess(robot: Acrobot, basis, x0, x1, T: float, ends: dict | None = None
     target = (thetaT - theta0 + float(robot.F(phiT)) - float(robot.F(phi0))) / robot.P0
     M1, A1 = robot.M1, robot.A1
 
-    # 1. amplitude family: scan the grid with the coarse rule (the 9 amplitudes nearest 0 first:
+    # 1. amplitude family: scan the grid with the coarse rule (the 13 amplitudes nearest 0 first:
     #    a sign change among them is nearer 0 than any outside), confirm with the fine rule
     amps = _AMPS / wmax
     PHc = _VSC[:, : ph.size] @ ph
-    coarse = _coarse(T, M1, A1, PHc, amps[_MID0:_MID0 + 9], Wc) - target
+    coarse = _coarse(T, M1, A1, PHc, amps[_MID0:_MID0 + _NMID], Wc) - target
     idx = np.flatnonzero(np.sign(coarse[:-1]) * np.sign(coarse[1:]) <= 0) + _MID0
     if not idx.size:
         coarse = _coarse(T, M1, A1, PHc, amps, Wc) - target

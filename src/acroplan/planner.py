@@ -182,9 +182,9 @@ def plan(system: ControlAffineSystem, *, times, conditions: str = "spline", meth
             return PlanResult("not_converged", msg, segments=tuple(segments), **common)
         if progress is not None:
             progress(k + 1, K)
-        last = pieces[-1]
-        prev_end_input = np.array([np.polynomial.polynomial.polyval(last.t1 - last.t0, row)
-                                   for row in last.coefficients])
+        if k + 1 < K:  # the input value the next interval starts with (free conditions)
+            last = segments[-1]
+            prev_end_input = last.input([last.t1])[:, 0]
     segments = tuple(segments)
 
     if not verify:

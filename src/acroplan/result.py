@@ -110,6 +110,7 @@ class SegmentResult:
     extremes: dict | None = dataclasses.field(default=None, repr=False, compare=False)
     #: the segment's basis (family and size of ``basis_coefficients``)
     basis: InputBasis | None = dataclasses.field(default=None, repr=False)
+    _series: tuple | None = dataclasses.field(default=None, init=False, repr=False, compare=False)
 
     def __post_init__(self):
         _freeze(self, "coefficients", "basis_coefficients", "start", "target")
@@ -148,10 +149,25 @@ class SegmentResult:
         ``benchmarks/RESULTS.md``).
         """
         t = np.atleast_1d(np.asarray(t, dtype=float))
-        if self.basis is None:
-            return np.array([np.polynomial.polynomial.polyval(t - self.t0, row) for row in self.coefficients])
-        s = (t - self.t0) / (self.t1 - self.t0)
-        return self.basis_coefficients @ self.basis.matrix(s).T
+        if self._series is None:
+            object.__setattr__(self, "_series", self._make_series())
+        return np.array([p(t) for p in self._series])
+
+    def _make_series(self) -> tuple:
+        """One numpy series per input on the domain [t0, t1]: Legendre (Clenshaw's recurrence) for
+        the Legendre basis, power series in s for the monomial one, the local-time power series
+        when the basis is unknown."""
+        P = np.polynomial
+        dom = [self.t0, self.t1]
+        if self.basis is None:  # tau = t - t0: the domain [t0, t0 + 1] mapped on the window [0, 1]
+            return tuple(P.Polynomial(row, domain=[self.t0, self.t0 + 1.0], window=[0.0, 1.0])
+                         for row in self.coefficients)
+        if self.basis.name == "legendre":
+            return tuple(P.Legendre(row, domain=dom) for row in self.basis_coefficients)
+        if self.basis.name == "monomial":
+            return tuple(P.Polynomial(row, domain=dom, window=[0.0, 1.0]) for row in self.basis_coefficients)
+        return tuple((lambda row: (lambda t: self.basis.matrix((t - self.t0) / (self.t1 - self.t0)) @ row))(row)
+                     for row in self.basis_coefficients)
 
     def to_dict(self, input_names) -> dict[str, Any]:
         return {
