@@ -19,7 +19,8 @@ Every system's input is re-simulated by one independent integrator (scipy DOP853
 |state - waypoint| there. A solve counts as a success when its solver reports success and the
 re-simulated endpoint error is <= 1e-6. DOP853's own error at rtol 3e-14 grows with |theta| (about
 1e-13 |theta|), so acroplan's plans are also checked by the exact flat-output identity
-(exact_error: quadrature, no ODE integrator), which resolves errors down to rounding.
+(acroplan.verify.flat_output_errors: exact integration of the input and quadrature, no ODE
+integrator), which resolves errors down to rounding.
 
 Run:  python benchmarks/peers.py [--n 100] [--seed 11]     (needs: pip install ".[bench]")
 """
@@ -36,6 +37,7 @@ from scipy.integrate import solve_ivp
 
 import acroplan
 from acroplan.basis import Legendre
+from acroplan.verify import flat_output_errors
 from acroplan.zoo import random_segment
 
 SUCCESS_ERR = 1e-6
@@ -50,31 +52,6 @@ def resimulate(robot, x0, pieces):
                         max_step=(t1 - t0) / 16)
         x = sol.y[:, -1]
     return x
-
-
-def exact_error(robot, x0, x1, segments) -> float:
-    """Endpoint error of a polynomial plan by the flat-output identity, no ODE integrator:
-    theta(T) = theta(0) - [F(phi(T)) - F(phi(0))] + P0 int dt / h(phi(t)), with phi(t) integrated
-    exactly from the Legendre series of u (numpy's legint) and the time integral by composite
-    Gauss-Legendre (32 panels x 64 nodes): accurate to rounding, so it resolves errors below the
-    floor of any adaptive integrator at rtol ~ 3e-14 (whose own error grows with |theta|)."""
-    L = np.polynomial.legendre
-    xg, wg = L.leggauss(64)
-    theta, ph = float(x0[0]), float(x0[1])
-    for seg in segments:
-        if seg.basis is None or seg.basis.name != "legendre":
-            return float("nan")
-        T = seg.t1 - seg.t0
-        c = np.asarray(seg.basis_coefficients[0], dtype=float)
-        prim = L.legint(c, lbnd=-1) * (T / 2)  # phi - phi(0) as a series in x = 2 s - 1
-        total = 0.0
-        for a in np.linspace(-1.0, 1.0, 33)[:-1]:
-            x = a + (xg + 1) * (1.0 / 32)
-            total += float(np.sum(wg * (1.0 / 32) / robot.h(ph + L.legval(x, prim)))) * (T / 2)
-        ph_end = ph + float(L.legval(1.0, prim))
-        theta = theta - (float(robot.F(ph_end)) - float(robot.F(ph))) + robot.P0 * total
-        ph = ph_end
-    return float(max(abs(theta - x1[0]), abs(ph - x1[1])))
 
 
 # ------------------------------------------------------------------------------- acroplan
@@ -247,14 +224,20 @@ def run_flatsys(robot, times, theta, phi, n_basis=8):
 
 # ------------------------------------------------------------------------------- driver
 def evaluate(name, fn, problems):
-    rows = []
-    exact = []
+    """Solve every problem (timed, back to back), then check every solution (untimed): checking
+    between solves would evict the solver from the caches, which costs a sub-millisecond solver a
+    large share of its time and a 20 ms one nothing (measured: acroplan's median 0.465 ms
+    interleaved with the checks, in RESULTS.md)."""
+    solved = []
     for robot, times, theta, phi in problems:
         try:
             ok, dt, pieces = fn(robot, times, theta, phi)
         except Exception as e:  # a peer's crash is its failure, not the benchmark's
             ok, dt, pieces = False, float("nan"), []
             print(f"  {name}: {type(e).__name__}: {e}")
+        solved.append((ok, dt, pieces, LAST.pop("result", None)))
+    rows, exact = [], []
+    for (robot, times, theta, phi), (ok, dt, pieces, result) in zip(problems, solved):
         if ok is None:
             rows.append((None, dt, float("nan")))
             continue
@@ -263,8 +246,8 @@ def evaluate(name, fn, problems):
             x = resimulate(robot, [theta[0], phi[0]], pieces)
             err = float(np.max(np.abs(x - [theta[-1], phi[-1]])))
         rows.append((bool(ok) and err <= SUCCESS_ERR, dt, err))
-        if name == "acroplan" and ok:
-            exact.append(exact_error(robot, [theta[0], phi[0]], [theta[-1], phi[-1]], LAST["result"].segments))
+        if result is not None and ok:
+            exact.append(float(flat_output_errors(result).max()))
     if exact:
         e = np.array(exact)
         print(f"  acroplan endpoint error by the exact flat-output identity (no ODE integrator): median "

@@ -103,3 +103,35 @@ def test_warm_up_compiles_ahead_and_checks_its_input():
     assert _integrate._compiled.cache_info().currsize == before + 1
     with pytest.raises(acroplan.InvalidInputError, match="system: must be a ControlAffineSystem"):
         acroplan.warm_up(42)
+
+
+def test_flat_output_check_is_exact_on_a_known_motion(physical_robot):
+    """u = 0: phi stays, theta(T) = theta0 + P0 T / h(phi0) exactly; the check must see 0 error
+    for the true target and exactly the offset for a shifted one."""
+    from acroplan.result import PlanResult, SegmentResult
+    from acroplan.verify import flat_output_errors
+
+    T, th0, ph0 = 1.7, 0.3, -2.0
+    thT = th0 + physical_robot.P0 * T / physical_robot.h(ph0)
+    for offset in (0.0, 1e-9):
+        seg = SegmentResult(index=0, t0=0.0, t1=T, coefficients=np.zeros((1, 6)), basis_coefficients=np.zeros((1, 6)),
+                            start=np.array([th0, ph0]), target=np.array([thT + offset, ph0]), final_error=0.0,
+                            verified_error=None, iterations=0, evaluations=0, restarts=0, sigma_min=1.0,
+                            success=True, message="", basis=Legendre(6))
+        r = PlanResult("success", "", system=physical_robot, times=np.array([0.0, T]),
+                       waypoints=np.array([[th0, ph0], [thT + offset, ph0]]), conditions="free", basis=Legendre(6),
+                       segments=(seg,))
+        assert flat_output_errors(r)[0] == pytest.approx(offset, abs=2e-15 * (1 + abs(thT)))
+
+
+def test_plans_meet_their_waypoints_to_1e_12_by_the_exact_check(pike_result):
+    """The performance issue's accuracy target, by a check with no ODE integrator: random
+    single segments (every auto stage) and the pike dive (chained through its 5 segments)."""
+    from acroplan.verify import flat_output_errors
+
+    worst = 0.0
+    for p, x0, x1 in _segments(40, 11):
+        r = acroplan.plan(p.robot, conditions="free", verify=False, **p.plan_kwargs())
+        worst = max(worst, float(flat_output_errors(r).max()))
+    assert worst <= 1e-12
+    assert float(flat_output_errors(pike_result).max()) <= 1e-12

@@ -66,7 +66,11 @@ class SegmentResult:
     coefficients : numpy.ndarray, shape (m, k)
         Power-basis coefficients in local time: :math:`u_j(t) = \\sum_i p_{j,i}(t - t_0)^i`.
     basis_coefficients : numpy.ndarray, shape (m, k)
-        The same input in the planner's basis on :math:`s = (t - t_0)/(t_1 - t_0)`.
+        The same input in the planner's basis on :math:`s = (t - t_0)/(t_1 - t_0)` (for the
+        Legendre basis accurate at every size; the power series loses digits from about 10
+        coefficients on).
+    basis : InputBasis or None
+        The basis of ``basis_coefficients`` (its family and size).
     start, target : numpy.ndarray, shape (n,)
         Planned states at the segment's ends (waypoints, or interior points of a flat plan).
     max_abs_u : float

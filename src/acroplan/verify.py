@@ -14,7 +14,7 @@ from scipy.integrate import solve_ivp
 
 from .systems.base import ControlAffineSystem
 
-__all__ = ["simulate_segment", "RTOL", "ATOL"]
+__all__ = ["simulate_segment", "flat_output_errors", "RTOL", "ATOL"]
 
 RTOL = 3e-14
 ATOL = 3e-14
@@ -59,3 +59,56 @@ def simulate_segment(system: ControlAffineSystem, x0, t0: float, t1: float, powe
     # rtol 3e-14); 16 steps per segment at least keep its error control honest.
     return solve_ivp(fun, (t0, t1), np.asarray(x0, dtype=float), method="DOP853", rtol=rtol, atol=atol,
                      max_step=(t1 - t0) / 16, t_eval=t_eval if t_eval is not None else [t1])
+
+
+def flat_output_errors(result) -> np.ndarray:
+    """Endpoint errors of an acrobot plan by the flat-output identity, with no ODE integrator.
+
+    .. math::  \\theta(t_1) = \\theta(t_0) - [F(\\varphi(t_1)) - F(\\varphi(t_0))]
+               + P_0 \\int_{t_0}^{t_1} \\frac{dt}{h(\\varphi(t))},
+
+    with :math:`\\varphi(t) = \\varphi(t_0) + \\int u` integrated exactly from the segment's
+    series (numpy's ``legint``/``polyint``) and the time integral by composite Gauss-Legendre
+    (32 panels of 64 nodes), chained through the segments from the first waypoint like
+    :func:`acroplan.plan`'s own check. Every step is exact up to rounding, so this resolves
+    errors far below the floor of an adaptive integrator at rtol ~ 3e-14, whose own error on
+    :math:`\\theta` grows with :math:`|\\theta|` (measured in ``benchmarks/RESULTS.md``).
+
+    Parameters
+    ----------
+    result : PlanResult
+        A plan of an :class:`~acroplan.Acrobot` whose segments carry their basis.
+
+    Returns
+    -------
+    numpy.ndarray, shape (number of segments,)
+        :math:`\\max(|\\theta - \\theta_{target}|, |\\varphi - \\varphi_{target}|)` at each
+        segment's end.
+    """
+    robot = result.system
+    if not all(hasattr(robot, name) for name in ("F", "h", "P0")):
+        raise TypeError("flat_output_errors needs an acrobot (a system with a flat output F, h, P0)")
+    P = np.polynomial
+    xg, wg = P.legendre.leggauss(64)
+    panels = np.linspace(-1.0, 1.0, 33)
+    theta, phi = (float(v) for v in result.waypoints[0])
+    errors = []
+    for seg in result.segments:
+        if seg.basis is None or seg.basis.name not in ("legendre", "monomial"):
+            raise TypeError(f"segment {seg.index}: its basis is unknown, so its input cannot be integrated exactly")
+        T = seg.t1 - seg.t0
+        c = np.asarray(seg.basis_coefficients[0], dtype=float)
+        if seg.basis.name == "legendre":  # phi - phi(t0) as a Legendre series in x = 2s - 1
+            prim, val = P.legendre.legint(c, lbnd=-1.0) * (T / 2.0), P.legendre.legval
+        else:  # as a power series in s, evaluated at s = (x + 1) / 2
+            q = P.polynomial.polyint(c) * T
+            prim, val = q, (lambda x, q: P.polynomial.polyval((x + 1.0) / 2.0, q))
+        total = 0.0
+        for a, b in zip(panels[:-1], panels[1:]):
+            x = a + (xg + 1.0) * ((b - a) / 2.0)
+            total += float(np.sum(wg / robot.h(phi + val(x, prim)))) * ((b - a) / 2.0) * (T / 2.0)
+        phi_end = phi + float(val(1.0, prim))
+        theta = theta - (float(robot.F(phi_end)) - float(robot.F(phi))) + robot.P0 * total
+        phi = phi_end
+        errors.append(max(abs(theta - float(seg.target[0])), abs(phi - float(seg.target[1]))))
+    return np.array(errors)
