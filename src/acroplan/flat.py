@@ -227,13 +227,19 @@ def _family(alpha: int, beta: int, n: int, deg: int):
     return V, Vd, pinv, float(np.max(np.abs(V[:, 0]))), B, Wc
 
 
-@functools.lru_cache(maxsize=64)
-def _projection(basis_cls, n: int) -> np.ndarray:
-    """Least-squares projection from values at the 64 nodes to coefficients of ``basis_cls(n)``:
-    exact for polynomials of degree < n."""
+@functools.lru_cache(maxsize=256)
+def _projection(basis_cls, n: int, alpha: int, beta: int, deg: int):
+    """:math:`u = \\varphi'/T` in the basis, as two matrices: ``Pd`` (n, deg) maps the power
+    coefficients 1.. of :math:`\\varphi_h` (in s), ``PVd`` (n, d+1) the family coefficients ``q``;
+    ``c = (Pd @ ph[1:] + PVd @ q) / T``. Both are the least-squares projection of values at the
+    64 nodes (exact for polynomials of degree < n) of derivatives evaluated in product form."""
     P = np.linalg.pinv(basis_cls(n).matrix(_SG))
-    P.flags.writeable = False
-    return P
+    k = np.arange(1, deg + 1)
+    Pd = P @ (k * _SG[:, None] ** (k - 1))  # d/ds s^k at the nodes
+    PVd = P @ _family(alpha, beta, n, deg)[1]
+    for a in (Pd, PVd):
+        a.flags.writeable = False
+    return Pd, PVd
 
 
 _NMID = 13  # the grid amplitudes nearest 0, scanned first
@@ -323,9 +329,11 @@ def flat_guess(robot: Acrobot, basis, x0, x1, T: float, ends: dict | None = None
     if max(deg, alpha + beta) > n:
         return None
     scale = {"u0": T, "du0": T * T, "uT": T, "duT": T * T}
-    rhs = np.array([phi0, phiT] + [scale[k] * float(ends[k]) for k in keys])
-    ph = _hermite(keys, deg) @ rhs
-    V, Vd, pinv, wmax, dwell, Wc = _family(alpha, beta, n, deg)
+    if keys:
+        ph = _hermite(keys, deg) @ np.array([phi0, phiT] + [scale[k] * float(ends[k]) for k in keys])
+    else:  # no input conditions: the straight line
+        ph = np.array([phi0, phiT - phi0])
+    V, _, pinv, wmax, dwell, Wc = _family(alpha, beta, n, deg)
     PH = _VSG[:, : ph.size] @ ph
     W = V[:, 0]
     target = (thetaT - theta0 + float(robot.F(phiT)) - float(robot.F(phi0))) / robot.P0
@@ -376,6 +384,6 @@ def flat_guess(robot: Acrobot, basis, x0, x1, T: float, ends: dict | None = None
                 q = q + lam * dq
                 family, bracketed = "dwell", True
     # u = phi'/T at the nodes, in product form, projected on the basis (exact for its degree)
-    dph = ph[1:] * np.arange(1, ph.size)
-    u = (_VSG[:, : dph.size] @ dph + Vd @ q) / T
-    return FlatGuess((_projection(type(basis), n) @ u)[None, :], bracketed, family)
+    Pd, PVd = _projection(type(basis), n, alpha, beta, deg)
+    c = (Pd[:, : ph.size - 1] @ ph[1:] + PVd @ q) / T
+    return FlatGuess(c[None, :], bracketed, family)

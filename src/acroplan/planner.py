@@ -17,9 +17,12 @@ Methods (per waypoint interval):
   limits are given and broken, a constrained solve (:mod:`acroplan.constrained`);
 * ``"flat"`` (acrobot): the flat-output planner (:mod:`acroplan.flat`): three pieces, move, dwell,
   move, exact up to a scalar root;
-* ``"auto"`` (default): path deformation from a flat-output initial guess (budget
-  :data:`AUTO_BUDGET` evaluations), then the flat-output planner, then path deformation with more
-  coefficients (unless ``n_coefficients`` is given).
+* ``"auto"`` (default): path deformation started from a flat-output guess that already meets the
+  target (:func:`acroplan.flat.flat_guess`), at the smallest of :data:`AUTO_SIZES` whose guess
+  brackets it, gentle guesses at every size before steep ones, so that deformation only polishes
+  (one or two endpoint evaluations); then path deformation with the first size from the closest
+  guess (budget :data:`AUTO_BUDGET` evaluations), the flat-output planner, and the remaining sizes
+  (only the given size when ``n_coefficients`` is given).
 
 Before any work, every segment is checked by the system's exact feasibility test
 (:meth:`ControlAffineSystem.check_segment`, with the limits); an impossible request is refused
@@ -369,7 +372,7 @@ def _segment(system, basis, x0, x1, T, c, *, t0, final_error, verified_error=Non
         ext = {"max_abs_u": v["max_abs_u"], "state_range": v["state_range"]}
     return SegmentResult(
         index=0, t0=float(t0), t1=float(t0 + T), coefficients=basis.to_power(c, T), basis_coefficients=c,
-        start=np.array(x0, dtype=float), target=np.array(x1, dtype=float), final_error=final_error,
+        start=x0, target=x1, final_error=final_error,
         verified_error=verified_error, iterations=iterations, evaluations=evaluations, restarts=restarts,
         sigma_min=sigma_min, success=success, message=message, history=history, method=method,
         extremes=ext, basis=basis)
