@@ -173,8 +173,8 @@ class FlatGuess:
         the input already reaches the target; False when no member of the families came across
         the target and this is the closest one.
     family : str
-        ``"amplitude"`` (the one-parameter bump), ``"dwell"`` (between the bump and a polynomial
-        fitted to a dwell at an extreme of :math:`1/h`) or ``"closest"``.
+        ``"amplitude"`` (the one-parameter bump), ``"dwell"`` (on the line from the closest bump
+        to a polynomial imitation of a dwell at an extreme of :math:`1/h`) or ``"closest"``.
     """
 
     coefficients: np.ndarray

@@ -194,18 +194,15 @@ class Acrobot(ControlAffineSystem):
         """
         a, b = self.M1, self.A1
         if isinstance(phi, float):  # scalar fast path (the planner's feasibility and flat-output work)
-            if b == 0.0:
-                return (self.M2 * phi + self.A2 * math.sin(phi)) / a
-            s = math.sqrt(a * a - b * b)
-            rho = (a - s) / b
-            G = (phi - 2.0 * math.atan2(rho * math.sin(phi), 1.0 + rho * math.cos(phi))) / s
-            return (self.A2 / b) * phi + (self.M2 - self.A2 * a / b) * G
-        phi = np.asarray(phi, dtype=float)
+            sin, cos, atan2 = math.sin, math.cos, math.atan2
+        else:
+            phi = np.asarray(phi, dtype=float)
+            sin, cos, atan2 = np.sin, np.cos, np.arctan2
         if b == 0.0:
-            return (self.M2 * phi + self.A2 * np.sin(phi)) / a
+            return (self.M2 * phi + self.A2 * sin(phi)) / a
         s = math.sqrt(a * a - b * b)
         rho = (a - s) / b
-        G = (phi - 2.0 * np.arctan2(rho * np.sin(phi), 1.0 + rho * np.cos(phi))) / s
+        G = (phi - 2.0 * atan2(rho * sin(phi), 1.0 + rho * cos(phi))) / s
         return (self.A2 / b) * phi + (self.M2 - self.A2 * a / b) * G
 
     def reachable_interval(self, *, theta0: float, phi0: float, phiT: float, T: float) -> tuple[float, float]:
