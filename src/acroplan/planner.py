@@ -199,7 +199,7 @@ def plan(system: ControlAffineSystem, *, times, conditions: str = "spline", meth
     checked = []
     x = X[0].copy()
     for seg in segments:
-        sol = simulate_segment(system, x, seg.t0, seg.t1, seg.input)
+        sol = simulate_segment(system, x, seg.t0, seg.t1, seg._input_scalar)
         x = sol.y[:, -1]
         err = float(np.linalg.norm(x - seg.target)) if sol.success else float("inf")
         checked.append(dataclasses.replace(seg, verified_error=err))

@@ -114,7 +114,6 @@ class SegmentResult:
     extremes: dict | None = dataclasses.field(default=None, repr=False, compare=False)
     #: the segment's basis (family and size of ``basis_coefficients``)
     basis: InputBasis | None = dataclasses.field(default=None, repr=False)
-    _series: tuple | None = dataclasses.field(default=None, init=False, repr=False, compare=False)
 
     def __post_init__(self):
         _freeze(self, "coefficients", "basis_coefficients", "start", "target")
@@ -153,25 +152,37 @@ class SegmentResult:
         ``benchmarks/RESULTS.md``).
         """
         t = np.atleast_1d(np.asarray(t, dtype=float))
-        if self._series is None:
-            object.__setattr__(self, "_series", self._make_series())
-        return np.array([p(t) for p in self._series])
+        if self.basis is None:
+            return np.array([np.polynomial.polynomial.polyval(t - self.t0, row) for row in self.coefficients])
+        return self.basis_coefficients @ self.basis.matrix((t - self.t0) / (self.t1 - self.t0)).T
 
-    def _make_series(self) -> tuple:
-        """One numpy series per input on the domain [t0, t1]: Legendre (Clenshaw's recurrence) for
-        the Legendre basis, power series in s for the monomial one, the local-time power series
-        when the basis is unknown."""
-        P = np.polynomial
-        dom = [self.t0, self.t1]
-        if self.basis is None:  # tau = t - t0: the domain [t0, t0 + 1] mapped on the window [0, 1]
-            return tuple(P.Polynomial(row, domain=[self.t0, self.t0 + 1.0], window=[0.0, 1.0])
-                         for row in self.coefficients)
-        if self.basis.name == "legendre":
-            return tuple(P.Legendre(row, domain=dom) for row in self.basis_coefficients)
-        if self.basis.name == "monomial":
-            return tuple(P.Polynomial(row, domain=dom, window=[0.0, 1.0]) for row in self.basis_coefficients)
-        return tuple((lambda row: (lambda t: self.basis.matrix((t - self.t0) / (self.t1 - self.t0)) @ row))(row)
-                     for row in self.basis_coefficients)
+    def _input_scalar(self, t: float) -> list:
+        """:meth:`input` at one time, in plain Python arithmetic (Clenshaw's recurrence for the
+        Legendre basis, Horner's otherwise): the independent re-simulation calls it for every
+        right-hand side, where numpy's per-call overhead would dominate."""
+        if self.basis is None or self.basis.name not in ("legendre", "monomial"):
+            return [float(v) for v in self.input(t)[:, 0]]
+        s = (t - self.t0) / (self.t1 - self.t0)
+        out = []
+        for row in self.basis_coefficients.tolist():
+            if self.basis.name == "monomial":
+                v = 0.0
+                for ck in reversed(row):
+                    v = v * s + ck
+            elif len(row) == 1:
+                v = row[0]
+            else:  # numpy's legval, scalar
+                x = 2.0 * s - 1.0
+                nd = len(row)
+                c0, c1 = row[-2], row[-1]
+                for i in range(3, len(row) + 1):
+                    tmp = c0
+                    nd -= 1
+                    c0 = row[-i] - (c1 * (nd - 1)) / nd
+                    c1 = tmp + (c1 * x * (2 * nd - 1)) / nd
+                v = c0 + c1 * x
+            out.append(v)
+        return out
 
     def to_dict(self, input_names) -> dict[str, Any]:
         return {

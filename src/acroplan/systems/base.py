@@ -141,9 +141,17 @@ class ControlAffineSystem(abc.ABC):
         """
         x = np.asarray(x, dtype=float)
         u = np.asarray(u, dtype=float)
-        out = self._numeric()(tuple(x), tuple(u), tuple(self.params))
+        if x.ndim == 1:  # one state (the checking integrator's every call): plain floats, no broadcasting
+            return np.array(self._numeric()(tuple(x.tolist()), tuple(u.reshape(-1).tolist()), self._param_tuple),
+                            dtype=float)
+        out = self._numeric()(tuple(x), tuple(u), self._param_tuple)
         shape = x.shape
         return np.array([np.broadcast_to(np.asarray(v, dtype=float), shape[1:]) for v in out])
+
+    @functools.cached_property
+    def _param_tuple(self) -> tuple:
+        """:attr:`params` as a tuple of floats (the system is immutable: computed once)."""
+        return tuple(float(getattr(self, name)) for name in self.param_names)
 
     def check_segment(self, x0: np.ndarray, x1: np.ndarray, duration: float, limits=None) -> Infeasibility | None:
         """Exact feasibility test of steering ``x0`` to ``x1`` in ``duration``.
