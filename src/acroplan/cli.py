@@ -206,7 +206,8 @@ def plan_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do_ani
 
     \b
     Writes to OUT:
-      solution.json      robot, waypoints, segments (power-basis coefficients), status, diagnostics
+      solution.json      robot, waypoints, segments (power-basis and Legendre coefficients),
+                         status, diagnostics
       trajectory.csv     t,theta,phi,u with 200 samples per segment
       input.png          u(t), the text's Fig. 1
       states.png         theta(t) above phi(t), waypoints marked, the text's Fig. 2

@@ -1,10 +1,11 @@
 """Independent re-simulation with scipy's DOP853 (never the compiled integrator).
 
 Used to check every planned result before it is reported (rtol = atol = 3e-14, at least 16 steps
-per segment): it integrates the system's own numpy
-right-hand side (``sympy.lambdify`` of the same symbolic fields) with the input evaluated by numpy
-(the result's own :meth:`~acroplan.result.SegmentResult.input`, or power-basis coefficients), so a
-wrong compiled field or basis shows up as an endpoint error.
+per segment): it integrates the system's own right-hand side (``sympy.lambdify`` of the same
+symbolic fields) with the input evaluated in plain Python from the segment's basis coefficients
+(Clenshaw's recurrence for Legendre; not the compiled expression), so a wrong compiled field or
+basis shows up as an endpoint error. :func:`flat_output_errors` checks acrobot plans with no ODE
+integrator at all, to rounding level.
 """
 
 from __future__ import annotations
@@ -32,7 +33,7 @@ def simulate_segment(system: ControlAffineSystem, x0, t0: float, t1: float, powe
     power_coefficients : array_like, shape (m, k), or callable
         The input's power-basis coefficients in local time, or a function ``u(t)`` returning the
         inputs at absolute time ``t`` (shape ``(m,)`` or ``(m, 1)``), for example
-        :meth:`SegmentResult.input` (numpy's Legendre evaluation, not the compiled one).
+        :meth:`SegmentResult.input`.
     t_eval : array_like, optional
         Times at which to report the state (default: only ``t1``).
 
