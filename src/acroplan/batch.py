@@ -3,8 +3,9 @@
 Problems are planned by worker processes (``executor="process"``, the default: the planner is
 mostly Python, so threads share one interpreter lock), by threads, or one after another. The
 parent compiles the integrators first (:func:`acroplan.warm_up`, ~0.1 s), so forked workers
-inherit them (where processes are spawned instead, each worker compiles its own). Results come back in input order and are bit-for-bit those
-of :func:`acroplan.plan` called one by one (same code, same deterministic arithmetic). Every
+inherit them (where processes are spawned instead, each worker compiles its own). Results come
+back in input order and are bit-for-bit those of :func:`acroplan.plan` called one by one (same
+code, same deterministic arithmetic). Every
 problem is validated before any work starts, so bad input fails fast and names the problem; once
 planning has started, one problem's failure (infeasible, not converged, or even an unexpected
 error, reported as ``not_converged`` with the error) never stops the others.

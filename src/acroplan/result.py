@@ -149,7 +149,7 @@ class SegmentResult:
         Evaluated from ``basis_coefficients`` in the segment's basis (for Legendre by the
         three-term recurrence), which stays accurate at every basis size; the power-basis
         ``coefficients`` lose digits to cancellation from about 10 coefficients on (measured:
-        ``benchmarks/RESULTS.md``).
+        ``docs/design.md``).
         """
         t = np.atleast_1d(np.asarray(t, dtype=float))
         if self.basis is None:
