@@ -135,3 +135,17 @@ def test_plans_meet_their_waypoints_to_1e_12_by_the_exact_check(pike_result):
         worst = max(worst, float(flat_output_errors(r).max()))
     assert worst <= 1e-12
     assert float(flat_output_errors(pike_result).max()) <= 1e-12
+
+
+@pytest.mark.parametrize("basis", ["legendre", "monomial"])
+def test_the_checkers_scalar_input_is_the_segments_input(basis, physical_robot):
+    """The independent check evaluates u(t) in plain Python (Clenshaw / Horner): the same values
+    as SegmentResult.input, and a plan in either basis passes that check."""
+    lo, hi = physical_robot.reachable_interval(theta0=0.0, phi0=-2.0, phiT=-0.5, T=1.5)
+    r = acroplan.plan(physical_robot, times=[0, 1.5], theta=[0.0, lo + 0.35 * (hi - lo)], phi=[-2.0, -0.5],
+                      conditions="free", basis=basis, n_coefficients=10)
+    assert r.success and r.segments[0].verified_error <= 1e-9, r.message
+    s = r.segments[0]
+    t = np.linspace(s.t0, s.t1, 9)
+    scalar = np.array([s._input_scalar(float(v)) for v in t]).T
+    assert scalar == pytest.approx(s.input(t), rel=1e-13, abs=1e-13)
