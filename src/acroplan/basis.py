@@ -155,20 +155,11 @@ def _legendre_integral(n: int) -> np.ndarray:
     return Q
 
 
-@functools.cache
-def _legendre_inverse(n: int) -> np.ndarray:
-    Q = np.linalg.inv(_legendre_power(n))
-    Q.setflags(write=False)
-    return Q
-
-
 def from_power(basis_cls, p, T: float) -> np.ndarray:
     """Coefficients in ``basis_cls`` (of size ``len(p)``) of :math:`\\sum_i p_i \\tau^i` on ``[0, T]``."""
     p = np.asarray(p, dtype=float)
     q = p * float(T) ** np.arange(p.size)  # power basis in s = tau / T
-    if basis_cls is Monomial:
-        return q
-    return _legendre_inverse(p.size) @ q
+    return basis_cls(p.size).from_power_s(q)
 
 
 @dataclasses.dataclass(frozen=True)

@@ -82,14 +82,13 @@ def flat_pieces(robot: Acrobot, x0, x1, T: float, *, ends: dict | None = None, l
     """
     from .constrained import COMPLIANCE_TOL
 
-    theta0, phi0 = float(x0[0]), float(x0[1])
-    thetaT, phiT = float(x1[0]), float(x1[1])
+    phi0, phiT = float(x0[1]), float(x1[1])
     if robot.P0 == 0.0:
         return None, "P0 = 0: the flat output is constant (holonomic)"
     ends = dict(ends or {})
     u0, du0 = ends.get("u0", 0.0), ends.get("du0", 0.0)
     uT, duT = ends.get("uT", 0.0), ends.get("duT", 0.0)
-    target = (thetaT - theta0 + float(robot.F(phiT)) - float(robot.F(phi0))) / robot.P0
+    target = _flat_target(robot, x0, x1)
     limits = limits or Limits()
     mid = 0.5 * (phi0 + phiT)
     lo = max(limits.lo, min(phi0, phiT) - math.pi)
@@ -246,14 +245,21 @@ _NMID = 13  # the grid amplitudes nearest 0, scanned first
 _MID0 = (_AMPS.size - _NMID) // 2
 
 
+def _integral(T, M1, A1, phi, weights=_WSG):
+    """:math:`T \\int_0^1 ds / h(\\varphi(s))` by the 64-node rule (or the coarse one, given its
+    ``weights``); ``phi`` has the nodes last."""
+    return T * ((1.0 / (M1 + A1 * np.cos(phi))) @ weights)
+
+
 def _coarse(T, M1, A1, PHc, amps, Wc):
-    """The flat-output integral on the coarse rule for the amplitudes ``amps`` (a scan only)."""
-    return T * ((1.0 / (M1 + A1 * np.cos(PHc[None, :] + amps[:, None] * Wc[None, :]))) @ _WSC)
+    """:func:`_integral` on the coarse rule for the bump amplitudes ``amps`` (a scan only)."""
+    return _integral(T, M1, A1, PHc[None, :] + amps[:, None] * Wc[None, :], _WSC)
 
 
-def _integral(T, M1, A1, phi):
-    """:math:`T \\int_0^1 ds / h(\\varphi(s))` by the 64-node rule; ``phi`` has the nodes last."""
-    return T * ((1.0 / (M1 + A1 * np.cos(phi))) @ _WSG)
+def _flat_target(robot: Acrobot, x0, x1) -> float:
+    """:math:`I^* = (\\theta_T - \\theta_0 + F(\\varphi_T) - F(\\varphi_0))/P_0`, the value of
+    :math:`\\int dt/h(\\varphi)` a joint motion from ``x0`` to ``x1`` must have."""
+    return (float(x1[0]) - float(x0[0]) + float(robot.F(float(x1[1]))) - float(robot.F(float(x0[1])))) / robot.P0
 
 
 def _root(T, M1, A1, phi0, dphi, target, f0, f1):
@@ -317,8 +323,7 @@ def flat_guess(robot: Acrobot, basis, x0, x1, T: float, ends: dict | None = None
     FlatGuess, or None when the family does not fit in the basis (or ``P0 = 0``).
     """
     ends = ends or {}
-    theta0, phi0 = float(x0[0]), float(x0[1])
-    thetaT, phiT = float(x1[0]), float(x1[1])
+    phi0, phiT = float(x0[1]), float(x1[1])
     if robot.P0 == 0.0:
         return None
     keys = tuple(k for k in ("u0", "du0", "uT", "duT") if k in ends)
@@ -336,7 +341,7 @@ def flat_guess(robot: Acrobot, basis, x0, x1, T: float, ends: dict | None = None
     V, _, pinv, wmax, dwell, Wc = _family(alpha, beta, n, deg)
     PH = _VSG[:, : ph.size] @ ph
     W = V[:, 0]
-    target = (thetaT - theta0 + float(robot.F(phiT)) - float(robot.F(phi0))) / robot.P0
+    target = _flat_target(robot, x0, x1)
     M1, A1 = robot.M1, robot.A1
 
     # 1. amplitude family: scan the grid with the coarse rule (the 13 amplitudes nearest 0 first:

@@ -247,7 +247,7 @@ def _spline_against_limits(system, splines, t, X, limits):
     """Spline conditions fix u at every waypoint; prove when that breaks the limits."""
     if not limits.active:
         return None
-    for j, (name, sp_) in enumerate(zip(system.input_names, splines)):
+    for name, sp_ in zip(system.input_names, splines):
         for k, tk in enumerate(t):
             u = float(sp_(tk, 1))
             if limits.u_max is not None and abs(u) > limits.u_max:
@@ -365,11 +365,12 @@ def _linear_conditions(b, m, T, ends):
 
 
 def _segment(system, basis, x0, x1, T, c, *, t0, final_error, verified_error=None, iterations=0, evaluations=0,
-             restarts=0, sigma_min=float("nan"), success=True, message="", history=(), method="deform", limits=None):
-    ext = None
-    if limits is not None and limits.active:
-        v = violation(system, basis, x0, T, c, limits)
-        ext = {"max_abs_u": v["max_abs_u"], "state_range": v["state_range"]}
+             restarts=0, sigma_min=float("nan"), success=True, message="", history=(), method="deform", limits=None,
+             checked=None):
+    """A SegmentResult; ``checked``: :func:`_limit_check` of ``c`` when already computed."""
+    if checked is None:
+        checked = _limit_check(system, basis, x0, T, c, limits)
+    ext = None if checked is None else {"max_abs_u": checked["max_abs_u"], "state_range": checked["state_range"]}
     return SegmentResult(
         index=0, t0=float(t0), t1=float(t0 + T), coefficients=basis.to_power(c, T), basis_coefficients=c,
         start=x0, target=x1, final_error=final_error,
@@ -378,16 +379,19 @@ def _segment(system, basis, x0, x1, T, c, *, t0, final_error, verified_error=Non
         extremes=ext, basis=basis)
 
 
-def _compliant(system, basis, x0, T, c, limits):
-    if not limits.active:
-        return True
-    v = violation(system, basis, x0, T, c, limits)
-    return v["u"] <= COMPLIANCE_TOL and v["state"] <= COMPLIANCE_TOL
+def _limit_check(system, basis, x0, T, c, limits):
+    """:func:`acroplan.constrained.violation` when limits are given, else None."""
+    return violation(system, basis, x0, T, c, limits) if limits is not None and limits.active else None
+
+
+def _compliant(checked) -> bool:
+    return checked is None or (checked["u"] <= COMPLIANCE_TOL and checked["state"] <= COMPLIANCE_TOL)
 
 
 def _solve_interval(system, b, sizes, x0, x1, T, ends, limits, method, tol, max_evaluations):
     """Plan one waypoint interval. Returns (pieces, ok, reason); pieces have t0 relative to 0."""
     m = system.n_inputs
+    scalar_ends = {key: float(v[0]) for key, v in ends.items()}  # the acrobot's one input (flat output)
     reasons = []
     last_failed = None
     spent = [0]  # evaluations of the stages that did not succeed, charged to the result
@@ -412,9 +416,10 @@ def _solve_interval(system, b, sizes, x0, x1, T, ends, limits, method, tol, max_
         out = solve_segment(system, bn, x0, x1, T, B=B, d=d, tol=tol, max_evaluations=budget, initial=guess)
         info = dict(iterations=out.iterations, evaluations=out.evaluations, restarts=out.restarts,
                     sigma_min=out.sigma_min, history=out.history)
-        if out.success and _compliant(system, bn, x0, T, out.coefficients, limits):
+        checked = _limit_check(system, bn, x0, T, out.coefficients, limits) if out.success else None
+        if out.success and _compliant(checked):
             return charge([_segment(system, bn, x0, x1, T, out.coefficients, t0=0.0, final_error=out.final_error,
-                                    message=out.message, limits=limits, **info)])
+                                    message=out.message, limits=limits, checked=checked, **info)])
         if out.success:
             ok, c, err, ev, msg = solve_with_limits(system, bn, x0, x1, T, limits, out.coefficients, B=B, d=d,
                                                     tol=tol)
@@ -437,8 +442,7 @@ def _solve_interval(system, b, sizes, x0, x1, T, ends, limits, method, tol, max_
         nonlocal last_failed
         from .flat import flat_pieces
 
-        flat_ends = {key: float(v[0]) for key, v in ends.items()}
-        pieces, msg = flat_pieces(system, x0, x1, T, ends=flat_ends, limits=limits if limits.active else None)
+        pieces, msg = flat_pieces(system, x0, x1, T, ends=scalar_ends, limits=limits if limits.active else None)
         if pieces is None:
             reasons.append(msg)
             return None
@@ -466,8 +470,7 @@ def _solve_interval(system, b, sizes, x0, x1, T, ends, limits, method, tol, max_
         if (n, steep) not in guesses:
             from .flat import flat_guess
 
-            guesses[n, steep] = flat_guess(system, type(b)(n), x0, x1, T, {key: float(v[0]) for key, v in ends.items()},
-                                           steep=steep)
+            guesses[n, steep] = flat_guess(system, type(b)(n), x0, x1, T, scalar_ends, steep=steep)
         return guesses[n, steep]
 
     if method == "deform":

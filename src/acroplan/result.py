@@ -314,7 +314,9 @@ class PlanResult:
         return Samples(t, states, inputs, self.system.state_names, self.system.input_names)
 
     def basis_for(self, seg: SegmentResult) -> InputBasis:
-        return type(self.basis)(seg.basis_coefficients.shape[1])
+        """The basis of ``seg``'s coefficients (results made before segments carried their basis:
+        the plan's family at the segment's size)."""
+        return seg.basis if seg.basis is not None else type(self.basis)(seg.basis_coefficients.shape[1])
 
     @property
     def intervals(self) -> tuple[tuple[SegmentResult, ...], ...]:
