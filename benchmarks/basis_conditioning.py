@@ -14,8 +14,8 @@ import sys
 import numpy as np
 
 import acroplan
-from acroplan import _integrate
-from acroplan.basis import make_basis
+from acroplan.core import backend as _integrate
+from acroplan.core.basis import make_basis
 from acroplan.zoo import random_segment
 
 

@@ -72,8 +72,8 @@ def heyoka_batch_mode(reps=2000):
     """The compiled variational system of acroplan, scalar vs SIMD batch mode."""
     import heyoka as hy
 
-    from acroplan import _integrate
-    from acroplan.basis import Legendre
+    from acroplan.core import backend as _integrate
+    from acroplan.core.basis import Legendre
 
     ta, _, state, pars, n_p = _integrate._compiled(acroplan.Acrobot, Legendre, 6)
     B = hy.recommended_simd_size()

@@ -24,8 +24,8 @@ from pathlib import Path
 import numpy as np
 
 import acroplan
-from acroplan import nilpotent as nil
-from acroplan.reach import Limits, reachable_set
+from acroplan.families.acrobot import nilpotent as nil
+from acroplan.families.acrobot.reach import Limits, reachable_set
 from acroplan.zoo import random_body
 
 PI = math.pi

@@ -22,7 +22,7 @@ import time
 import numpy as np
 
 import acroplan
-from acroplan.reach import Limits, reachable_set
+from acroplan.families.acrobot.reach import Limits, reachable_set
 from acroplan.zoo import random_body
 
 

@@ -19,7 +19,7 @@ Every system's input is re-simulated by one independent integrator (scipy DOP853
 |state - waypoint| there. A solve counts as a success when its solver reports success and the
 re-simulated endpoint error is <= 1e-6. DOP853's own error at rtol 3e-14 grows with |theta| (about
 1e-13 |theta|), so acroplan's plans are also checked by the exact flat-output identity
-(acroplan.verify.flat_output_errors: exact integration of the input and quadrature, no ODE
+(acroplan.families.acrobot.verify.flat_output_errors: exact integration of the input and quadrature, no ODE
 integrator), which resolves errors down to rounding.
 
 Run:  python benchmarks/peers.py [--n 100] [--seed 11] [--repeat 3]   (needs: pip install ".[bench]")
@@ -36,8 +36,8 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 import acroplan
-from acroplan.basis import Legendre
-from acroplan.verify import flat_output_errors
+from acroplan.core.basis import Legendre
+from acroplan.families.acrobot.verify import flat_output_errors
 from acroplan.zoo import random_segment
 
 SUCCESS_ERR = 1e-6

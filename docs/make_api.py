@@ -10,15 +10,19 @@ import sys
 from pathlib import Path
 
 import acroplan
-from acroplan import lie, nilpotent, reach
+from acroplan.core import lie, strategies
+from acroplan.families.acrobot import nilpotent, reach
 
 SECTIONS = [
-    ("Planning", acroplan, ["plan", "plan_many", "warm_up", "PlanResult", "SegmentResult", "Samples"]),
-    ("Models", acroplan, ["ControlAffineSystem", "Acrobot", "PhysicalParameters", "Unicycle", "Infeasibility"]),
-    ("Feasibility and limits", reach, ["reachable_set", "Reach", "Limits"]),
-    ("Feasibility and limits", acroplan, ["reachable_interval"]),
+    ("Planning", acroplan, ["plan", "plan_many", "simulate", "warm_up", "PlanResult", "SegmentResult", "Samples",
+                            "Status"]),
+    ("Strategies", acroplan, ["Strategy", "register_strategy"]),
+    ("Strategies", strategies, ["Interval", "IntervalOutcome", "Deform", "deform_attempt", "run_stages"]),
+    ("Models", acroplan, ["ControlAffineSystem", "Acrobot", "PhysicalParameters", "Unicycle", "ChainedForm",
+                          "Infeasibility"]),
+    ("Feasibility and limits", acroplan, ["Limits", "reachable_interval", "reachable_set", "Reach"]),
     ("Input bases", acroplan, ["InputBasis", "Legendre", "Monomial"]),
-    ("Problems", acroplan, ["Problem", "load_problem", "examples"]),
+    ("Problems", acroplan, ["Problem", "load_problem", "examples", "zoo"]),
     ("Chapter 4: nilpotentization", nilpotent, ["NilpotentProblem", "NilpotentResult", "construction",
                                                  "endpoint_equations", "format_equations", "iterated_integrals",
                                                  "solve_nilpotent", "counterexample", "solve_flat_y",

@@ -6,7 +6,7 @@ Run:  python examples/chapter4.py
 import math
 
 import acroplan
-from acroplan import nilpotent as nil
+from acroplan.families.acrobot import nilpotent as nil
 
 robot = acroplan.examples.robot("pike-dive")
 problem = nil.NilpotentProblem(robot, P=(math.pi / 4, 0.0, 0.0), Q=(math.pi / 4, 2.0, 1.4 * math.pi), degree=3)

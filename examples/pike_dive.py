@@ -13,7 +13,7 @@ matplotlib.use("Agg")
 import numpy as np  # noqa: E402
 
 import acroplan  # noqa: E402
-from acroplan.verify import simulate_segment  # noqa: E402
+from acroplan.core.verify import simulate_segment  # noqa: E402
 
 out = Path(sys.argv[1] if len(sys.argv) > 1 else "pike-dive-example")
 out.mkdir(parents=True, exist_ok=True)

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
-from acroplan.animation import Geometry, animate, geometry_of, pose
-from acroplan.cli import main
+from acroplan.families.acrobot.drawing import Geometry, animate, geometry_of, pose
+from acroplan.io.cli import main
 
 
 def run(args):
@@ -97,10 +97,10 @@ def test_init_json_format_and_debug(tmp_path, monkeypatch):
 def test_unexpected_errors_are_one_line_unless_debug(tmp_path):
     # a problem file that is a folder triggers an error the CLI reports in one line
     code = ("import sys; sys.argv = ['acroplan', *sys.argv[1:]]\n"
-            "import acroplan.planner as p\n"
+            "import acroplan.planning as p\n"
             "def boom(*a, **k): raise RuntimeError('boom')\n"
-            "p.plan = boom\nimport acroplan.problem as q\nq.Problem.solve = lambda self, **k: boom()\n"
-            "from acroplan.cli import run\nrun()\n")
+            "p.plan = boom\nimport acroplan.io.problem as q\nq.Problem.solve = lambda self, **k: boom()\n"
+            "from acroplan.io.cli import run\nrun()\n")
     args = ["plan", "--example", "pike-dive", "--out", str(tmp_path / "x")]
     res = subprocess.run([sys.executable, "-c", code, *args], capture_output=True, text=True)
     assert res.returncode == 1

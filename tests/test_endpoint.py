@@ -5,9 +5,9 @@ import pytest
 from numpy.polynomial import Polynomial
 from scipy.integrate import quad
 
-from acroplan import _integrate
-from acroplan.basis import Legendre, Monomial
-from acroplan.verify import simulate_segment
+from acroplan.core import backend as _integrate
+from acroplan.core.basis import Legendre, Monomial
+from acroplan.core.verify import simulate_segment
 
 X0 = np.array([0.4, -2.6])
 T = 1.7

@@ -6,11 +6,11 @@ import numpy as np
 import pytest
 
 import acroplan
-from acroplan import _integrate
-from acroplan.basis import Legendre
-from acroplan.constrained import violation
-from acroplan.flat import flat_guess
-from acroplan.reach import Limits
+from acroplan.core import backend as _integrate
+from acroplan.core.basis import Legendre
+from acroplan.core.limits import violation
+from acroplan.families.acrobot.flat import flat_guess
+from acroplan.families.acrobot.reach import Limits
 from acroplan.zoo import random_segment
 
 
@@ -97,10 +97,10 @@ def test_max_abs_u_computed_on_demand_is_exact(physical_robot):
 
 
 def test_warm_up_compiles_ahead_and_checks_its_input():
-    before = _integrate._compiled.cache_info().currsize
+    before = _integrate.compiled_count()
     acroplan.warm_up(acroplan.Acrobot, sizes=(7,))
     acroplan.warm_up(acroplan.Acrobot, sizes=(7,))  # once only
-    assert _integrate._compiled.cache_info().currsize == before + 1
+    assert _integrate.compiled_count() == before + 1
     with pytest.raises(acroplan.InvalidInputError, match="system: must be a ControlAffineSystem"):
         acroplan.warm_up(42)
 
@@ -108,8 +108,8 @@ def test_warm_up_compiles_ahead_and_checks_its_input():
 def test_flat_output_check_is_exact_on_a_known_motion(physical_robot):
     """u = 0: phi stays, theta(T) = theta0 + P0 T / h(phi0) exactly; the check must see 0 error
     for the true target and exactly the offset for a shifted one."""
-    from acroplan.result import PlanResult, SegmentResult
-    from acroplan.verify import flat_output_errors
+    from acroplan.core.result import PlanResult, SegmentResult
+    from acroplan.families.acrobot.verify import flat_output_errors
 
     T, th0, ph0 = 1.7, 0.3, -2.0
     thT = th0 + physical_robot.P0 * T / physical_robot.h(ph0)
@@ -127,7 +127,7 @@ def test_flat_output_check_is_exact_on_a_known_motion(physical_robot):
 def test_plans_meet_their_waypoints_to_1e_12_by_the_exact_check(pike_result):
     """The performance issue's accuracy target, by a check with no ODE integrator: random
     single segments (every auto stage) and the pike dive (chained through its 5 segments)."""
-    from acroplan.verify import flat_output_errors
+    from acroplan.families.acrobot.verify import flat_output_errors
 
     worst = 0.0
     for p, x0, x1 in _segments(40, 11):

@@ -8,8 +8,8 @@ import pytest
 import sympy as sp
 
 import acroplan
-from acroplan import lie
-from acroplan import nilpotent as nil
+from acroplan.core import lie
+from acroplan.families.acrobot import nilpotent as nil
 
 PI = math.pi
 

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import acroplan
-from acroplan.verify import simulate_segment
+from acroplan.core.verify import simulate_segment
 from acroplan.zoo import random_segment
 
 PI = np.pi

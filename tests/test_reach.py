@@ -6,7 +6,7 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import minimize
 
 import acroplan
-from acroplan.reach import Limits, reachable_set
+from acroplan.families.acrobot.reach import Limits, reachable_set
 
 PI = np.pi
 

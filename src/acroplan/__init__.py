@@ -1,17 +1,25 @@
-"""acroplan: motion planning for nonholonomic control systems with drift.
+"""acroplan: motion planning for free-flying articulated bodies and other nonholonomic systems
+with drift.
 
-The public API, grouped:
+The package is layered, imports pointing one way (``docs/design.md``)::
+
+    acroplan.core       systems, bases, the compiled back end, conditions, limits, path deformation,
+                        strategies, verification, results; knows no body
+    acroplan.families   acrobot (the dissertation's body), small (unicycle, chained form)
+    acroplan.planning, .batch, .simulation   the front doors: plan, plan_many, simulate
+    acroplan.io         problem files, examples, output folders, the command line
+
+The public API, grouped (names load on first use, so ``import acroplan.core`` loads the core alone):
 
 Models
-    :class:`Acrobot`, :class:`PhysicalParameters`, :class:`Unicycle`,
+    :class:`Acrobot`, :class:`PhysicalParameters`, :class:`Unicycle`, :class:`ChainedForm`,
     :class:`ControlAffineSystem` (the interface for your own systems).
 Planning
-    :func:`plan` (path deformation through waypoints), :func:`plan_many` (batches),
-    :func:`warm_up` (compile ahead of the first plan),
-    :class:`PlanResult`,
-    :class:`SegmentResult`, :class:`Samples`.
+    :func:`plan`, :func:`plan_many`, :func:`simulate`, :func:`warm_up`, :class:`Limits`,
+    :class:`PlanResult`, :class:`SegmentResult`, :class:`Samples`, :class:`Status`,
+    :class:`Strategy`, :func:`register_strategy`.
 Feasibility
-    :func:`reachable_interval`.
+    :func:`reachable_interval`, :func:`reachable_set`, :class:`Reach`.
 Input bases
     :class:`Legendre`, :class:`Monomial`.
 Problems
@@ -20,46 +28,42 @@ Errors
     :class:`InvalidInputError`.
 """
 
-from . import examples
-from ._errors import InvalidInputError
-from .basis import InputBasis, Legendre, Monomial
-from .batch import plan_many
-from .planner import plan, warm_up
-from .problem import Problem, load_problem
-from .reach import Limits, Reach, reachable_set
-from .result import PlanResult, Samples, SegmentResult
-from .systems import Acrobot, ControlAffineSystem, Infeasibility, PhysicalParameters, Unicycle
+from __future__ import annotations
 
-__version__ = "0.1.0"
+import importlib
 
-__all__ = [
-    "Acrobot", "ControlAffineSystem", "Infeasibility", "InputBasis", "InvalidInputError", "Legendre",
-    "Limits", "Monomial", "PhysicalParameters", "Reach", "reachable_set", "PlanResult", "Problem", "Samples", "SegmentResult", "Unicycle",
-    "examples", "load_problem", "plan", "plan_many", "reachable_interval", "warm_up",
-]
+__version__ = "0.2.0"
+
+_PUBLIC = {
+    "Acrobot": "acroplan.families.acrobot", "PhysicalParameters": "acroplan.families.acrobot",
+    "reachable_interval": "acroplan.families.acrobot", "reachable_set": "acroplan.families.acrobot",
+    "Reach": "acroplan.families.acrobot",
+    "Unicycle": "acroplan.families.small", "ChainedForm": "acroplan.families.small",
+    "ControlAffineSystem": "acroplan.core.system", "Infeasibility": "acroplan.core.system",
+    "InputBasis": "acroplan.core.basis", "Legendre": "acroplan.core.basis", "Monomial": "acroplan.core.basis",
+    "Limits": "acroplan.core.limits", "InvalidInputError": "acroplan.core.errors",
+    "PlanResult": "acroplan.core.result", "SegmentResult": "acroplan.core.result", "Samples": "acroplan.core.result",
+    "Status": "acroplan.core.result",
+    "Strategy": "acroplan.core.strategies", "register_strategy": "acroplan.core.strategies",
+    "plan": "acroplan.planning", "warm_up": "acroplan.planning",
+    "plan_many": "acroplan.batch", "simulate": "acroplan.simulation",
+    "Problem": "acroplan.io.problem", "load_problem": "acroplan.io.problem",
+}
+_MODULES = {"examples": "acroplan.io.examples", "zoo": "acroplan.zoo"}
+
+__all__ = sorted(_PUBLIC) + sorted(_MODULES)
 
 
-def reachable_interval(robot: Acrobot, *, theta0: float, phi0: float, phiT: float, T: float,
-                       u_max: float | None = None, phi_min: float | None = None, phi_max: float | None = None):
-    """The exact interval of :math:`\\theta(T)` reachable by the acrobot.
+def __getattr__(name: str):
+    if name in _PUBLIC:
+        value = getattr(importlib.import_module(_PUBLIC[name]), name)
+    elif name in _MODULES:
+        value = importlib.import_module(_MODULES[name])
+    else:
+        raise AttributeError(f"module 'acroplan' has no attribute {name!r}")
+    globals()[name] = value
+    return value
 
-    Without limits it is open (:meth:`Acrobot.reachable_interval`); with a rate bound ``u_max`` it
-    is closed, its ends attained by bang-dwell-bang joint motions; joint limits
-    ``phi_min``/``phi_max`` narrow it further (:func:`acroplan.reach.reachable_set`).
 
-    Returns
-    -------
-    (low, high) : tuple of float
-
-    Raises
-    ------
-    InvalidInputError
-        For invalid limits, or when no joint motion satisfies them (the message says why).
-    """
-    from .reach import Limits, reachable_set
-
-    R = reachable_set(robot, theta0=theta0, phi0=phi0, phiT=phiT, T=T,
-                      limits=Limits(phi_min=phi_min, phi_max=phi_max, u_max=u_max))
-    if R.empty:
-        raise InvalidInputError("phi", R.reason, "relax the limits or move the waypoints")
-    return R.low, R.high
+def __dir__():
+    return sorted(set(globals()) | set(__all__))

@@ -1,37 +1,44 @@
 """Many independent problems at once: :func:`plan_many`.
 
-Problems are planned by worker processes (``executor="process"``, the default: the planner is
-mostly Python, so threads share one interpreter lock), by threads, or one after another. The
-parent compiles the integrators first (:func:`acroplan.warm_up`, ~0.1 s), so forked workers
-inherit them (where processes are spawned instead, each worker compiles its own). Results come
-back in input order and are bit-for-bit those of :func:`acroplan.plan` called one by one (same
-code, same deterministic arithmetic). Every
-problem is validated before any work starts, so bad input fails fast and names the problem; once
-planning has started, one problem's failure (infeasible, not converged, or even an unexpected
-error, reported as ``not_converged`` with the error) never stops the others.
+Problems are planned on an executor: worker processes (``"process"``, the default: the planner is
+mostly Python, so threads share one interpreter lock), threads (``"thread"``), one after another
+(``"serial"``), or any :class:`concurrent.futures.Executor` the caller passes (``loky``'s, Dask's
+``Client.get_executor()``, a pool of their own). Work goes out in chunks; each worker compiles the
+integrators it needs on first use and keeps them for its later chunks (with ``"process"`` on a
+``fork`` platform the parent compiles first and the workers inherit them, which saves the first
+chunk's compilation but is not needed for correctness).
+
+Results come back in input order and are bit-for-bit those of :func:`acroplan.plan` called one by
+one (same code, same deterministic arithmetic). Every problem is validated before any work
+starts, so bad input fails fast and names the problem; once planning has started, one problem's
+failure (infeasible, not converged, an unexpected error, or its worker dying) never stops the
+others: it is reported as ``not_converged`` with the reason.
 """
 
 from __future__ import annotations
 
 import concurrent.futures as cf
-import functools
+import multiprocessing
 import os
 import traceback
 from typing import Any, Iterable
 
-from ._errors import InvalidInputError
-from .planner import AUTO_SIZES, plan, warm_up
-from .problem import Problem
-from .result import PlanResult
+import numpy as np
+
+from .core.basis import make_basis
+from .core.errors import InvalidInputError
+from .core.result import PlanResult, Status
+from .planning import PlanRequest, plan, warm_up
 
 __all__ = ["plan_many", "EXECUTORS"]
 
+#: Executor names :func:`plan_many` accepts (besides any ``concurrent.futures.Executor``).
 EXECUTORS = ("process", "thread", "serial")
 
 
 def _as_kwargs(i: int, p) -> dict[str, Any]:
-    if isinstance(p, Problem):
-        return dict(system=p.robot, times=p.times, theta=p.theta, phi=p.phi, conditions=p.conditions, **p.options)
+    if hasattr(p, "plan_kwargs") and callable(p.plan_kwargs) and hasattr(p, "robot"):
+        return {"system": p.robot, **p.plan_kwargs()}
     if isinstance(p, dict):
         if "system" not in p:
             raise InvalidInputError(f"problems[{i}].system", "is missing",
@@ -39,6 +46,16 @@ def _as_kwargs(i: int, p) -> dict[str, Any]:
         return dict(p)
     raise InvalidInputError(f"problems[{i}]", f"must be a dict or a Problem, got {type(p).__name__}",
                             "give dicts of plan() keywords with 'system', or acroplan.Problem objects")
+
+
+def _failed(kwargs: dict[str, Any], why: str) -> PlanResult:
+    """A ``not_converged`` result for a problem that could not be planned at all."""
+    system = kwargs["system"]
+    times = np.asarray(kwargs["times"], dtype=float)
+    X = np.stack([np.asarray(kwargs[name], dtype=float) for name in system.state_names], axis=1)
+    return PlanResult(status=Status.NOT_CONVERGED, message=f"not converged: {why}", system=system, times=times,
+                      waypoints=X, conditions=kwargs.get("conditions", "spline"),
+                      basis=make_basis(kwargs.get("basis", "legendre"), kwargs.get("n_coefficients") or 6))
 
 
 def _run(kwargs: dict[str, Any]) -> PlanResult:
@@ -49,53 +66,41 @@ def _run(kwargs: dict[str, Any]) -> PlanResult:
     except InvalidInputError:
         raise
     except Exception as e:  # one problem's bug must not stop the batch; it is reported, not hidden
-        import numpy as np
-
-        from .basis import make_basis
-
-        times = np.asarray(kwargs["times"], dtype=float)
-        X = np.stack([np.asarray(kwargs[name], dtype=float) for name in system.state_names], axis=1)
-        msg = f"not converged: unexpected {type(e).__name__}: {e}\n{traceback.format_exc()}"
-        return PlanResult("not_converged", msg, system=system, times=times, waypoints=X,
-                          conditions=kwargs.get("conditions", "spline"),
-                          basis=make_basis(kwargs.get("basis", "legendre"), kwargs.get("n_coefficients") or 6))
+        return _failed({"system": system, **kwargs},
+                       f"unexpected {type(e).__name__}: {e}\n{traceback.format_exc()}")
 
 
-@functools.cache
-def _plan_options() -> tuple[tuple[str, Any], ...]:
-    """plan()'s keyword-only options (but ``progress``) with their defaults."""
-    import inspect
-
-    params = inspect.signature(plan).parameters
-    return tuple((name, p.default) for name, p in params.items()
-                 if p.kind is inspect.Parameter.KEYWORD_ONLY and name != "progress")
+def _run_chunk(jobs: list[dict[str, Any]]) -> list[PlanResult]:
+    """Plan a chunk of problems in one task (a worker of any executor)."""
+    return [_run(kw) for kw in jobs]
 
 
-def _validate(kwargs: dict[str, Any]) -> None:
-    """plan()'s own input checks, without planning."""
-    from .planner import _validated
+def _executor(executor, workers: int):
+    """``(pool, owned)``: the executor to submit to, and whether this call must shut it down."""
+    if isinstance(executor, cf.Executor):
+        return executor, False
+    if executor == "thread":
+        return cf.ThreadPoolExecutor(max_workers=workers), True
+    return cf.ProcessPoolExecutor(max_workers=workers), True
 
-    k = dict(kwargs)
-    system = k.pop("system")
-    opts = {name: k.pop(name, default) for name, default in _plan_options()}
-    _validated(system, **opts, waypoints=k)
 
-
-def plan_many(problems: Iterable, *, executor: str = "process", workers: int | None = None, progress=None,
-              **options) -> list[PlanResult]:
+def plan_many(problems: Iterable, *, executor="process", workers: int | None = None, chunksize: int | None = None,
+              progress=None, **options) -> list[PlanResult]:
     """Plan many independent problems.
 
     Parameters
     ----------
     problems : iterable of dict or Problem
         Each a dict of :func:`acroplan.plan` keywords with the system under ``"system"``, or a
-        :class:`~acroplan.problem.Problem`.
-    executor : {"process", "thread", "serial"}
-        Where the work runs (module docstring).
+        :class:`~acroplan.io.problem.Problem`.
+    executor : {"process", "thread", "serial"} or concurrent.futures.Executor
+        Where the work runs (module docstring). An executor passed in is used, not shut down.
     workers : int, optional
-        Number of workers (default: the number of cores).
+        Number of workers for ``"process"`` and ``"thread"`` (default: the number of cores).
+    chunksize : int, optional
+        Problems per task (default: about four tasks per worker, at most 64 problems each).
     progress : callable, optional
-        Called as ``progress(done, total)`` after each problem (for a progress bar).
+        Called as ``progress(done, total)`` as problems finish (for a progress bar).
     **options
         :func:`acroplan.plan` keywords applied to every problem (a problem's own win).
 
@@ -107,46 +112,62 @@ def plan_many(problems: Iterable, *, executor: str = "process", workers: int | N
     Raises
     ------
     InvalidInputError
-        Before any planning, naming the first invalid problem (``problems[i]...``).
+        Before any planning, naming the first invalid problem (``problems[i]...``) or option.
     """
-    if executor not in EXECUTORS:
-        raise InvalidInputError("executor", f"must be one of {list(EXECUTORS)}, got {executor!r}",
-                                "use \"process\" (default), \"thread\" or \"serial\"")
+    if not (isinstance(executor, cf.Executor) or executor in EXECUTORS):
+        raise InvalidInputError("executor", f"must be one of {list(EXECUTORS)} or a concurrent.futures.Executor, "
+                                f"got {executor!r}", "use \"process\" (default), \"thread\", \"serial\" or an executor")
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1):
+        raise InvalidInputError("workers", f"must be a whole number >= 1, got {workers!r}",
+                                "leave it out for one worker per core")
+    if chunksize is not None and (isinstance(chunksize, bool) or not isinstance(chunksize, (int, np.integer))
+                                  or chunksize < 1):
+        raise InvalidInputError("chunksize", f"must be a whole number >= 1, got {chunksize!r}", "give for example 16")
     jobs = []
     for i, p in enumerate(problems):
         kw = {**options, **_as_kwargs(i, p)}
         try:
-            _validate(kw)
+            PlanRequest.build(**{k: v for k, v in kw.items() if k != "progress"})
         except InvalidInputError as e:
             raise InvalidInputError(f"problems[{i}].{e.field}", e.problem, e.fix) from None
         jobs.append(kw)
     n = len(jobs)
-    workers = workers or os.cpu_count() or 1
+    workers = int(workers or os.cpu_count() or 1)
     results: list[PlanResult | None] = [None] * n
-    if executor == "serial" or n <= 1 or workers == 1:
+    if executor == "serial" or n == 0 or (not isinstance(executor, cf.Executor) and (n <= 1 or workers == 1)):
         for i, kw in enumerate(jobs):
             results[i] = _run(kw)
             if progress:
                 progress(i + 1, n)
         return results  # type: ignore[return-value]
-    if executor == "process":
-        # compile in the parent: forked workers inherit the compiled integrators instead of each
-        # compiling its own
-        for cls, basis, size in {(type(kw["system"]), kw.get("basis", "legendre"), kw.get("n_coefficients"))
-                                 for kw in jobs}:
-            warm_up(cls, basis=basis, sizes=AUTO_SIZES if size is None else (size,) + AUTO_SIZES)
-    pool_cls = cf.ProcessPoolExecutor if executor == "process" else cf.ThreadPoolExecutor
-    chunks = max(1, min(64, n // (4 * workers)))
-    with pool_cls(max_workers=workers) as pool:
-        if executor == "process":
-            for i, res in enumerate(pool.map(_run, jobs, chunksize=chunks)):
+    if executor == "process" and multiprocessing.get_start_method(allow_none=True) in (None, "fork"):
+        # forked workers inherit what the parent compiled (an optimisation: workers compile on
+        # first use anyway)
+        for system, basis, size in {(kw["system"], kw.get("basis", "legendre"), kw.get("n_coefficients"))
+                                    for kw in jobs}:
+            if isinstance(basis, str):
+                warm_up(system, basis=basis, sizes=(6, 10, 14) if size is None else (size,))
+    size = int(chunksize or max(1, min(64, n // (4 * workers))))
+    chunks = [list(range(i, min(n, i + size))) for i in range(0, n, size)]
+    pool, owned = _executor(executor, workers)
+    done = 0
+    try:
+        futures = {pool.submit(_run_chunk, [jobs[i] for i in idx]): idx for idx in chunks}
+        for fut in cf.as_completed(futures):
+            idx = futures[fut]
+            try:
+                out = fut.result()
+            except InvalidInputError:
+                raise
+            except (Exception, SystemExit) as e:  # the worker died (killed, os._exit, sys.exit): mark its problems
+                why = f"the worker planning this problem failed ({type(e).__name__}: {e})"
+                out = [_failed(jobs[i], why) for i in idx]
+            for i, res in zip(idx, out):
                 results[i] = res
-                if progress:
-                    progress(i + 1, n)
-        else:
-            futs = {pool.submit(_run, kw): i for i, kw in enumerate(jobs)}
-            for done, fut in enumerate(cf.as_completed(futs), 1):
-                results[futs[fut]] = fut.result()
-                if progress:
-                    progress(done, n)
+            done += len(idx)
+            if progress:
+                progress(done, n)
+    finally:
+        if owned:
+            pool.shutdown(wait=True, cancel_futures=True)
     return results  # type: ignore[return-value]

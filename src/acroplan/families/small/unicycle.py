@@ -9,7 +9,7 @@ import dataclasses
 
 import sympy as sp
 
-from .base import ControlAffineSystem
+from ...core.system import ControlAffineSystem
 
 __all__ = ["Unicycle"]
 

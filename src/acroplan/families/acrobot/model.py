@@ -12,7 +12,7 @@ gives the state equation (text eq. 3)
 .. math::  \\dot\\theta = \\frac{P_0}{h(\\varphi)} - \\frac{k(\\varphi)}{h(\\varphi)}\\,u ,\\qquad
            \\dot\\varphi = u .
 
-Geometry (NOTES.md): from the joint, the torso's centre of mass is at
+Geometry (docs/mathematics.md): from the joint, the torso's centre of mass is at
 :math:`L(\\cos(\\theta+\\varphi), \\sin(\\theta+\\varphi))` and the leg's at
 :math:`l(\\cos\\theta, \\sin\\theta)`; :math:`\\varphi = 0` is folded, :math:`\\pm\\pi` straight.
 
@@ -31,8 +31,9 @@ import math
 import numpy as np
 import sympy as sp
 
-from .._errors import InvalidInputError
-from .base import ControlAffineSystem, Infeasibility
+from ...core.errors import InvalidInputError
+from ...core.system import ControlAffineSystem, Infeasibility
+from .reach import reachable_set
 
 __all__ = ["Acrobot", "PhysicalParameters"]
 
@@ -157,6 +158,11 @@ class Acrobot(ControlAffineSystem):
                                   angular_momentum)
         return cls(**phys.lumped(), physical=phys)
 
+    @classmethod
+    def example(cls) -> "Acrobot":
+        """A representative acrobot (every acrobot has the same structure: one compilation serves all)."""
+        return cls(M1=2.0, A1=-0.5, M2=0.5, A2=-0.25, P0=1.0)
+
     # ------------------------------------------------------------------ fields
     @classmethod
     def symbolic_fields(cls, x, p):
@@ -208,7 +214,7 @@ class Acrobot(ControlAffineSystem):
     def reachable_interval(self, *, theta0: float, phi0: float, phiT: float, T: float) -> tuple[float, float]:
         """The exact set of :math:`\\theta(T)` reachable with unbounded :math:`u` (an open interval).
 
-        Since :math:`k/h\\,d\\varphi = dF` is exact (NOTES.md),
+        Since :math:`k/h\\,d\\varphi = dF` is exact (docs/mathematics.md),
 
         .. math::  \\theta(T) = \\theta(0) - [F(\\varphi(T)) - F(\\varphi(0))]
                    + P_0 \\int_0^T \\frac{dt}{h(\\varphi(t))} ,
@@ -221,8 +227,6 @@ class Acrobot(ControlAffineSystem):
         (low, high) : tuple of float
             The open interval; ``low == high`` when ``P0 == 0`` or ``A1 == 0`` (a single value).
         """
-        from ..reach import reachable_set
-
         R = reachable_set(self, theta0=theta0, phi0=phi0, phiT=phiT, T=T)
         return R.low, R.high
 
@@ -268,12 +272,10 @@ class Acrobot(ControlAffineSystem):
         joint or rate limits it is :func:`acroplan.reach.reachable_set`. A target on the boundary
         is refused too: it is reached by no smooth input.
         """
-        from ..reach import reachable_set
-
         theta0, phi0 = float(x0[0]), float(x0[1])
         thetaT, phiT = float(x1[0]), float(x1[1])
         R = reachable_set(self, theta0=theta0, phi0=phi0, phiT=phiT, T=duration, limits=limits)
-        lim = "" if limits is None or not limits.active else " under the joint and rate limits"
+        lim = "" if limits is None or not limits.active else f" under {limits.describe()}"
         if R.empty:
             return Infeasibility(f"no joint motion is possible{lim}: {R.reason}", "phi", None)
         lo, hi = R.low, R.high
@@ -295,3 +297,17 @@ class Acrobot(ControlAffineSystem):
             return Infeasibility(f"theta(T) = {thetaT:.12g} is outside the reachable {kind} interval {ends}{lim} "
                                  f"{where}{edge}", "theta", (lo, hi))
         return None
+
+    # ------------------------------------------------------------------ family hooks
+    def auto_strategy(self):
+        """``method="auto"`` for the acrobot: path deformation from a flat-output guess that already
+        meets the target, then the flat-output planner (:class:`~acroplan.families.acrobot.flat.AcrobotAuto`)."""
+        from .flat import AcrobotAuto
+
+        return AcrobotAuto()
+
+    def to_dict(self) -> dict:
+        """Type, lumped parameters and, when known, the physical body."""
+        out = super().to_dict()
+        out["physical"] = dataclasses.asdict(self.physical) if self.physical is not None else None
+        return out

@@ -43,9 +43,10 @@ import tomllib
 from pathlib import Path
 from typing import Any
 
-from ._errors import InvalidInputError
-from .systems import Acrobot
-from .systems.acrobot import PhysicalParameters
+from ..core.errors import InvalidInputError
+from ..core.limits import Limits
+from ..families.acrobot.model import Acrobot
+from ..families.acrobot.reach import reachable_set
 
 __all__ = ["Problem", "load_problem", "parse_problem", "system_to_dict"]
 
@@ -69,24 +70,23 @@ class Problem:
     options: dict[str, Any] = dataclasses.field(default_factory=dict)
     name: str = ""
 
+    def plan_kwargs(self) -> dict[str, Any]:
+        """The keywords of :func:`acroplan.plan` for this problem (all but the system)."""
+        return dict(times=self.times, theta=self.theta, phi=self.phi, conditions=self.conditions, **self.options)
+
     def solve(self, *, verify: bool = True, progress=None):
         """Plan it with :func:`acroplan.plan`."""
-        from .planner import plan
+        from ..planning import plan
 
-        return plan(self.robot, times=self.times, theta=self.theta, phi=self.phi, conditions=self.conditions,
-                    verify=verify, progress=progress, **self.options)
+        return plan(self.robot, verify=verify, progress=progress, **self.plan_kwargs())
 
     @property
     def limits(self):
         """The problem's :class:`~acroplan.reach.Limits`."""
-        from .reach import Limits
-
         return Limits(**{k: self.options[k] for k in ("phi_min", "phi_max", "u_max") if k in self.options})
 
     def reach(self) -> list[dict]:
         """The exact reachable interval of every segment, without and with the limits."""
-        from .reach import reachable_set
-
         out = []
         for k in range(len(self.times) - 1):
             T = self.times[k + 1] - self.times[k]
@@ -263,7 +263,7 @@ def parse_problem(data: dict, name: str = "") -> Problem:
 def parse_nilpotent(data: dict, name: str = ""):
     """A :class:`~acroplan.nilpotent.NilpotentProblem` and its method from a TOML document with
     ``[robot]`` and ``[nilpotent]`` (``P``, ``Q`` as (phi, t, theta), ``degree``, ``method``)."""
-    from .nilpotent import NilpotentProblem
+    from ..families.acrobot.nilpotent import NilpotentProblem
 
     _check_keys("<file>", data, ("robot", "nilpotent"))
     for table in ("robot", "nilpotent"):
@@ -317,8 +317,5 @@ def load_problem(path) -> Problem:
 
 
 def system_to_dict(system) -> dict[str, Any]:
-    """The system's class, parameters and, for the acrobot, the physical body if known."""
-    out: dict[str, Any] = {"type": type(system).__name__, "params": system.lumped()}
-    phys = getattr(system, "physical", None)
-    out["physical"] = dataclasses.asdict(phys) if isinstance(phys, PhysicalParameters) else None
-    return out
+    """The system's own record (:meth:`ControlAffineSystem.to_dict`)."""
+    return system.to_dict()

@@ -28,9 +28,12 @@ import math
 
 import numpy as np
 
-from . import _integrate
+from . import backend
 from .basis import InputBasis
-from .systems.base import ControlAffineSystem
+from .linalg import damped_step as _damped_step
+from .linalg import norm as _norm
+from .linalg import null_space as _null_space
+from .system import ControlAffineSystem
 
 __all__ = ["SegmentSolve", "solve_segment"]
 
@@ -60,44 +63,27 @@ class SegmentSolve:
         point, the smallest singular value, the path point :math:`\\pi(\\tau)` and the endpoint
         reached (arrays of shape (n,)).
     restarts : int
+    method : str
+        ``"deform"`` (path deformation) or ``"deform+limits"`` (the constrained solve).
     """
 
     success: bool
     message: str
     coefficients: np.ndarray
     final_error: float
-    iterations: int
-    evaluations: int
-    sigma_min: float
-    tau_reached: float
-    history: tuple
-    restarts: int
+    iterations: int = 0
+    evaluations: int = 0
+    sigma_min: float = 0.0
+    tau_reached: float = 0.0
+    history: tuple = ()
+    restarts: int = 0
+    method: str = "deform"
 
 
 class _Counter:
     def __init__(self):
         self.evaluations = 0
         self.iterations = 0
-
-
-def _null_space(B: np.ndarray, N: int):
-    if B.shape[0] == 0:
-        return np.eye(N)
-    _, s, Vt = np.linalg.svd(B)
-    rank = int(np.sum(s > 1e-12 * max(1.0, s[0])))
-    return Vt[rank:].T
-
-
-def _norm(v: np.ndarray) -> float:
-    """Euclidean norm of a short vector (cheaper than numpy.linalg.norm for the planner's sizes)."""
-    return math.sqrt(float(v @ v))
-
-
-def _damped_step(A: np.ndarray, r: np.ndarray, lam_rel: float):
-    U, s, Vt = np.linalg.svd(A, full_matrices=False)
-    lam = lam_rel * (s[0] if s.size else 1.0)
-    filt = s / (s * s + lam * lam)
-    return Vt.T @ (filt * (U.T @ r)), s
 
 
 def solve_segment(system: ControlAffineSystem, basis: InputBasis, x0, x1, T: float, *,
@@ -141,25 +127,27 @@ def solve_segment(system: ControlAffineSystem, basis: InputBasis, x0, x1, T: flo
     c_p = np.zeros(N) if free else np.linalg.lstsq(B, d, rcond=None)[0]
     Z = None if free else _null_space(B, N)  # free: the identity, built only if needed below
     n_z = N if free else Z.shape[1]
-    n_x = system.n_states
+    n_x = system.ndx  # endpoint equations: one per tangent direction of the state space
     counter = _Counter()
     scale = 1.0 + max(map(abs, x1.tolist()))
+    diff = system.diff
 
     def evaluate(z):
         counter.evaluations += 1
         if free:
-            return _integrate.endpoint(system, basis, x0, T, z)
-        y, J = _integrate.endpoint(system, basis, x0, T, c_p + Z @ z)
-        return y, J @ Z
+            y, J = backend.endpoint(system, basis, x0, T, z)
+            return y, system.tangent_jacobian(y, J)
+        y, J = backend.endpoint(system, basis, x0, T, c_p + Z @ z)
+        return y, system.tangent_jacobian(y, J) @ Z
 
     if B.shape[0] and np.linalg.norm(B @ c_p - d) > 1e-9 * (1.0 + np.linalg.norm(d)):
-        return SegmentSolve(False, f"the {B.shape[0]} input conditions cannot all be met by {n} coefficient(s) "
-                            f"per input; use more coefficients (at least {B.shape[0] + n_x})",
-                            c_p.reshape(m, n), float("nan"), 0, 0, 0.0, 0.0, (), 0)
+        return SegmentSolve(success=False, message=f"the {B.shape[0]} input conditions cannot all be met by {n} "
+                            f"coefficient(s) per input; use more coefficients (at least {B.shape[0] + n_x})",
+                            coefficients=c_p.reshape(m, n), final_error=float("nan"))
     if n_z < n_x:
-        return SegmentSolve(False, f"the input conditions leave {n_z} free coefficient(s) for {n_x} "
-                            f"endpoint equations; use more coefficients (at least {B.shape[0] + n_x})",
-                            c_p.reshape(m, n), float("nan"), 0, 0, 0.0, 0.0, (), 0)
+        return SegmentSolve(success=False, message=f"the input conditions leave {n_z} free coefficient(s) for "
+                            f"{n_x} endpoint equations; use more coefficients (at least {B.shape[0] + n_x})",
+                            coefficients=c_p.reshape(m, n), final_error=float("nan"))
 
     # ---------------------------------------------------------------- polish a good initial input
     if initial is None:
@@ -173,26 +161,27 @@ def solve_segment(system: ControlAffineSystem, basis: InputBasis, x0, x1, T: flo
         # only Newton corrections: no path, no restarts
         try:
             y, A = evaluate(z_base)
-        except _integrate.IntegrationError:
+        except backend.IntegrationError:
             y = None
         if y is not None:
             s0 = np.linalg.svd(A, compute_uv=False)
             first = (y, A, s0)
-            if s0[-1] > 1e-8 * s0[0] and _norm(x1 - y) <= 1e-6 * scale:
-                ok, z, y1, A1, _ = _correct(evaluate, counter, z_base, y, A, x1, tol, max_evaluations, True)
+            if s0[-1] > 1e-8 * s0[0] and _norm(diff(y, x1)) <= 1e-6 * scale:
+                ok, z, y1, A1, _ = _correct(evaluate, diff, counter, z_base, y, A, x1, tol, max_evaluations, True)
                 if ok:
-                    err = _norm(y1 - x1)
+                    err = _norm(diff(y1, x1))
                     s1 = s0[-1] if A1 is A else float(np.linalg.svd(A1, compute_uv=False)[-1])
                     history = ((0.0, 0.0, float(s0[-1]), y, y), (1.0, err, float(s1), x1.copy(), y1))
-                    return SegmentSolve(True, f"converged: endpoint error {err:.2e} after {counter.evaluations} "
-                                        "evaluations", (z if free else c_p + Z @ z).reshape(m, n), err,
-                                        counter.iterations, counter.evaluations, min(float(s0[-1]), float(s1)), 1.0,
-                                        history, 0)
+                    return SegmentSolve(success=True, message=f"converged: endpoint error {err:.2e} after "
+                                        f"{counter.evaluations} evaluations",
+                                        coefficients=(z if free else c_p + Z @ z).reshape(m, n), final_error=err,
+                                        iterations=counter.iterations, evaluations=counter.evaluations,
+                                        sigma_min=min(float(s0[-1]), float(s1)), tau_reached=1.0, history=history)
 
     # ---------------------------------------------------------------- non-singular starts
     if Z is None:
         Z = np.eye(N)
-    c_scale = 1.0 + float(np.linalg.norm(c_p)) + float(np.linalg.norm(x1 - x0)) / max(T, 1e-12)
+    c_scale = 1.0 + float(np.linalg.norm(c_p)) + _norm(diff(x0, x1)) / max(T, 1e-12)
 
     def start_points():
         """The minimum-norm (or initial) start if non-singular, then the best conditioned of random
@@ -206,7 +195,7 @@ def solve_segment(system: ControlAffineSystem, basis: InputBasis, x0, x1, T: flo
             else:
                 try:
                     y, A = evaluate(z)
-                except _integrate.IntegrationError:
+                except backend.IntegrationError:
                     continue
                 s = np.linalg.svd(A, compute_uv=False)
             ratio = s[-1] / (s[0] + 1e-300)
@@ -222,15 +211,16 @@ def solve_segment(system: ControlAffineSystem, basis: InputBasis, x0, x1, T: flo
     for z_start, y_start, A_start, s_start in start_points():
         restarts += 1
         path = system.continuation_path(y_start, x1, x0, T)
-        out = _continue(evaluate, counter, z_start, y_start, A_start, s_start, x1, path, tol, scale,
+        out = _continue(evaluate, diff, counter, z_start, y_start, A_start, s_start, x1, path, tol, scale,
                         max_evaluations, min_step)
         if best is None or out["tau"] > best["tau"] or (out["success"] and not best["success"]):
             best = out
         if out["success"] or counter.evaluations >= max_evaluations or restarts + 1 >= starts:
             break
     if best is None:
-        return SegmentSolve(False, "the integrator failed at every starting input", c_p.reshape(m, n),
-                            float("nan"), counter.iterations, counter.evaluations, 0.0, 0.0, (), 0)
+        return SegmentSolve(success=False, message="the integrator failed at every starting input",
+                            coefficients=c_p.reshape(m, n), final_error=float("nan"), iterations=counter.iterations,
+                            evaluations=counter.evaluations)
 
     c = (c_p + Z @ best["z"]).reshape(m, n)
     sig = min((h[2] for h in best["history"]), default=0.0)
@@ -241,11 +231,12 @@ def solve_segment(system: ControlAffineSystem, basis: InputBasis, x0, x1, T: flo
                f"singular value {sig:.2e}) after {counter.evaluations} evaluations and {restarts + 1} start(s): "
                f"{best['why']}; the basis of {n} coefficient(s) per input may be unable to reach the target, "
                f"try more coefficients")
-    return SegmentSolve(best["success"], msg, c, best["error"], counter.iterations, counter.evaluations, sig,
-                        best["tau"], tuple(best["history"]), restarts)
+    return SegmentSolve(success=best["success"], message=msg, coefficients=c, final_error=best["error"],
+                        iterations=counter.iterations, evaluations=counter.evaluations, sigma_min=sig,
+                        tau_reached=best["tau"], history=tuple(best["history"]), restarts=restarts)
 
 
-def _continue(evaluate, counter, z, y, A, sigma0, x1, path, tol, scale, max_evaluations, min_step):
+def _continue(evaluate, diff, counter, z, y, A, sigma0, x1, path, tol, scale, max_evaluations, min_step):
     tau, dtau = 0.0, 1.0
     history = [(0.0, 0.0, float(sigma0), y.copy(), y.copy())]
     why = "evaluation budget spent"
@@ -254,14 +245,14 @@ def _continue(evaluate, counter, z, y, A, sigma0, x1, path, tol, scale, max_eval
         tau_new = min(1.0, tau + dtau)
         goal = x1 if tau_new >= 1.0 else path(tau_new)
         last = tau_new >= 1.0
-        ok, z_new, y_new, A_new, its = _correct(evaluate, counter, z, y, A, goal, tol if last else mid_tol,
+        ok, z_new, y_new, A_new, its = _correct(evaluate, diff, counter, z, y, A, goal, tol if last else mid_tol,
                                                 max_evaluations, last)
         if ok:
             tau, z, y, A = tau_new, z_new, y_new, A_new
-            history.append((tau, float(np.linalg.norm(y - goal)), float(np.linalg.svd(A, compute_uv=False)[-1]),
+            history.append((tau, _norm(diff(y, goal)), float(np.linalg.svd(A, compute_uv=False)[-1]),
                             np.array(goal, dtype=float), y.copy()))
             if last:
-                return dict(success=True, z=z, tau=1.0, error=float(np.linalg.norm(y - x1)), history=history, why="")
+                return dict(success=True, z=z, tau=1.0, error=_norm(diff(y, x1)), history=history, why="")
             if its <= 2:
                 dtau = min(1.0, 2.0 * dtau)
         else:
@@ -269,10 +260,10 @@ def _continue(evaluate, counter, z, y, A, sigma0, x1, path, tol, scale, max_eval
             if dtau < min_step:
                 why = "the step in tau fell below min_step"
                 break
-    return dict(success=False, z=z, tau=tau, error=float(np.linalg.norm(y - x1)), history=history, why=why)
+    return dict(success=False, z=z, tau=tau, error=_norm(diff(y, x1)), history=history, why=why)
 
 
-def _correct(evaluate, counter, z, y, A, goal, tol, max_evaluations, last):
+def _correct(evaluate, diff, counter, z, y, A, goal, tol, max_evaluations, last):
     """Damped Newton corrections towards ``goal``. Returns (ok, z, y, A, iterations).
 
     Intermediate steps stop at ``tol``; the last step polishes on to ``tol / 1000`` (or until the
@@ -280,7 +271,7 @@ def _correct(evaluate, counter, z, y, A, goal, tol, max_evaluations, last):
     """
     target = tol * 1e-3 if last else tol
     max_its = 12 if last else 6
-    r = goal - y
+    r = diff(y, goal)
     res = _norm(r)
     for its in range(max_its):
         if res <= target:
@@ -294,10 +285,11 @@ def _correct(evaluate, counter, z, y, A, goal, tol, max_evaluations, last):
                 return res <= tol and last, z, y, A, its
             try:
                 y_t, A_t = evaluate(z + alpha * step)
-            except _integrate.IntegrationError:
+            except backend.IntegrationError:
                 alpha /= 4.0
                 continue
-            res_t = _norm(goal - y_t)
+            r_t = diff(y_t, goal)
+            res_t = _norm(r_t)
             if res_t < (1.0 - 1e-4 * alpha) * res:
                 accepted = True
                 break
@@ -305,5 +297,5 @@ def _correct(evaluate, counter, z, y, A, goal, tol, max_evaluations, last):
         if not accepted:
             # no decrease: at the accuracy floor this is success, otherwise a failed step
             return res <= tol, z, y, A, its
-        z, y, A, r, res = z + alpha * step, y_t, A_t, goal - y_t, res_t
+        z, y, A, r, res = z + alpha * step, y_t, A_t, r_t, res_t
     return res <= tol, z, y, A, max_its

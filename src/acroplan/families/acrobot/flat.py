@@ -35,10 +35,19 @@ import numpy as np
 from numpy.polynomial import Polynomial as _Poly
 from scipy.optimize import brentq
 
-from .reach import Limits
-from .systems.acrobot import Acrobot
+from typing import TYPE_CHECKING
 
-__all__ = ["flat_pieces", "flat_guess", "FlatGuess", "TRANSITIONS"]
+from ...core import backend
+from ...core.basis import from_power
+from ...core.limits import COMPLIANCE_TOL, Limits
+from ...core.strategies import (Interval, IntervalOutcome, Strategy, deform_attempt, make_segment,
+                                register_strategy, run_stages)
+
+if TYPE_CHECKING:
+    from .model import Acrobot
+
+__all__ = ["flat_pieces", "flat_guess", "FlatGuess", "FlatOutput", "AcrobotAuto", "TRANSITIONS", "AUTO_SIZES",
+           "AUTO_BUDGET"]
 
 _X, _W = np.polynomial.legendre.leggauss(256)
 _S, _WS = (_X + 1) / 2, _W / 2
@@ -80,8 +89,6 @@ def flat_pieces(robot: Acrobot, x0, x1, T: float, *, ends: dict | None = None, l
         ``pieces``: list of ``(duration, u_power_coefficients)`` with ``u`` in the power basis of
         the piece's local time (4 coefficients... up to degree 4), or ``None`` with the reason.
     """
-    from .constrained import COMPLIANCE_TOL
-
     phi0, phiT = float(x0[1]), float(x1[1])
     if robot.P0 == 0.0:
         return None, "P0 = 0: the flat output is constant (holonomic)"
@@ -91,8 +98,10 @@ def flat_pieces(robot: Acrobot, x0, x1, T: float, *, ends: dict | None = None, l
     target = _flat_target(robot, x0, x1)
     limits = limits or Limits()
     mid = 0.5 * (phi0 + phiT)
-    lo = max(limits.lo, min(phi0, phiT) - math.pi)
-    hi = min(limits.hi, max(phi0, phiT) + math.pi)
+    lim_lo, lim_hi = limits.bounds("phi")
+    u_max = limits.input_bound("u")
+    lo = max(lim_lo, min(phi0, phiT) - math.pi)
+    hi = min(lim_hi, max(phi0, phiT) + math.pi)
     grid = np.linspace(lo, hi, 97)
     last = "no transition duration worked"
     for rel in TRANSITIONS:
@@ -131,11 +140,11 @@ def flat_pieces(robot: Acrobot, x0, x1, T: float, *, ends: dict | None = None, l
                 u = _Poly(coef)
                 pts = np.concatenate([[0.0, dur], [r.real for r in u.deriv().roots() if abs(r.imag) < 1e-12
                                                    and 0 <= r.real <= dur]])
-                if limits.u_max is not None and np.max(np.abs(u(pts))) > limits.u_max - COMPLIANCE_TOL:
+                if u_max is not None and np.max(np.abs(u(pts))) > u_max - COMPLIANCE_TOL:
                     bad = True
                 qp = np.concatenate([[0.0, dur], [r.real for r in u.roots() if abs(r.imag) < 1e-12
                                                   and 0 <= r.real <= dur]])
-                if np.min(q(qp)) < limits.lo - COMPLIANCE_TOL or np.max(q(qp)) > limits.hi + COMPLIANCE_TOL:
+                if np.min(q(qp)) < lim_lo - COMPLIANCE_TOL or np.max(q(qp)) > lim_hi + COMPLIANCE_TOL:
                     bad = True
             if bad:
                 last = f"with transitions of {rel:g} T the motion breaks the joint or rate limits"
@@ -392,3 +401,94 @@ def flat_guess(robot: Acrobot, basis, x0, x1, T: float, ends: dict | None = None
     Pd, PVd = _projection(type(basis), n, alpha, beta, deg)
     c = (Pd[:, : ph.size - 1] @ ph[1:] + PVd @ q) / T
     return FlatGuess(c[None, :], bracketed, family)
+
+
+# ----------------------------------------------------------------------------------------- strategies
+#: basis sizes tried by the acrobot's ``method="auto"`` when ``n_coefficients`` is not given
+AUTO_SIZES = (6, 10, 14)
+#: evaluation budget per basis size under ``method="auto"``
+AUTO_BUDGET = 100
+
+
+def _scalar_ends(ends: dict) -> dict:
+    """The acrobot's one input: the end conditions as floats."""
+    return {key: float(v[0]) for key, v in ends.items()}
+
+
+def _flat_attempt(interval: Interval) -> IntervalOutcome:
+    """The three-piece flat-output plan of ``interval`` as segments (move, dwell, move)."""
+    system, x0, x1, T, limits = interval.system, interval.x0, interval.x1, interval.T, interval.limits
+    pieces, msg = flat_pieces(system, x0, x1, T, ends=_scalar_ends(interval.ends), limits=limits)
+    if pieces is None:
+        return IntervalOutcome(False, (), msg)
+    out, x, t0 = [], np.array(x0, dtype=float), 0.0
+    family = type(interval.basis)
+    for i, (D, coef) in enumerate(pieces):
+        nb = family(max(len(coef), 1))
+        c = from_power(family, np.pad(coef, (0, nb.n - len(coef))), D)[None, :]
+        y, _ = backend.endpoint(system, nb, x, D, c)
+        end = np.array(x1, dtype=float) if i == len(pieces) - 1 else y
+        out.append(make_segment(system, nb, x, end, D, c, t0=t0, final_error=system.error(y, end), message=msg,
+                                method="flat", limits=limits))
+        x, t0 = end, t0 + D
+    if out[-1].final_error <= interval.tol:
+        return IntervalOutcome(True, tuple(out))
+    return IntervalOutcome(False, (out[-1],), f"flat output: endpoint error {out[-1].final_error:.2e} > tol")
+
+
+class FlatOutput(Strategy):
+    """``method="flat"``: the three-piece flat-output planner (:func:`flat_pieces`): move, dwell,
+    move, exact up to a scalar root; reaches every target strictly inside the exact interval."""
+
+    name = "flat"
+
+    def unsupported(self, system):
+        if not all(hasattr(system, a) for a in ("F", "h", "P0")):
+            return f"\"flat\" needs a flat output, which {type(system).__name__} does not provide"
+        return None
+
+    def solve(self, interval: Interval) -> IntervalOutcome:
+        return _flat_attempt(interval)
+
+
+class AcrobotAuto(Strategy):
+    """The acrobot's ``method="auto"``.
+
+    Path deformation started from a flat-output guess that already meets the target
+    (:func:`flat_guess`), at the smallest of :data:`AUTO_SIZES` whose guess brackets it, gentle
+    guesses at every size before steep ones, so that deformation only polishes (one or two
+    endpoint evaluations); then path deformation with the first size from the closest guess
+    (budget :data:`AUTO_BUDGET` evaluations), the flat-output planner, and the remaining sizes
+    (only the given size when ``n_coefficients`` is given).
+    """
+
+    name = "acrobot-auto"
+
+    def unsupported(self, system):
+        return FlatOutput().unsupported(system)
+
+    def solve(self, interval: Interval) -> IntervalOutcome:
+        sizes = interval.sizes or AUTO_SIZES
+        guesses = {}
+        scalar = _scalar_ends(interval.ends)
+
+        def guess_for(n, steep=True):
+            if (n, steep) not in guesses:
+                guesses[n, steep] = flat_guess(interval.system, interval.sized(n), interval.x0, interval.x1,
+                                               interval.T, scalar, steep=steep)
+            return guesses[n, steep]
+
+        def deform(n):
+            g = guess_for(n, False)
+            g = g if g is not None and g.bracketed else guess_for(n)
+            return deform_attempt(interval, n, initial=None if g is None else g.coefficients, budget=AUTO_BUDGET)
+
+        first = next((n for steep in (False, True) for n in sizes
+                      if (g := guess_for(n, steep)) is not None and g.bracketed), None)
+        order = ([first] if first is not None else []) + [n for n in sizes if n != first]
+        stages = [lambda: deform(order[0]), lambda: _flat_attempt(interval)]
+        stages += [lambda n=n: deform(n) for n in order[1:]]
+        return run_stages(stages)
+
+
+register_strategy(FlatOutput())

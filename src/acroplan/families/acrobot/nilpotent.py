@@ -43,8 +43,8 @@ from numpy.polynomial import polynomial as P
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq, minimize
 
-from ._errors import InvalidInputError
-from .systems.acrobot import Acrobot
+from ...core.errors import InvalidInputError
+from .model import Acrobot
 
 __all__ = ["Construction", "construction", "NilpotentProblem", "NilpotentResult", "endpoint_equations",
            "format_equations", "iterated_integrals",
@@ -84,10 +84,10 @@ class Construction:
 @functools.cache
 def construction() -> Construction:
     """Derive the whole construction with sympy (cached)."""
-    (theta, phi), params = Acrobot.symbols()
+    (theta, phi), params = Acrobot.example().symbols()
     M1, A1, M2, A2, P0 = params
     t = sp.Symbol("t", real=True)
-    f, G = Acrobot.symbolic()
+    f, G = Acrobot.example().symbolic()
     # 1. time-extended driftless system in (phi, t, theta): d/deps = Y1 u1 + Y2 u2
     Y1 = sp.Matrix([f[1], 1, f[0]])
     Y2 = sp.Matrix([G[1], 0, G[0]])
@@ -104,7 +104,7 @@ def construction() -> Construction:
     # 3. feedback Y'1 = alpha Y1, Y'2 = Y2 + t beta Y1 with alpha, beta functions of phi
     al = sp.Function("alpha")(phi)
     be = sp.Function("beta")(phi)
-    from .lie import bracket
+    from ...core.lie import bracket
 
     br = bracket(al * Y1, Y2 + t * be * Y1, coords)
     beta = sp.solve(sp.Eq(br[1], 0), be)[0]  # no d/dt part

@@ -4,21 +4,26 @@ Used to check every planned result before it is reported (rtol = atol = 3e-14, a
 per segment): it integrates the system's own right-hand side (``sympy.lambdify`` of the same
 symbolic fields) with the input evaluated in plain Python from the segment's basis coefficients
 (Clenshaw's recurrence for Legendre; not the compiled expression), so a wrong compiled field or
-basis shows up as an endpoint error. :func:`flat_output_errors` checks acrobot plans with no ODE
-integrator at all, to rounding level.
+basis shows up as an endpoint error. Families may add exact checks of their own (the acrobot's
+:func:`acroplan.families.acrobot.verify.flat_output_errors`, with no ODE integrator at all).
 """
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from .systems.base import ControlAffineSystem
 
-__all__ = ["simulate_segment", "flat_output_errors", "RTOL", "ATOL"]
+from .system import ControlAffineSystem
+
+__all__ = ["simulate_segment", "verify_plan", "RTOL", "ATOL", "VERIFY_TOL"]
 
 RTOL = 3e-14
 ATOL = 3e-14
+#: Largest endpoint error of the independent re-simulation that a successful plan may have.
+VERIFY_TOL = 1e-9
 
 
 def simulate_segment(system: ControlAffineSystem, x0, t0: float, t1: float, power_coefficients,
@@ -62,46 +67,26 @@ def simulate_segment(system: ControlAffineSystem, x0, t0: float, t1: float, powe
                      max_step=(t1 - t0) / 16, t_eval=t_eval if t_eval is not None else [t1])
 
 
-def flat_output_errors(result) -> np.ndarray:
-    """Endpoint errors of an acrobot plan by the flat-output identity, with no ODE integrator.
-
-    .. math::  \\theta(t_1) = \\theta(t_0) - [F(\\varphi(t_1)) - F(\\varphi(t_0))]
-               + P_0 \\int_{t_0}^{t_1} \\frac{dt}{h(\\varphi(t))},
-
-    with :math:`\\varphi(t) = \\varphi(t_0) + \\int u` integrated exactly in the segment's basis
-    (:meth:`InputBasis.integral`) and the time integral by composite Gauss-Legendre
-    (32 panels of 64 nodes), chained through the segments from the first waypoint like
-    :func:`acroplan.plan`'s own check. Every step is exact up to rounding, so this resolves
-    errors far below the floor of an adaptive integrator at rtol ~ 3e-14, whose own error on
-    :math:`\\theta` grows with :math:`|\\theta|` (measured in ``benchmarks/RESULTS.md``).
-
-    Parameters
-    ----------
-    result : PlanResult
-        A plan of an :class:`~acroplan.Acrobot` whose segments carry their basis.
+def verify_plan(system: ControlAffineSystem, x0, segments):
+    """Re-simulate a plan's segments in a chain from ``x0`` (not segment by segment from each
+    waypoint, so accumulated drift shows too) and record each segment's ``verified_error``,
+    :math:`\\|\\mathrm{diff}(x(t_1), x_{target})\\|_2`.
 
     Returns
     -------
-    numpy.ndarray, shape (number of segments,)
-        :math:`\\max(|\\theta - \\theta_{target}|, |\\varphi - \\varphi_{target}|)` at each
-        segment's end.
+    (segments, worst) : tuple of SegmentResult, and the first segment whose error exceeds
+        :data:`VERIFY_TOL` (``None`` when every segment is within it)
     """
-    robot = result.system
-    if not all(hasattr(robot, name) for name in ("F", "h", "P0")):
-        raise TypeError("flat_output_errors needs an acrobot (a system with a flat output F, h, P0)")
-    xg, wg = np.polynomial.legendre.leggauss(64)
-    panels = 32
-    s = ((np.arange(panels)[:, None] + (xg[None, :] + 1.0) / 2.0) / panels).ravel()  # nodes on [0, 1]
-    w = np.tile(wg / (2.0 * panels), panels)
-    theta, phi = (float(v) for v in result.waypoints[0])
-    errors = []
-    for seg in result.segments:
-        T = seg.t1 - seg.t0
-        basis = result.basis_for(seg)
-        c = np.asarray(seg.basis_coefficients[0], dtype=float)
-        total = T * float(w @ (1.0 / robot.h(phi + T * (basis.integral(s) @ c))))
-        phi_end = phi + T * float(basis.integral([1.0])[0] @ c)
-        theta = theta - (float(robot.F(phi_end)) - float(robot.F(phi))) + robot.P0 * total
-        phi = phi_end
-        errors.append(max(abs(theta - float(seg.target[0])), abs(phi - float(seg.target[1]))))
-    return np.array(errors)
+    checked = []
+    x = np.asarray(x0, dtype=float).copy()
+    for seg in segments:
+        sol = simulate_segment(system, x, seg.t0, seg.t1, seg._input_scalar)
+        if sol.success:
+            x = sol.y[:, -1]
+            err = system.error(x, seg.target)
+        else:
+            err = float("inf")
+        checked.append(dataclasses.replace(seg, verified_error=err))
+    checked = tuple(checked)
+    worst = max(checked, key=lambda s: s.verified_error)
+    return checked, (worst if not worst.verified_error <= VERIFY_TOL else None)

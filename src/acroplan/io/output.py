@@ -8,7 +8,7 @@ import tempfile
 from contextlib import contextmanager
 from pathlib import Path
 
-from ._errors import InvalidInputError
+from ..core.errors import InvalidInputError
 
 __all__ = ["check_out_dir", "atomic_dir"]
 

@@ -11,22 +11,29 @@ together with the first-order variational equations with respect to the coeffici
 
 Runtime parameters, in order: the system's parameters, ``T``, then the coefficients ``c`` flattened
 input-major (``c[j, i]`` at ``n_p + 1 + j*n + i``). A compiled integrator is therefore shared by
-every instance of a system class, every segment length and every coefficient value; it is built
-once per process per (system class, basis family, basis size) and cached.
+every system of one structure (:attr:`ControlAffineSystem.structure_key`), every segment length and
+every coefficient value; it is compiled once per process per (structure key, basis family, basis
+size) and cached.
+
+Threads: the compiled integrator is a template; each thread works on its own copy (a copy costs
+about a millisecond, a compilation 0.1 s or more), so threads never wait on each other and never
+share an integrator's state. Processes compile on first use (heyoka also keeps compiled code in an
+on-disk cache, ``~/.cache/heyoka`` by default), so workers of any executor work without ``fork``.
 """
 
 from __future__ import annotations
 
-import functools
+import copy
 import threading
+from typing import Hashable
 
 import heyoka as hy
 import numpy as np
 
 from .basis import InputBasis
-from .systems.base import ControlAffineSystem
+from .system import ControlAffineSystem
 
-__all__ = ["IntegrationError", "endpoint", "sample"]
+__all__ = ["IntegrationError", "endpoint", "sample", "compile_for", "compiled_count"]
 
 #: Taylor integrator tolerance: machine precision for double.
 TOL = 1e-15
@@ -36,12 +43,16 @@ class IntegrationError(RuntimeError):
     """The compiled integrator did not reach the end of the segment (non-finite state)."""
 
 
-@functools.cache
-def _compiled(system_cls: type[ControlAffineSystem], basis_cls: type[InputBasis], n: int):
-    x_sym, p_sym = system_cls.symbols()
-    f, G = system_cls.symbolic()
+_TEMPLATES: dict[tuple, hy.taylor_adaptive] = {}
+_BUILD_LOCK = threading.Lock()
+_LOCAL = threading.local()
+
+
+def _build(system: ControlAffineSystem, basis_cls: type[InputBasis], n: int):
+    x_sym, p_sym = system.symbols()
+    f, G = system.symbolic()
     n_x, m, n_p = len(x_sym), G.shape[1], len(p_sym)
-    hx = hy.make_vars(*system_cls.state_names)
+    hx = hy.make_vars(*system.state_names)
     if n_x == 1:
         hx = [hx]
     s_dict = {sym: var for sym, var in zip(x_sym, hx)}
@@ -60,23 +71,58 @@ def _compiled(system_cls: type[ControlAffineSystem], basis_cls: type[InputBasis]
     sys = list(zip(hx, rhs))
     wrt = [c for row in coeffs for c in row]
     vsys = hy.var_ode_sys(sys, wrt, order=1)
-    ta = hy.taylor_adaptive(vsys, [0.0] * n_x, tol=TOL, pars=[0.0] * (n_p + 1 + m * n))
-    # the state and parameter arrays are views on the integrator's memory: bound once
-    return ta, threading.Lock(), ta.state, ta.pars, n_p
+    return hy.taylor_adaptive(vsys, [0.0] * n_x, tol=TOL, pars=[0.0] * (n_p + 1 + m * n))
+
+
+def _key(system: ControlAffineSystem, basis_cls: type[InputBasis], n: int) -> tuple[Hashable, type, int]:
+    return (system.structure_key, basis_cls, int(n))
+
+
+def compile_for(system: ControlAffineSystem, basis_cls: type[InputBasis], n: int):
+    """The compiled template for (structure of ``system``, basis family, size ``n``): built on first
+    use in this process, then reused."""
+    key = _key(system, basis_cls, n)
+    ta = _TEMPLATES.get(key)
+    if ta is None:
+        with _BUILD_LOCK:  # one compilation per key, even when threads ask at once
+            ta = _TEMPLATES.get(key)
+            if ta is None:
+                ta = _build(system, basis_cls, n)
+                _TEMPLATES[key] = ta
+    return ta
+
+
+def compiled_count() -> int:
+    """How many integrators this process has compiled (for tests and diagnostics)."""
+    return len(_TEMPLATES)
+
+
+def _integrator(system, basis):
+    """This thread's copy of the compiled integrator, with views on its state and parameters."""
+    key = _key(system, type(basis), basis.n)
+    mine = getattr(_LOCAL, "integrators", None)
+    if mine is None:
+        mine = _LOCAL.integrators = {}
+    entry = mine.get(key)
+    if entry is None:
+        ta = copy.copy(compile_for(system, type(basis), basis.n))
+        # the state and parameter arrays are views on the integrator's memory: bound once
+        entry = mine[key] = (ta, ta.state, ta.pars, len(system.param_names))
+    return entry
 
 
 _TIME_LIMIT = hy.taylor_outcome.time_limit
 
 
 def _load(system, basis, x0, T, c):
-    """The compiled integrator for (system, basis), reset to ``x0`` with the runtime parameters set.
-    Call with its lock held. Returns (integrator, its state view, number of states)."""
-    ta, _, state, pars, n_p = _compiled(type(system), type(basis), basis.n)
+    """This thread's integrator for (system, basis), reset to ``x0`` with the runtime parameters
+    set. Returns (integrator, its state view, number of states)."""
+    ta, state, pars, n_p = _integrator(system, basis)
     n_x = system.n_states
     ta.time = 0.0
     state[:] = 0.0
     state[:n_x] = x0
-    pars[:n_p] = system.params
+    pars[:n_p] = system._param_tuple
     pars[n_p] = T
     pars[n_p + 1:] = np.ravel(c)
     return ta, state, n_x
@@ -102,10 +148,9 @@ def endpoint(system: ControlAffineSystem, basis: InputBasis, x0, T: float, c) ->
     J : numpy.ndarray, shape (n, m * basis.n)
         :math:`\\partial x(T) / \\partial c`, columns in flattened ``c`` order.
     """
-    with _compiled(type(system), type(basis), basis.n)[1]:
-        ta, state, n_x = _load(system, basis, x0, T, c)
-        res = ta.propagate_until(1.0)
-        out = state.copy()
+    ta, state, n_x = _load(system, basis, x0, T, c)
+    res = ta.propagate_until(1.0)
+    out = state.copy()
     if res[0] != _TIME_LIMIT or not np.isfinite(out).all():
         raise IntegrationError(f"integration stopped with outcome {res[0]} at s = {ta.time}")
     return out[:n_x], out[n_x:].reshape(n_x, -1)
@@ -119,9 +164,8 @@ def sample(system: ControlAffineSystem, basis: InputBasis, x0, T: float, c, s) -
     numpy.ndarray, shape (n, len(s))
     """
     s = np.asarray(s, dtype=float)
-    with _compiled(type(system), type(basis), basis.n)[1]:
-        ta, _, n_x = _load(system, basis, x0, T, c)
-        res = ta.propagate_grid(s)
+    ta, _, n_x = _load(system, basis, x0, T, c)
+    res = ta.propagate_grid(s)
     out = res[-1]
     if res[0] != _TIME_LIMIT or not np.isfinite(out).all():
         raise IntegrationError(f"integration stopped with outcome {res[0]}")

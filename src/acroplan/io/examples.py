@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from importlib import resources
 
-from ._errors import InvalidInputError
+from ..core.errors import InvalidInputError
 from .problem import Problem, parse_problem
 
 __all__ = ["names", "load", "robot", "text"]
@@ -26,7 +26,7 @@ def text(name: str) -> str:
     """The example's TOML source."""
     if name not in _DESCRIPTIONS:
         raise InvalidInputError("example", f"unknown example {name!r}", f"choose one of {sorted(_DESCRIPTIONS)}")
-    return resources.files("acroplan").joinpath("data", f"{name}.toml").read_text(encoding="utf-8")
+    return resources.files("acroplan.io").joinpath("data", f"{name}.toml").read_text(encoding="utf-8")
 
 
 def load(name: str) -> Problem:

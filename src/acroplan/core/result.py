@@ -1,21 +1,63 @@
-"""The single result type of a plan, and sampled trajectories."""
+"""The result types of the core: :class:`Status`, :class:`PlanResult` (one per plan),
+:class:`SegmentResult` (one per segment) and :class:`Samples` (a sampled trajectory).
+
+Every result is built with keywords and frozen: its arrays are read-only copies.
+"""
 
 from __future__ import annotations
 
 import dataclasses
+import enum
 import json
 from typing import Any
 
 import numpy as np
 
-from . import _integrate
+from . import backend
 from .basis import InputBasis
-from .systems.base import ControlAffineSystem
+from .system import ControlAffineSystem
 
-__all__ = ["PlanResult", "SegmentResult", "Samples", "STATUSES"]
+__all__ = ["PlanResult", "SegmentResult", "Samples", "Status", "STATUSES"]
+
+
+class Status(enum.StrEnum):
+    """How a plan ended. A member is its own string (``Status.SUCCESS == "success"``) and carries
+    what it means (:attr:`meaning`) and what to do about it (:attr:`fix`), as diffrax's ``RESULTS``.
+    """
+
+    SUCCESS = "success"
+    INFEASIBLE = "infeasible"
+    NOT_CONVERGED = "not_converged"
+
+    @property
+    def meaning(self) -> str:
+        return _MEANING[self]
+
+    @property
+    def fix(self) -> str:
+        return _FIX[self]
+
+    @property
+    def success(self) -> bool:
+        return self is Status.SUCCESS
+
+
+_MEANING = {
+    Status.SUCCESS: "every waypoint is reached, the limits hold, and (unless verify=False) an independent "
+                    "re-simulation agrees",
+    Status.INFEASIBLE: "proven impossible: the proof (the reachable set, or the limit that is broken) is in the "
+                       "message and in `infeasible`",
+    Status.NOT_CONVERGED: "the planner did not find a motion; its diagnostics are kept in `segments`",
+}
+_FIX = {
+    Status.SUCCESS: "",
+    Status.INFEASIBLE: "move the target inside the reachable set given, or relax the limits",
+    Status.NOT_CONVERGED: "try more coefficients (n_coefficients), another method, a larger max_evaluations, "
+                          "or waypoints closer together",
+}
 
 #: The possible values of :attr:`PlanResult.status`.
-STATUSES = ("success", "infeasible", "not_converged")
+STATUSES = tuple(s.value for s in Status)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -74,10 +116,13 @@ class SegmentResult:
     start, target : numpy.ndarray, shape (n,)
         Planned states at the segment's ends (waypoints, or interior points of a flat plan).
     max_abs_u : float
-        :math:`\\max |u|` on the segment, exact (roots of :math:`u'`); computed on first use
-        when the plan had no limits.
+        :math:`\\max_j \\max |u_j|` on the segment, exact (roots of :math:`u'`); computed on first
+        use when the plan had no limits.
+    state_ranges : dict
+        Exact range ``(lo, hi)`` of every bounded state on the segment (empty without bounds).
     state_range : tuple or None
-        Exact range of the joint-limited state on the segment, when joint limits were given.
+        The range of the one bounded state, when exactly one state is bounded (the acrobot's
+        ``phi``).
     final_error : float
         Endpoint error of the compiled integrator, :math:`\\|x(t_1) - x_{target}\\|_2`.
     verified_error : float or None
@@ -109,7 +154,7 @@ class SegmentResult:
     history: tuple = ()
     interval: int = 0
     method: str = "deform"
-    #: ``{"max_abs_u": float, "state_range": tuple or None}`` when known at construction (the
+    #: ``{"max_abs_u": float, "state_ranges": dict}`` when known at construction (the
     #: planner's limit checks); otherwise computed from the coefficients on first use
     extremes: dict | None = dataclasses.field(default=None, repr=False, compare=False)
     #: the segment's basis (family and size of ``basis_coefficients``)
@@ -121,7 +166,7 @@ class SegmentResult:
     def _extremes(self) -> dict:
         if self.extremes is None:
             from .basis import Monomial
-            from .constrained import input_extremes
+            from .limits import input_extremes
 
             if self.basis is not None:
                 basis, rows = self.basis, self.basis_coefficients
@@ -132,7 +177,8 @@ class SegmentResult:
             for row in rows:
                 lo, hi = input_extremes(basis, row)
                 top = max(top, abs(lo), abs(hi))
-            object.__setattr__(self, "extremes", {"max_abs_u": top, "state_range": None})
+            # a lazily computed cache of values the coefficients fix (not part of equality)
+            object.__setattr__(self, "extremes", {"max_abs_u": top, "state_ranges": {}})
         return self.extremes
 
     @property
@@ -140,8 +186,13 @@ class SegmentResult:
         return self._extremes()["max_abs_u"]
 
     @property
+    def state_ranges(self) -> dict:
+        return dict(self._extremes()["state_ranges"])
+
+    @property
     def state_range(self) -> tuple | None:
-        return self._extremes()["state_range"]
+        r = self._extremes()["state_ranges"]
+        return next(iter(r.values())) if len(r) == 1 else None
 
     def input(self, t) -> np.ndarray:
         """Inputs at times ``t`` in :math:`[t_0, t_1]`; shape ``(m, N)``.
@@ -204,6 +255,7 @@ class SegmentResult:
             "sigma_min": _num(self.sigma_min),
             "max_abs_u": _num(self.max_abs_u),
             "state_range": None if self.state_range is None else [float(v) for v in self.state_range],
+            "state_ranges": {k: [float(v) for v in r] for k, r in self.state_ranges.items()},
         }
 
 
@@ -235,9 +287,10 @@ class PlanResult:
 
     Attributes
     ----------
-    status : str
+    status : Status
         ``"success"``, ``"infeasible"`` (proven impossible; see :attr:`infeasible`) or
-        ``"not_converged"`` (the planner failed; diagnostics in :attr:`segments`).
+        ``"not_converged"`` (the planner failed; diagnostics in :attr:`segments`); a
+        :class:`Status`, equal to its string.
     message : str
     system : ControlAffineSystem
     times : numpy.ndarray, shape (K+1,)
@@ -250,9 +303,11 @@ class PlanResult:
         Per infeasible segment: ``index``, ``field``, ``interval`` and ``reason``.
     verified : bool
         Whether the independent re-simulation was run.
+    limits : Limits or None
+        The limits the plan honours.
     """
 
-    status: str
+    status: Status
     message: str
     system: ControlAffineSystem
     times: np.ndarray
@@ -266,10 +321,11 @@ class PlanResult:
 
     def __post_init__(self):
         _freeze(self, "times", "waypoints")
+        object.__setattr__(self, "status", Status(self.status))
 
     @property
     def success(self) -> bool:
-        return self.status == "success"
+        return self.status is Status.SUCCESS
 
     @property
     def evaluations(self) -> int:
@@ -308,7 +364,7 @@ class PlanResult:
             s = (t[idx] - seg.t0) / T
             uniq, inverse = np.unique(s, return_inverse=True)
             grid = uniq if uniq[0] == 0.0 else np.concatenate([[0.0], uniq])
-            X = _integrate.sample(self.system, self.basis_for(seg), seg.start, T, seg.basis_coefficients, grid)
+            X = backend.sample(self.system, self.basis_for(seg), seg.start, T, seg.basis_coefficients, grid)
             states[:, idx] = X[:, grid.size - uniq.size:][:, inverse]
             inputs[:, idx] = seg.input(t[idx])
         return Samples(t, states, inputs, self.system.state_names, self.system.input_names)
@@ -332,13 +388,11 @@ class PlanResult:
     # ------------------------------------------------------------------ export
     def to_dict(self) -> dict[str, Any]:
         """Everything needed to reproduce and check the plan, as plain JSON types."""
-        from .problem import system_to_dict
-
         return {
-            "status": self.status,
+            "status": self.status.value,
             "success": self.success,
             "message": self.message,
-            "system": system_to_dict(self.system),
+            "system": self.system.to_dict(),
             "waypoints": {
                 "times": list(map(float, self.times)),
                 **{name: list(map(float, self.waypoints[:, i])) for i, name in enumerate(self.system.state_names)},
@@ -348,7 +402,7 @@ class PlanResult:
                       "export": "power basis in local time: u(t) = sum_i c_i (t - t0)^i on [t0, t1]",
                       "basis_coefficients": _BASIS_NOTE.get(self.basis.name, self.basis.name)},
             "verified": self.verified,
-            "limits": None if self.limits is None else {k: v for k, v in dataclasses.asdict(self.limits).items()},
+            "limits": None if self.limits is None else self.limits.to_dict(),
             "segments": [s.to_dict(self.system.input_names) for s in self.segments],
             "infeasible": [dict(d) for d in self.infeasible],
             "diagnostics": {

@@ -33,55 +33,14 @@ import math
 
 import numpy as np
 
-from ._errors import InvalidInputError
-from .systems.acrobot import Acrobot
+from typing import TYPE_CHECKING
+
+from ...core.limits import Limits
+
+if TYPE_CHECKING:
+    from .model import Acrobot
 
 __all__ = ["Reach", "reachable_set", "Limits"]
-
-
-@dataclasses.dataclass(frozen=True)
-class Limits:
-    """Joint and rate limits of the acrobot.
-
-    Attributes
-    ----------
-    phi_min, phi_max : float or None
-        Joint limits, :math:`\\varphi_{min} < \\varphi_{max}` (``None``: unlimited).
-    u_max : float or None
-        Joint rate limit :math:`|u| \\le u_{max}`, > 0 (``None``: unlimited).
-    """
-
-    phi_min: float | None = None
-    phi_max: float | None = None
-    u_max: float | None = None
-    #: the state the joint limits bound (a state whose rate is an input)
-    state: str = "phi"
-
-    def __post_init__(self):
-        for name in ("phi_min", "phi_max", "u_max"):
-            v = getattr(self, name)
-            if v is None:
-                continue
-            if isinstance(v, bool) or not isinstance(v, (int, float, np.floating, np.integer)) or not math.isfinite(v):
-                raise InvalidInputError(name, f"must be a finite number, got {v!r}", "give a finite number or leave it out")
-            object.__setattr__(self, name, float(v))
-        if self.u_max is not None and self.u_max <= 0:
-            raise InvalidInputError("u_max", f"must be > 0, got {self.u_max}", "give the joint's top speed in rad/s")
-        if self.phi_min is not None and self.phi_max is not None and not self.phi_min < self.phi_max:
-            raise InvalidInputError("phi_min", f"must be < phi_max, got phi_min = {self.phi_min}, "
-                                    f"phi_max = {self.phi_max}", "swap or widen the joint limits")
-
-    @property
-    def active(self) -> bool:
-        return any(v is not None for v in (self.phi_min, self.phi_max, self.u_max))
-
-    @property
-    def lo(self) -> float:
-        return -math.inf if self.phi_min is None else self.phi_min
-
-    @property
-    def hi(self) -> float:
-        return math.inf if self.phi_max is None else self.phi_max
 
 
 @dataclasses.dataclass(frozen=True)
@@ -132,6 +91,25 @@ def _G(robot: Acrobot, phi):
     return (phi - 2.0 * np.arctan2(rho * np.sin(phi), 1.0 + rho * np.cos(phi))) / s
 
 
+def _pi_multiples(lo: float, hi: float) -> set[float]:
+    """The candidate critical points :math:`k\\pi` of :math:`V` in ``[lo, hi]``, where ``[lo, hi]`` lies
+    inside one of the three regions below, between and above :math:`\\varphi_0, \\varphi_T`.
+
+    In such a region :math:`V(k\\pi)` is linear in :math:`k` for each parity of :math:`k`
+    (:math:`g(k\\pi)` depends only on the parity, :math:`G(k\\pi) = k\\pi/s` and :math:`d` is linear),
+    so its extremes over the multiples of one parity are at the smallest and the largest: four
+    candidates whatever the width of the region (time and memory independent of ``u_max``)."""
+    if not hi >= lo:
+        return set()
+    k0, k1 = math.ceil(lo / math.pi), math.floor(hi / math.pi)
+    if k1 < k0:
+        return set()
+    ks = {k0, k1}
+    if k0 + 1 <= k1:
+        ks.update((k0 + 1, k1 - 1))
+    return {k * math.pi for k in ks}
+
+
 def reachable_set(robot: Acrobot, *, theta0: float, phi0: float, phiT: float, T: float,
                   limits: Limits | None = None) -> Reach:
     """The exact reachable :math:`\\theta(T)` under optional limits (module docstring).
@@ -147,14 +125,14 @@ def reachable_set(robot: Acrobot, *, theta0: float, phi0: float, phiT: float, T:
     Reach
     """
     limits = limits or _NO_LIMITS
-    lo_lim, hi_lim = limits.lo, limits.hi
+    lo_lim, hi_lim = limits.bounds("phi")
     base = theta0 - (float(robot.F(phiT)) - float(robot.F(phi0)))
     for name, v in (("phi(0)", phi0), ("phi(T)", phiT)):
         if not lo_lim <= v <= hi_lim:
             return Reach(base, base, True, True, f"{name} = {v:.12g} is outside the joint limits "
                          f"[{lo_lim:.12g}, {hi_lim:.12g}]")
     g = lambda p: 1.0 / robot.h(p)  # noqa: E731
-    U = limits.u_max
+    U = limits.input_bound("u")
     if U is None:
         # sup / inf of g over the allowed range [lo_lim, hi_lim] (it contains phi0 and phiT)
         if hi_lim - lo_lim >= 2 * math.pi:
@@ -173,7 +151,9 @@ def reachable_set(robot: Acrobot, *, theta0: float, phi0: float, phiT: float, T:
     p_lo = max(lo_lim, (phi0 + phiT - U * T) / 2)
     p_hi = min(hi_lim, (phi0 + phiT + U * T) / 2)
     cands = {p_lo, p_hi, phi0, phiT}
-    cands.update(k * math.pi for k in range(math.ceil(p_lo / math.pi), math.floor(p_hi / math.pi) + 1))
+    a_, b_ = min(phi0, phiT), max(phi0, phiT)
+    for lo_r, hi_r in ((p_lo, a_), (a_, b_), (b_, p_hi)):
+        cands.update(_pi_multiples(lo_r, hi_r))
     Gs = lambda p: float(_G(robot, p))  # noqa: E731
 
     def V(p):

@@ -14,9 +14,9 @@ from pathlib import Path
 import click
 import numpy as np
 
+from ..core.errors import EXIT_INFEASIBLE, EXIT_INVALID, EXIT_NOT_CONVERGED, EXIT_SUCCESS, InvalidInputError
 from . import examples as _examples
-from ._errors import EXIT_INFEASIBLE, EXIT_INVALID, EXIT_NOT_CONVERGED, EXIT_SUCCESS, InvalidInputError
-from ._output import atomic_dir, check_out_dir
+from .output import atomic_dir, check_out_dir
 from .problem import load_problem
 
 EXIT_BY_STATUS = {"success": EXIT_SUCCESS, "infeasible": EXIT_INFEASIBLE, "not_converged": EXIT_NOT_CONVERGED}
@@ -268,7 +268,7 @@ def _is_batch(path: Path) -> bool:
 def _plan_batch(path, out, force, quiet, as_json, no_plots, fmt):
     import csv
 
-    from .batch import plan_many
+    from ..batch import plan_many
     from .problem import load_toml, parse_problem
 
     try:
@@ -354,7 +354,7 @@ def reach_cmd(problem, example, out, force, quiet, as_json, fmt):
     Example:
       acroplan reach --example pike-dive-limited --out reach-out
     """
-    from .plotting import plot_reach
+    from ..families.acrobot.plots import plot_reach
 
     try:
         prob = _load(problem, example)
@@ -401,9 +401,10 @@ def nilpotent_cmd(problem, example, out, force, quiet, as_json, equations, no_pl
       acroplan nilpotent --example chapter4 --equations
       acroplan nilpotent --example chapter4 --out ch4-out --animate
     """
-    from . import nilpotent as nil
+    from ..core.limits import Limits
+    from ..families.acrobot import nilpotent as nil
+    from ..families.acrobot.reach import reachable_set
     from .problem import system_to_dict
-    from .reach import Limits, reachable_set
 
     try:
         if (problem is None) == (example is None):
@@ -448,7 +449,7 @@ def nilpotent_cmd(problem, example, out, force, quiet, as_json, equations, no_pl
                 np.savetxt(tmp / "trajectory.csv", np.column_stack([t, theta, phi, u]), delimiter=",",
                            header="t,theta,phi,u", comments="", fmt="%.17g")
                 if not no_plots:
-                    from .plotting import plot_nilpotent
+                    from ..families.acrobot.plots import plot_nilpotent
 
                     _save(plot_nilpotent(result, counter), tmp, fmts)
                 if do_animate:
@@ -471,7 +472,7 @@ def _write_animation(folder: Path, *, speed: float = 1.0, fps: int = 25) -> int:
 
     import matplotlib.pyplot as plt
 
-    from .animation import animate, geometry_of, strobe
+    from ..families.acrobot.drawing import animate, geometry_of, strobe
 
     sol_path = folder / "solution.json"
     if not sol_path.is_file():

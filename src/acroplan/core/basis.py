@@ -25,7 +25,7 @@ import numpy as np
 from numpy.polynomial import Legendre as _Leg
 from numpy.polynomial import Polynomial as _Poly
 
-from ._errors import InvalidInputError
+from .errors import InvalidInputError
 
 __all__ = ["InputBasis", "Monomial", "Legendre", "make_basis"]
 

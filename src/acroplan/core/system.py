@@ -1,0 +1,280 @@
+"""The control-affine system interface.
+
+A system is
+
+.. math::  \\dot x = f(x; p) + \\sum_{j=1}^{m} g_j(x; p)\\, u_j ,
+
+with state :math:`x` (``n`` numbers), inputs :math:`u \\in \\mathbb{R}^m` and constant parameters
+:math:`p \\in \\mathbb{R}^{n_p}`. A concrete system writes its fields **once**, in sympy
+(:meth:`ControlAffineSystem.symbolic_fields`); the compiled integrator (heyoka) and the independent
+checking integrator (numpy through ``sympy.lambdify``) are both generated from that one definition.
+Parameter values are runtime values, so one compilation serves every system of the same
+*structure* (:attr:`ControlAffineSystem.structure_key`).
+
+Contract for implementers
+-------------------------
+1. Subclass, as a frozen dataclass whose fields are the parameters (or any immutable class).
+2. Give :attr:`state_names`, :attr:`input_names` and :attr:`param_names`: class attributes when
+   every instance has the same structure (the acrobot), or properties computed from the instance
+   (a body with any number of links).
+3. Implement :meth:`symbolic_fields` (a classmethod or a method).
+4. When the structure depends on the instance, override :attr:`structure_key` so that two
+   instances with equal keys have the same symbolic fields up to parameter values: the compiled
+   back end and the symbolic cache are keyed on it.
+5. Optionally:
+
+   * :attr:`rate_inputs` (input name -> state name) for inputs that are the time derivative of a
+     state, which enables spline-derived input conditions and state bounds;
+   * :meth:`diff` and :meth:`retract` when the state space is not Euclidean (a unit quaternion);
+   * :meth:`check_segment`, an exact feasibility test;
+   * :meth:`auto_strategy`, the family's own ``method="auto"``;
+   * :meth:`to_dict`, what a result file records of the system.
+"""
+
+from __future__ import annotations
+
+import abc
+import dataclasses
+import threading
+from typing import Any, ClassVar, Hashable
+
+import numpy as np
+import sympy as sp
+
+__all__ = ["ControlAffineSystem", "Infeasibility"]
+
+
+@dataclasses.dataclass(frozen=True)
+class Infeasibility:
+    """Proof that a segment cannot be done.
+
+    Attributes
+    ----------
+    reason : str
+        One sentence a user can read.
+    field : str
+        The state that cannot be reached (for example ``"theta"``).
+    interval : tuple of float or None
+        The reachable values of that state at the segment end (an open interval), or a single
+        value ``(v, v)`` when only one value is reachable.
+    """
+
+    reason: str
+    field: str
+    interval: tuple[float, float] | None = None
+
+
+# symbolic fields and lambdified right-hand sides, per structure key (not per class: a class may
+# describe systems of many structures, a body with any number of links)
+_SYMBOLIC: dict[Hashable, tuple[sp.Matrix, sp.Matrix]] = {}
+_NUMERIC: dict[Hashable, Any] = {}
+_LOCK = threading.Lock()
+
+
+class ControlAffineSystem(abc.ABC):
+    """Abstract control-affine system :math:`\\dot x = f(x;p) + G(x;p)\\,u`.
+
+    Shapes: ``x`` is ``(n,)``, ``f`` is ``(n,)``, ``G`` is ``(n, m)``; tangent vectors
+    (:meth:`diff`) are ``(n,)`` too (``ndx == n``) unless a subclass says otherwise.
+    """
+
+    state_names: ClassVar[tuple[str, ...]]
+    input_names: ClassVar[tuple[str, ...]]
+    param_names: ClassVar[tuple[str, ...]] = ()
+    #: inputs that are the time derivative of a state: ``{"u": "phi"}`` means u = d(phi)/dt.
+    rate_inputs: ClassVar[dict[str, str]] = {}
+
+    # ------------------------------------------------------------------ structure
+    @property
+    def structure_key(self) -> Hashable:
+        """What the symbolic fields depend on besides parameter values.
+
+        Default: the class and its names (every instance of a class has the same structure).
+        Systems whose structure varies per instance (number of links, topology) override it.
+        """
+        return (type(self).__module__, type(self).__qualname__, tuple(self.state_names),
+                tuple(self.input_names), tuple(self.param_names))
+
+    # ------------------------------------------------------------------ symbolic definition
+    @abc.abstractmethod
+    def symbolic_fields(self, x: tuple[sp.Symbol, ...], p: tuple[sp.Symbol, ...]) -> tuple[sp.Matrix, sp.Matrix]:
+        """Drift and input fields in sympy.
+
+        Parameters
+        ----------
+        x : tuple of sympy.Symbol, length n
+            State symbols, in :attr:`state_names` order.
+        p : tuple of sympy.Symbol, length n_p
+            Parameter symbols, in :attr:`param_names` order.
+
+        Returns
+        -------
+        f : sympy.Matrix, shape (n, 1)
+        G : sympy.Matrix, shape (n, m)
+        """
+
+    def symbols(self) -> tuple[tuple[sp.Symbol, ...], tuple[sp.Symbol, ...]]:
+        """The state and parameter symbols used by :meth:`symbolic`."""
+        x = tuple(sp.Symbol(name, real=True) for name in self.state_names)
+        p = tuple(sp.Symbol(name, real=True) for name in self.param_names)
+        return x, p
+
+    def symbolic(self) -> tuple[sp.Matrix, sp.Matrix]:
+        """``(f, G)`` in the symbols of :meth:`symbols`, cached per :attr:`structure_key`."""
+        key = self.structure_key
+        out = _SYMBOLIC.get(key)
+        if out is None:
+            x, p = self.symbols()
+            f, G = self.symbolic_fields(x, p)
+            f = sp.Matrix(f).reshape(len(self.state_names), 1)
+            G = sp.Matrix(G).reshape(len(self.state_names), len(self.input_names))
+            with _LOCK:
+                out = _SYMBOLIC.setdefault(key, (f, G))
+        return out
+
+    def _numeric(self):
+        key = self.structure_key
+        fn = _NUMERIC.get(key)
+        if fn is None:
+            x, p = self.symbols()
+            f, G = self.symbolic()
+            # the right-hand side x' = f + G u, with u as extra symbols
+            u = tuple(sp.Symbol(f"_u{j}", real=True) for j in range(len(self.input_names)))
+            rhs = f + G * sp.Matrix(u)
+            fn = sp.lambdify((x, u, p), list(rhs), modules="numpy")
+            with _LOCK:
+                fn = _NUMERIC.setdefault(key, fn)
+        return fn
+
+    # ------------------------------------------------------------------ numeric interface
+    @property
+    def n_states(self) -> int:
+        return len(self.state_names)
+
+    @property
+    def n_inputs(self) -> int:
+        return len(self.input_names)
+
+    @property
+    def ndx(self) -> int:
+        """Dimension of the tangent space (of :meth:`diff`'s result); ``n_states`` by default."""
+        return self.n_states
+
+    @property
+    def params(self) -> np.ndarray:
+        """Parameter values, shape ``(n_p,)``, in :attr:`param_names` order."""
+        return np.array(self._param_tuple, dtype=float)
+
+    @property
+    def _param_tuple(self) -> tuple:
+        """:attr:`params` as a tuple of floats (systems are immutable: computed once)."""
+        cached = self.__dict__.get("_acroplan_params")
+        if cached is None:
+            cached = tuple(float(getattr(self, name)) for name in self.param_names)
+            object.__setattr__(self, "_acroplan_params", cached)
+        return cached
+
+    def rhs(self, x, u) -> np.ndarray:
+        """Right-hand side :math:`f(x) + G(x) u`.
+
+        Parameters
+        ----------
+        x : array_like, shape (n,) or (n, N)
+        u : array_like, shape (m,) or (m, N)
+
+        Returns
+        -------
+        numpy.ndarray, shape (n,) or (n, N)
+        """
+        x = np.asarray(x, dtype=float)
+        u = np.asarray(u, dtype=float)
+        if x.ndim == 1:  # one state (the checking integrator's every call): plain floats, no broadcasting
+            return np.array(self._numeric()(tuple(x.tolist()), tuple(u.reshape(-1).tolist()), self._param_tuple),
+                            dtype=float)
+        out = self._numeric()(tuple(x), tuple(u), self._param_tuple)
+        shape = x.shape
+        return np.array([np.broadcast_to(np.asarray(v, dtype=float), shape[1:]) for v in out])
+
+    # ------------------------------------------------------------------ the state space
+    def diff(self, x0, x1) -> np.ndarray:
+        """The tangent vector :math:`x_1 \\ominus x_0` that :meth:`retract` maps back:
+        ``retract(x0, diff(x0, x1)) == x1``. Euclidean by default: ``x1 - x0``.
+
+        Every state difference the planner takes (endpoint residuals, errors, continuation
+        paths, verification) goes through it, so a system on a manifold (a unit quaternion)
+        overrides this and :meth:`retract`.
+
+        Parameters
+        ----------
+        x0, x1 : array_like, shape (n,)
+
+        Returns
+        -------
+        numpy.ndarray, shape (ndx,)
+        """
+        return np.asarray(x1, dtype=float) - np.asarray(x0, dtype=float)
+
+    def retract(self, x, dx) -> np.ndarray:
+        """The state reached from ``x`` along the tangent vector ``dx`` (Euclidean: ``x + dx``).
+
+        Parameters
+        ----------
+        x : array_like, shape (n,)
+        dx : array_like, shape (ndx,)
+
+        Returns
+        -------
+        numpy.ndarray, shape (n,)
+        """
+        return np.asarray(x, dtype=float) + np.asarray(dx, dtype=float)
+
+    def tangent_jacobian(self, x, J) -> np.ndarray:
+        """A Jacobian of the state with respect to anything, ``(n, k)``, as a Jacobian of the
+        tangent coordinates of :meth:`diff` at ``x``, ``(ndx, k)`` (the identity by default)."""
+        return J
+
+    def error(self, x, target) -> float:
+        """:math:`\\|\\mathrm{diff}(x, \\mathrm{target})\\|_2`, the distance the planner reports."""
+        d = self.diff(x, target)
+        return float(np.sqrt(d @ d))
+
+    # ------------------------------------------------------------------ family hooks
+    def check_segment(self, x0: np.ndarray, x1: np.ndarray, duration: float, limits=None) -> Infeasibility | None:
+        """Exact feasibility test of steering ``x0`` to ``x1`` in ``duration``.
+
+        Returns ``None`` when the segment may be feasible (or no test is known), else an
+        :class:`Infeasibility` that proves it is not. ``limits`` is a
+        :class:`~acroplan.core.limits.Limits` or ``None``. The default knows no test.
+        """
+        return None
+
+    def continuation_path(self, y0, x1, x0, duration):
+        """The target path :math:`\\pi(\\tau)`, :math:`\\tau \\in [0, 1]`, from ``y0`` (the start input's
+        endpoint) to ``x1``, for path deformation. Default: the geodesic
+        :math:`\\mathrm{retract}(y_0, \\tau\\,\\mathrm{diff}(y_0, x_1))` (a straight segment in a
+        Euclidean state space).
+
+        Returns
+        -------
+        callable
+            ``pi(tau) -> numpy.ndarray, shape (n,)``.
+        """
+        y0 = np.asarray(y0, dtype=float)
+        d = self.diff(y0, x1)
+        return lambda tau: self.retract(y0, tau * d)
+
+    def auto_strategy(self):
+        """The strategy ``method="auto"`` uses for this system: a
+        :class:`~acroplan.core.strategies.Strategy`, or ``None`` for the core's default, path
+        deformation with the basis sizes 6, 10 and 14 and 100 evaluations per size
+        (:data:`acroplan.core.strategies.AUTO_DEFAULT`). A family with better knowledge (a flat
+        output, a good first guess) overrides it."""
+        return None
+
+    def lumped(self) -> dict[str, float]:
+        """Parameter values by name."""
+        return {name: float(getattr(self, name)) for name in self.param_names}
+
+    def to_dict(self) -> dict[str, Any]:
+        """What a result file records of the system: its type and parameters (families add more)."""
+        return {"type": type(self).__name__, "params": self.lumped()}

@@ -1,0 +1,44 @@
+"""The free-flying two-link acrobot (the dissertation's body).
+
+* :mod:`~.model`: :class:`Acrobot`, :class:`PhysicalParameters`;
+* :mod:`~.reach`: exact reachable sets with joint and rate limits;
+* :mod:`~.flat`: the flat output: guesses, the three-piece planner, the strategies ``"flat"`` and
+  the acrobot's ``"auto"`` (registered on import);
+* :mod:`~.nilpotent`: Chapter 4's nilpotentization;
+* :mod:`~.verify`: exact checks with no ODE integrator;
+* :mod:`~.zoo`: random bodies and problems for tests and benchmarks;
+* :mod:`~.plots`, :mod:`~.drawing`: its figures and animation.
+"""
+
+from . import flat  # noqa: F401  (registers the "flat" strategy)
+from .model import Acrobot, PhysicalParameters
+from .reach import Reach, reachable_set
+
+__all__ = ["Acrobot", "PhysicalParameters", "Reach", "reachable_set", "reachable_interval"]
+
+
+def reachable_interval(robot: Acrobot, *, theta0: float, phi0: float, phiT: float, T: float,
+                       u_max: float | None = None, phi_min: float | None = None, phi_max: float | None = None):
+    """The exact interval of :math:`\\theta(T)` reachable by the acrobot.
+
+    Without limits it is open (:meth:`Acrobot.reachable_interval`); with a rate bound ``u_max`` it
+    is closed, its ends attained by bang-dwell-bang joint motions; joint limits
+    ``phi_min``/``phi_max`` narrow it further (:func:`acroplan.families.acrobot.reach.reachable_set`).
+
+    Returns
+    -------
+    (low, high) : tuple of float
+
+    Raises
+    ------
+    InvalidInputError
+        For invalid limits, or when no joint motion satisfies them (the message says why).
+    """
+    from ...core.errors import InvalidInputError
+    from ...core.limits import Limits
+
+    R = reachable_set(robot, theta0=theta0, phi0=phi0, phiT=phiT, T=T,
+                      limits=Limits(phi_min=phi_min, phi_max=phi_max, u_max=u_max))
+    if R.empty:
+        raise InvalidInputError("phi", R.reason, "relax the limits or move the waypoints")
+    return R.low, R.high

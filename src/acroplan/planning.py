@@ -1,0 +1,333 @@
+"""The front door for planning: :func:`plan`.
+
+A plan passes through waypoints :math:`x_0, \\dots, x_K` at times :math:`t_0 < \\dots < t_K`. The
+work is shared out as follows, and this module names no body:
+
+1. validation (:class:`PlanRequest`): every argument checked at the boundary, messages naming the
+   field and the fix;
+2. exact feasibility: the system's own test (:meth:`ControlAffineSystem.check_segment`, with the
+   limits) refuses an impossible request with its proof; spline conditions that break the limits
+   are refused too (:class:`~acroplan.core.conditions.Conditions`);
+3. each waypoint interval is planned by a strategy (:mod:`acroplan.core.strategies`): a registered
+   name, an object, or ``"auto"``, the system's own choice;
+4. every result is checked for compliance with the limits exactly, and every successful plan is
+   re-simulated independently (:mod:`acroplan.core.verify`) unless ``verify=False``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from .core import backend
+from .core.basis import InputBasis, make_basis
+from .core.conditions import CONDITIONS, Conditions
+from .core.errors import InvalidInputError
+from .core.limits import Limits
+from .core.result import PlanResult, SegmentResult, Status
+from .core.strategies import Interval, Strategy, resolve_strategy
+from .core.system import ControlAffineSystem
+from .core.verify import VERIFY_TOL, verify_plan
+
+__all__ = ["plan", "warm_up", "PlanRequest", "CONDITIONS", "VERIFY_TOL", "DEFAULT_SIZE"]
+
+#: Coefficients per input per segment when neither ``n_coefficients`` nor the strategy says.
+DEFAULT_SIZE = 6
+
+
+def _vector(field, value, length=None) -> np.ndarray:
+    try:
+        a = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise InvalidInputError(field, "must be a list of numbers", "give for example [0, 2, 4]") from None
+    if a.ndim != 1:
+        raise InvalidInputError(field, f"must be a flat list of numbers, got shape {a.shape}",
+                                "give one number per waypoint")
+    if length is not None and a.size != length:
+        raise InvalidInputError(field, f"has {a.size} value(s) but times has {length}",
+                                "give one value per waypoint time")
+    if not np.isfinite(a).all():
+        raise InvalidInputError(field, "contains NaN or infinite values", "give finite numbers")
+    return a
+
+
+def _whole(field, value, example) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
+        raise InvalidInputError(field, f"must be a whole number >= 1, got {value!r}", f"give for example {example}")
+    return int(value)
+
+
+@dataclasses.dataclass(frozen=True)
+class PlanRequest:
+    """A validated call of :func:`plan`: build it with :meth:`build`, which checks every argument.
+
+    Attributes
+    ----------
+    system : ControlAffineSystem
+    times : numpy.ndarray, shape (K+1,)
+    waypoints : numpy.ndarray, shape (K+1, n)
+    conditions : str
+    strategy : Strategy
+    basis : InputBasis
+        The basis family, at the first size used.
+    sizes : tuple of int or None
+        The user's ``n_coefficients``, or ``None`` (the strategy chooses).
+    limits : Limits
+    verify : bool
+    tol : float
+    max_evaluations : int
+    """
+
+    system: ControlAffineSystem
+    times: np.ndarray
+    waypoints: np.ndarray
+    conditions: str
+    strategy: Strategy
+    basis: InputBasis
+    sizes: tuple[int, ...] | None
+    limits: Limits
+    verify: bool
+    tol: float
+    max_evaluations: int
+
+    @classmethod
+    def build(cls, system, *, times, conditions: str = "spline", method="auto", basis="legendre",
+              n_coefficients: int | None = None, limits: Limits | None = None, u_max: float | None = None,
+              state_bounds=None, input_bounds=None, verify: bool = True, tol: float = 1e-10,
+              max_evaluations: int = 2000, **named) -> "PlanRequest":
+        """Validate :func:`plan`'s arguments (same keywords). Raises :class:`InvalidInputError`."""
+        if not isinstance(system, ControlAffineSystem):
+            raise InvalidInputError("system", f"must be a ControlAffineSystem, got {type(system).__name__}",
+                                    "use for example acroplan.Acrobot(...)")
+        states = system.state_names
+        waypoints, shorthand = {}, {}
+        for key, value in named.items():
+            if key in states:
+                waypoints[key] = value
+            elif (key.endswith("_min") or key.endswith("_max")) and key[:-4] in states:
+                shorthand[key] = value
+            else:
+                raise InvalidInputError(key, f"is not an option of plan() nor a state of {type(system).__name__}",
+                                        f"states are {list(states)}; bounds are NAME_min / NAME_max")
+        t = _vector("times", times)
+        if t.size < 2:
+            raise InvalidInputError("times", f"needs at least 2 values, got {t.size}", "give start and end times")
+        tl = t.tolist()
+        if any(b <= a for a, b in zip(tl, tl[1:])):
+            raise InvalidInputError("times", "must be strictly increasing", "sort the waypoints by time")
+        missing = [name for name in states if name not in waypoints]
+        if missing:
+            raise InvalidInputError(missing[0], "is missing", f"give one value per waypoint for every state "
+                                    f"{list(states)}")
+        X = np.stack([_vector(name, waypoints[name], t.size) for name in states], axis=1)
+        if conditions not in CONDITIONS:
+            raise InvalidInputError("conditions", f"must be one of {list(CONDITIONS)}, got {conditions!r}",
+                                    "use \"spline\" (the text's scheme) or \"free\"")
+        if conditions == "spline" and set(system.rate_inputs) != set(system.input_names):
+            raise InvalidInputError("conditions", f"\"spline\" needs every input to be the rate of a state, "
+                                    f"which {type(system).__name__} does not have", "use conditions=\"free\"")
+        strategy = resolve_strategy(method, system)
+        sizes = None if n_coefficients is None else (_whole("n_coefficients", n_coefficients, 6),)
+        b = make_basis(basis, sizes[0] if sizes else DEFAULT_SIZE)
+        if not (isinstance(tol, (int, float)) and not isinstance(tol, bool) and math.isfinite(tol) and tol > 0):
+            raise InvalidInputError("tol", f"must be a positive number, got {tol!r}", "give for example 1e-10")
+        max_evaluations = _whole("max_evaluations", max_evaluations, 2000)
+        if not isinstance(verify, bool):
+            raise InvalidInputError("verify", f"must be True or False, got {verify!r}", "give a boolean")
+        if limits is not None and not isinstance(limits, Limits):
+            raise InvalidInputError("limits", f"must be an acroplan.Limits, got {type(limits).__name__}",
+                                    "give Limits(...) or the keywords u_max, NAME_min, NAME_max")
+        if limits is not None and (u_max is not None or state_bounds or input_bounds or shorthand):
+            raise InvalidInputError("limits", "is given together with limit keywords",
+                                    "give either limits=Limits(...) or the keywords")
+        if limits is None:
+            limits = Limits(state_bounds, input_bounds, u_max=u_max, **shorthand)
+        limits.check_for(system)
+        for state in limits.bounded_states:
+            i = states.index(state)
+            lo, hi = limits.bounds(state)
+            for k, v in enumerate(X[:, i]):
+                if not lo <= v <= hi:
+                    raise InvalidInputError(state, f"waypoint {k} (t = {t[k]:g}) has {state} = {v:.12g}, outside "
+                                            f"the joint limits [{lo:.12g}, {hi:.12g}]",
+                                            "move the waypoint inside the limits or widen them")
+        return cls(system=system, times=t, waypoints=X, conditions=conditions, strategy=strategy, basis=b,
+                   sizes=sizes, limits=limits, verify=verify, tol=float(tol), max_evaluations=max_evaluations)
+
+
+def plan(system: ControlAffineSystem, *, times, conditions: str = "spline", method="auto", basis="legendre",
+         n_coefficients: int | None = None, limits: Limits | None = None, u_max: float | None = None,
+         state_bounds=None, input_bounds=None, verify: bool = True, tol: float = 1e-10,
+         max_evaluations: int = 2000, progress=None, **waypoints) -> PlanResult:
+    r"""Plan a motion of ``system`` through waypoints.
+
+    Parameters
+    ----------
+    system : ControlAffineSystem
+        For example :class:`acroplan.Acrobot`.
+    times : array_like, shape (K+1,)
+        Strictly increasing waypoint times.
+    **waypoints : array_like, shape (K+1,)
+        One keyword per state, by the system's state names (``theta=..., phi=...`` for the
+        acrobot). Every state must be given. ``NAME_min=``, ``NAME_max=`` bound a state whose rate
+        is an input (``phi_min``, ``phi_max`` for the acrobot's joint).
+    conditions : {"spline", "free"}
+        Input conditions (:mod:`acroplan.core.conditions`). ``"spline"`` needs every input to be
+        the rate of a state (:attr:`ControlAffineSystem.rate_inputs`).
+    method : str or Strategy
+        ``"auto"`` (the system's own choice), a registered strategy (``"deform"``, the text's path
+        deformation; ``"flat"`` for the acrobot), or a :class:`~acroplan.core.strategies.Strategy`.
+    basis : {"legendre", "monomial"} or InputBasis
+        Internal basis of each segment's input (results are also exported in the power basis).
+    n_coefficients : int, optional
+        Coefficients per input per segment. Default: the strategy's choice (6, the text's, for
+        ``"deform"``; 6, 10 or 14 for ``"auto"``).
+    limits : Limits, optional
+        All bounds at once; or the keywords ``u_max`` (:math:`|u_j| \le u_{max}` for every input),
+        ``state_bounds`` (``{"phi": (lo, hi)}``), ``input_bounds`` (``{"u": 15.0}``), ``NAME_min``,
+        ``NAME_max``.
+    verify : bool
+        Re-simulate the plan with scipy DOP853 (rtol = atol = 3e-14) and require every waypoint
+        within :data:`VERIFY_TOL`. Skip only for speed in batch work.
+    tol : float
+        Required endpoint error of each segment (compiled integrator).
+    max_evaluations : int
+        Evaluation budget per segment and basis size.
+    progress : callable, optional
+        Called as ``progress(done, total)`` after each waypoint interval (for a progress bar).
+
+    Returns
+    -------
+    PlanResult
+
+    Raises
+    ------
+    InvalidInputError
+        For any invalid argument, naming it.
+
+    Examples
+    --------
+    >>> import numpy as np, acroplan
+    >>> robot = acroplan.examples.robot("pike-dive")
+    >>> res = acroplan.plan(robot, times=[0, 2], theta=[-0.5 * np.pi, 0.9 * np.pi],
+    ...                     phi=[-np.pi, -2 * np.pi])
+    >>> res.status
+    'success'
+    """
+    req = PlanRequest.build(system, times=times, conditions=conditions, method=method, basis=basis,
+                            n_coefficients=n_coefficients, limits=limits, u_max=u_max, state_bounds=state_bounds,
+                            input_bounds=input_bounds, verify=verify, tol=tol, max_evaluations=max_evaluations,
+                            **waypoints)
+    return solve(req, progress=progress)
+
+
+def solve(req: PlanRequest, *, progress=None) -> PlanResult:
+    """Plan a validated :class:`PlanRequest` (what :func:`plan` does after validation)."""
+    system, t, X = req.system, req.times, req.waypoints
+    limits = req.limits if req.limits.active else None
+    common = dict(system=system, times=t, waypoints=X, conditions=req.conditions, basis=req.basis, limits=limits)
+    K = t.size - 1
+
+    # ---------------------------------------------------------------- exact feasibility, all segments
+    infeasible = []
+    for k in range(K):
+        proof = system.check_segment(X[k], X[k + 1], t[k + 1] - t[k], limits)
+        if proof is not None:
+            infeasible.append({"index": k, "t0": float(t[k]), "t1": float(t[k + 1]), "field": proof.field,
+                               "interval": list(proof.interval) if proof.interval else None,
+                               "reason": proof.reason})
+    if infeasible:
+        msg = "; ".join(f"segment {d['index']} [{d['t0']:g}, {d['t1']:g}]: {d['reason']}" for d in infeasible)
+        return PlanResult(status=Status.INFEASIBLE, message="infeasible: " + msg, infeasible=tuple(infeasible),
+                          **common)
+    conditions = Conditions(req.conditions, system, t, X, limits)
+    proof = conditions.infeasible()
+    if proof:
+        return PlanResult(status=Status.INFEASIBLE, message="infeasible: " + proof["reason"], infeasible=(proof,),
+                          **common)
+
+    # ---------------------------------------------------------------- plan each waypoint interval
+    segments: list[SegmentResult] = []
+    prev_end_input = None
+    for k in range(K):
+        interval = Interval(system=system, basis=req.basis, sizes=req.sizes, x0=X[k], x1=X[k + 1],
+                            T=float(t[k + 1] - t[k]), ends=conditions.ends(k, prev_end_input), limits=limits,
+                            tol=req.tol, max_evaluations=req.max_evaluations)
+        out = req.strategy.solve(interval)
+        for i, piece in enumerate(out.pieces):
+            t1 = float(t[k + 1]) if i == len(out.pieces) - 1 else piece.t1 + float(t[k])
+            t0 = piece.t0 + float(t[k])
+            if (piece.index, piece.interval, piece.t0, piece.t1) != (len(segments), k, t0, t1):
+                piece = dataclasses.replace(piece, index=len(segments), interval=k, t0=t0, t1=t1)
+            segments.append(piece)
+        if not out.success:
+            msg = (f"not converged: segment {k} [{t[k]:g}, {t[k + 1]:g}] from {_fmt(X[k], system)} to "
+                   f"{_fmt(X[k + 1], system)}: {out.reason}")
+            return PlanResult(status=Status.NOT_CONVERGED, message=msg, segments=tuple(segments), **common)
+        if progress is not None:
+            progress(k + 1, K)
+        if k + 1 < K:  # the input value the next interval starts with (free conditions)
+            last = segments[-1]
+            prev_end_input = last.input([last.t1])[:, 0]
+    segments = tuple(segments)
+    worst_final = max(s.final_error for s in segments)
+    if not req.verify:
+        return PlanResult(status=Status.SUCCESS, message=f"success: {K} segment(s), max endpoint error "
+                          f"{worst_final:.2e} (not independently verified)", segments=segments, verified=False,
+                          **common)
+
+    # ---------------------------------------------------------------- independent check
+    checked, bad = verify_plan(system, X[0], segments)
+    if bad is not None:
+        return PlanResult(status=Status.NOT_CONVERGED, message=f"not converged: the independent re-simulation (scipy "
+                          f"DOP853) misses the planned state at t = {bad.t1:g} by {bad.verified_error:.2e} > "
+                          f"{VERIFY_TOL:g}", segments=checked, verified=True, **common)
+    worst = max(s.verified_error for s in checked)
+    return PlanResult(status=Status.SUCCESS, message=f"success: {K} segment(s), max endpoint error "
+                      f"{max(s.final_error for s in checked):.2e}, independently verified to {worst:.2e}",
+                      segments=checked, verified=True, **common)
+
+
+def warm_up(system: ControlAffineSystem | type, *, basis: str = "legendre", sizes=(6, 10, 14)) -> None:
+    """Compile the integrators :func:`plan` uses for ``system``, so that the first plan is warm.
+
+    One compiled integrator serves every system of one structure (parameters, durations and
+    coefficients are runtime values); this builds the ones for each basis size in ``sizes``
+    (default: those ``method="auto"`` may use) in this process. Without it, each process compiles
+    on first use.
+
+    Parameters
+    ----------
+    system : ControlAffineSystem, or a class whose instances all share one structure and that can
+        be built without arguments (``Unicycle``); for the acrobot pass an instance or
+        ``acroplan.Acrobot`` (a representative instance is used).
+    basis : {"legendre", "monomial"}
+    sizes : iterable of int
+    """
+    if isinstance(system, type):
+        if not issubclass(system, ControlAffineSystem):
+            raise InvalidInputError("system", f"must be a ControlAffineSystem, got {system!r}",
+                                    "use for example acroplan.Acrobot(...)")
+        system = _representative(system)
+    if not isinstance(system, ControlAffineSystem):
+        raise InvalidInputError("system", f"must be a ControlAffineSystem, got {type(system).__name__}",
+                                "use for example acroplan.Acrobot(...)")
+    for n in sizes:
+        backend.compile_for(system, type(make_basis(basis, int(n))), int(n))
+
+
+def _representative(cls):
+    example = getattr(cls, "example", None)
+    if callable(example):
+        return example()
+    try:
+        return cls()
+    except TypeError:
+        raise InvalidInputError("system", f"{cls.__name__} needs parameters to be built",
+                                "pass an instance instead of the class") from None
+
+
+def _fmt(x, system):
+    return "(" + ", ".join(f"{n} = {v:.6g}" for n, v in zip(system.state_names, x)) + ")"
