@@ -70,12 +70,16 @@ def batch(probs):
 
 def heyoka_batch_mode(reps=2000):
     """The compiled variational system of acroplan, scalar vs SIMD batch mode."""
+    import copy
+
     import heyoka as hy
 
     from acroplan.core import backend as _integrate
     from acroplan.core.basis import Legendre
 
-    ta, _, state, pars, n_p = _integrate._compiled(acroplan.Acrobot, Legendre, 6)
+    robot = random_segment(np.random.default_rng(0)).robot  # any acrobot: one structure, one integrator
+    ta = copy.copy(_integrate.compile_for(robot, Legendre, 6))  # this run's own copy of the template
+    state, pars, n_p = ta.state, ta.pars, len(robot.param_names)
     B = hy.recommended_simd_size()
     rng = np.random.default_rng(0)
     P = np.zeros((ta.pars.size, B))

@@ -34,7 +34,7 @@ def main():
     profiler.stop()
     text = profiler.output_text(unicode=False, color=False, show_all=False)
     lines = [ln for ln in text.splitlines() if ln.strip()]
-    start = next(i for i, ln in enumerate(lines) if "plan " in ln and "planner.py" in ln)
+    start = next(i for i, ln in enumerate(lines) if "plan " in ln and "acroplan/planning.py" in ln)
     indent = len(lines[start]) - len(lines[start].lstrip())
     for ln in lines[start:]:
         depth = (len(ln) - len(ln.lstrip(" |`-")) - indent) // 3

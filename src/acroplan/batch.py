@@ -150,23 +150,50 @@ def plan_many(problems: Iterable, *, executor="process", workers: int | None = N
     size = int(chunksize or max(1, min(64, n // (4 * workers))))
     chunks = [list(range(i, min(n, i + size))) for i in range(0, n, size)]
     pool, owned = _executor(executor, workers)
-    done = 0
+    done = [0]
+
+    def record(idx, out):
+        for i, res in zip(idx, out):
+            results[i] = res
+        done[0] += len(idx)
+        if progress:
+            progress(done[0], n)
+
+    def fail(i, e, what="the worker planning this problem failed"):
+        record([i], [_failed(jobs[i], f"{what} ({type(e).__name__}: {e})")])
+
     try:
+        suspects, broken = [], None
         futures = {pool.submit(_run_chunk, [jobs[i] for i in idx]): idx for idx in chunks}
         for fut in cf.as_completed(futures):
             idx = futures[fut]
             try:
-                out = fut.result()
+                record(idx, fut.result())
             except InvalidInputError:
                 raise
-            except (Exception, SystemExit) as e:  # the worker died (killed, os._exit, sys.exit): mark its problems
-                why = f"the worker planning this problem failed ({type(e).__name__}: {e})"
-                out = [_failed(jobs[i], why) for i in idx]
-            for i, res in zip(idx, out):
-                results[i] = res
-            done += len(idx)
-            if progress:
-                progress(done, n)
+            except (Exception, SystemExit) as e:  # the task failed: a worker died, or exited
+                if isinstance(e, cf.BrokenExecutor):
+                    broken = e  # every task still running or pending fails with it, innocent or not
+                if len(idx) == 1 and broken is None:
+                    fail(idx[0], e)
+                else:
+                    suspects += idx
+        # which problem was it? the suspects one at a time, each alone on the executor
+        for i in sorted(suspects):
+            if broken is not None:
+                if not owned:  # the caller's executor is broken: say so, never lose a problem silently
+                    fail(i, broken, "a worker of the executor died while this problem was pending or running")
+                    continue
+                pool.shutdown(wait=True, cancel_futures=True)
+                pool, owned, broken = *_executor(executor, workers), None
+            try:
+                record([i], pool.submit(_run_chunk, [jobs[i]]).result())
+            except InvalidInputError:
+                raise
+            except (Exception, SystemExit) as e:
+                if isinstance(e, cf.BrokenExecutor):
+                    broken = e
+                fail(i, e)
     finally:
         if owned:
             pool.shutdown(wait=True, cancel_futures=True)
