@@ -118,7 +118,7 @@ def main():
     text = f"""# Chapter 5, measured: the methods compared
 
 The text concludes qualitatively that path deformation is practical and nilpotentization is not,
-because the author could not satisfy u1 > 0. With the inequality handled (acroplan.nilpotent), both
+because the author could not satisfy u1 > 0. With the inequality handled (acroplan.families.acrobot.nilpotent), both
 work; this table says how they compare on the same {len(probs)} problems: the Chapter 4 example (Q with
 phi = pi/4 and -pi/4) and {args.n} random physical bodies (t(P) = 0, |phi| < pi at both ends, theta(T) in
 the middle 80% of the exact reachable interval within the chart |phi| < pi).

@@ -1,7 +1,12 @@
 """Chapter 4: the derived construction against the printed formulas (with the errata), the endpoint
 equations, solutions with time moving forward, the failure mode, the flat-output variant."""
 
+import ast
+import dataclasses
+import inspect
+import json
 import math
+import textwrap
 
 import numpy as np
 import pytest
@@ -170,3 +175,99 @@ def test_equations_printed_like_the_text(robot):
 def test_bad_nilpotent_input(robot, P, Q, match):
     with pytest.raises(acroplan.InvalidInputError, match=match):
         nil.NilpotentProblem(robot, P, Q, 3)
+
+
+# ---------------------------------------------------------------- the result types (one per method)
+@pytest.fixture(scope="module")
+def ch4(robot):
+    """The text's example solved both ways, and its counterexample."""
+    prob = nil.NilpotentProblem(robot, (PI / 4, 0, 0), (-PI / 4, 2, 1.4 * PI), 3)
+    series = nil.solve_nilpotent(prob)
+    return prob, series, nil.solve_flat_y(prob), nil.counterexample(prob, series.m)
+
+
+def test_each_method_returns_its_own_result_type(ch4):
+    prob, series, flat, bad = ch4
+    assert type(series) is nil.SeriesResult and type(bad) is nil.SeriesResult
+    assert type(flat) is nil.FlatYResult
+    for res, method in ((series, "nilpotent"), (bad, "nilpotent"), (flat, "flat-y")):
+        assert isinstance(res, nil.NilpotentResult) and res.method == method
+        assert res.to_dict()["method"] == method
+    assert series.success and flat.success
+    assert set(series.to_dict()["coefficients"]) == {"v1", "v2"}
+    assert set(flat.to_dict()["coefficients"]) == {"phi_of_y"}
+    # replace keeps the subclass; the base is abstract
+    assert type(dataclasses.replace(flat, message="x")) is nil.FlatYResult
+    with pytest.raises(TypeError):
+        nil.NilpotentResult(success=True, status="success", message="", problem=prob, m=series.m, residual=0.0,
+                            margin=1.0, phi_max=0.0)
+
+
+def test_results_are_frozen_and_hold_no_late_caches(ch4):
+    _, series, flat, _ = ch4
+    for res in (series, flat):
+        assert not res.m.flags.writeable
+        with pytest.raises(dataclasses.FrozenInstanceError):
+            res.margin = 0.0
+        res.eps_of_t(1.0)
+        assert "_table" not in vars(res)
+    assert "_pp" in vars(series)  # built at construction
+
+
+def test_no_method_of_the_base_branches_on_the_method(ch4):
+    src = inspect.getsource(nil.NilpotentResult)
+    assert "self.method" not in src
+    for cls in (nil.NilpotentResult, nil.SeriesResult, nil.FlatYResult):
+        tree = ast.parse(textwrap.dedent(inspect.getsource(cls)))
+        for node in ast.walk(tree):
+            if isinstance(node, ast.Compare):
+                names = {n.attr for n in ast.walk(node) if isinstance(n, ast.Attribute)}
+                assert "method" not in names, f"{cls.__name__} compares .method: {ast.unparse(node)}"
+
+
+@pytest.mark.parametrize("which", [1, 2])
+def test_evaluate_meets_P_and_Q_and_gives_u_of_t(ch4, which):
+    prob, res = ch4[0], ch4[which]
+    t = np.linspace(prob.P[1], prob.Q[1], 9)
+    S = res.evaluate(t)
+    assert isinstance(S, acroplan.Samples)
+    assert S.states.shape == (2, 9) and S.inputs.shape == (1, 9) and np.array_equal(S.t, t)
+    assert S.state_names == ("theta", "phi") and S.input_names == ("u",)
+    assert S.theta[0] == pytest.approx(prob.P[2], abs=1e-9) and S.phi[0] == pytest.approx(prob.P[0], abs=1e-9)
+    assert S.theta[-1] == pytest.approx(prob.Q[2], abs=1e-9) and S.phi[-1] == pytest.approx(prob.Q[0], abs=1e-9)
+    assert np.array_equal(S.u, [res.u_of_t(x) for x in t])
+    # interior points lie on the curve at the mapped-back virtual time
+    e = res.eps_of_t(t[4])
+    tc, thc, phc, _ = res.curve(np.array([e]))
+    assert tc[0] == pytest.approx(t[4], abs=1e-12)
+    assert (S.theta[4], S.phi[4]) == pytest.approx((thc[0], phc[0]), abs=1e-12)
+    assert res.evaluate(prob.Q[1]).states.shape == (2, 1)
+
+
+def test_evaluate_refuses_times_outside_and_backward_clocks(ch4):
+    prob, series, _, bad = ch4
+    for t in (prob.P[1] - 0.1, prob.Q[1] + 0.1, float("nan")):
+        with pytest.raises(ValueError, match=r"\[P.t, Q.t\]"):
+            series.evaluate([prob.P[1], t])
+    with pytest.raises(ValueError, match="does not run forward"):
+        bad.evaluate([prob.P[1]])
+
+
+def test_to_json_round_trips_to_to_dict(ch4):
+    for res in ch4[1:3]:
+        text = res.to_json()
+        assert text.startswith('{\n  "status"')  # indent 2 by default
+        assert json.loads(text) == res.to_dict()
+        assert "\n" not in res.to_json(indent=None)
+
+
+def test_plot_gives_the_figures_of_plot_nilpotent(ch4):
+    import matplotlib.pyplot as plt
+
+    _, series, flat, bad = ch4
+    try:
+        assert set(series.plot(samples=41)) == {"input", "states", "u1"}
+        assert set(series.plot(bad, samples=41)) == {"input", "states", "u1", "failure_mode"}
+        assert set(flat.plot(samples=41)) == {"input", "states", "u1"}
+    finally:
+        plt.close("all")

@@ -172,7 +172,7 @@ class Monomial(InputBasis):
         return np.eye(self.n)
 
     def expression(self, s, c):
-        # Horner form: time**i gives non-finite Taylor coefficients at s = 0 (NOTES.md).
+        # Horner form: time**i gives non-finite Taylor coefficients at s = 0 (heyoka 7.13: err_nf_state).
         u = c[self.n - 1]
         for i in range(self.n - 2, -1, -1):
             u = c[i] + s * u

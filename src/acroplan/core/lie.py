@@ -6,7 +6,7 @@ bracket is
 .. math::  [f, g] = \\frac{\\partial g}{\\partial x} f - \\frac{\\partial f}{\\partial x} g ,
 
 the convention of Murray and Sastry, under which the acrobot's time-extended fields give the
-brackets of NOTES.md (erratum 4).
+brackets of erratum 4 (docs/chapter4.md).
 
 * :func:`bracket`, :func:`derived_distributions` and :func:`growth_vector`, :func:`larc`;
 * :func:`hall_basis` (the P. Hall basis as words, nested tuples of generator indices) and

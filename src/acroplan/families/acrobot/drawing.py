@@ -1,6 +1,6 @@
 """Animation and strobe figures of the acrobot, drawn to scale in the centre-of-mass frame.
 
-Geometry (NOTES.md): from the joint, the torso's centre of mass is at :math:`L\\,e(\\theta+\\varphi)`
+Geometry (docs/mathematics.md, Model): from the joint, the torso's centre of mass is at :math:`L\\,e(\\theta+\\varphi)`
 and the leg's at :math:`l\\,e(\\theta)`, :math:`e(a) = (\\cos a, \\sin a)`. Each link is drawn as a
 uniform rod through its centre of mass, from the joint to twice that distance (torso end
 :math:`2L\\,e(\\theta+\\varphi)`, leg end :math:`2l\\,e(\\theta)`). The picture's origin is the body's

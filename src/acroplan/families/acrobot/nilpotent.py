@@ -33,9 +33,12 @@ exact (the nilpotent flow is a finite product of exponentials), plus :math:`u_1(
 
 from __future__ import annotations
 
+import abc
 import dataclasses
 import functools
+import json
 import math
+from typing import ClassVar, final
 
 import numpy as np
 import sympy as sp
@@ -46,7 +49,8 @@ from scipy.optimize import brentq, minimize
 from ...core.errors import InvalidInputError
 from .model import Acrobot
 
-__all__ = ["Construction", "construction", "NilpotentProblem", "NilpotentResult", "endpoint_equations",
+__all__ = ["Construction", "construction", "NilpotentProblem", "NilpotentResult", "SeriesResult", "FlatYResult",
+           "endpoint_equations",
            "format_equations", "iterated_integrals",
            "solve_nilpotent", "solve_flat_y", "counterexample", "resimulate"]
 
@@ -328,8 +332,18 @@ def _eq_jac(prob, m):
 
 
 @dataclasses.dataclass(frozen=True)
-class NilpotentResult:
-    """A solution of the endpoint equations, mapped back to the acrobot.
+class NilpotentResult(abc.ABC):
+    """A solution of the Chapter 4 problem, mapped back to the acrobot (the common face of the two
+    methods).
+
+    One result type per method, both built with keywords: :class:`SeriesResult` (``method =
+    "nilpotent"``: polynomial :math:`v_1, v_2` in the virtual time :math:`\\varepsilon`, from
+    :func:`solve_nilpotent` and :func:`counterexample`) and :class:`FlatYResult` (``method =
+    "flat-y"``: the flat output as the clock, from :func:`solve_flat_y`). This base is abstract.
+
+    Like a :class:`~acroplan.PlanResult`, a result has :meth:`evaluate` (states and input at the
+    acrobot's times), :meth:`to_dict`, :meth:`to_json` and :meth:`plot`; in the virtual time it has
+    :meth:`curve`, :meth:`clock` and :meth:`u_of_eps`, and :meth:`eps_of_t`, :meth:`u_of_t` map back.
 
     Attributes
     ----------
@@ -339,8 +353,9 @@ class NilpotentResult:
         ``"not_converged"``.
     message : str
     problem : NilpotentProblem
-    m : numpy.ndarray, shape (2 (degree+1),)
-        Coefficients of v1 then v2, ascending powers of epsilon.
+    m : numpy.ndarray, shape (2 (degree+1),) or (3,)
+        A read-only copy. ``"nilpotent"``: coefficients of v1 then v2, ascending powers of epsilon;
+        ``"flat-y"``: coefficients of :math:`\\varphi(\\sigma)`, ascending.
     residual : float
         Largest |endpoint equation residual|.
     margin : float
@@ -350,7 +365,11 @@ class NilpotentResult:
     verified_error : float or None
         :math:`\\|(\\theta, \\varphi)(T) - Q\\|` from re-simulating the acrobot in its own time with the
         mapped-back u(t) (scipy DOP853), when time moves forward.
+    method : str
+        ``"nilpotent"`` or ``"flat-y"``: a class attribute, fixed by the subclass.
     """
+
+    method: ClassVar[str]
 
     success: bool
     status: str
@@ -361,77 +380,94 @@ class NilpotentResult:
     margin: float
     phi_max: float
     verified_error: float | None = None
-    method: str = "nilpotent"
 
-    # ---------------------------------------------------------------- the motion
+    def __post_init__(self):
+        m = np.array(self.m, dtype=float)
+        m.setflags(write=False)
+        object.__setattr__(self, "m", m)
+
+    # ---------------------------------------------------------------- the motion in the virtual time
+    @abc.abstractmethod
     def curve(self, eps):
-        """``(t, theta, phi, u1)`` at virtual times ``eps`` (theta by the exact flow)."""
-        prob = self.problem
-        eps = np.asarray(eps, dtype=float)
-        if self.method == "flat-y":
-            return _flat_curve(self, eps)
-        v2 = _split(self.m, prob.degree)[1]
-        x1 = prob.P[0] + P.polyval(eps, P.polyint(v2))
-        t = self.clock(eps)
-        u1, _ = u1_values(prob, self.m, eps)
-        theta = _theta_along(prob, self.m, eps)
-        return t, theta, x1, u1
+        """The motion at virtual times ``eps`` in [0, 1].
 
+        Parameters
+        ----------
+        eps : array_like, shape (N,)
+
+        Returns
+        -------
+        t, theta, phi, u1 : numpy.ndarray, each shape (N,)
+            The acrobot's time, its two angles (theta by the exact flow) and
+            :math:`u_1 = dt/d\\varepsilon` (for ``"flat-y"``, :math:`dt/d\\sigma`).
+        """
+
+    @abc.abstractmethod
     def u_of_eps(self, eps):
-        """The acrobot's joint rate :math:`u = d\\varphi/dt = v_2/u_1`."""
-        if self.method == "flat-y":
-            return _flat_u(self, eps)
-        v2 = _split(self.m, self.problem.degree)[1]
-        return P.polyval(eps, v2) / u1_values(self.problem, self.m, eps)[0]
+        """The acrobot's joint rate :math:`u = d\\varphi/dt` at virtual times ``eps``.
 
-    def _polys(self):
-        if "_pp" not in self.__dict__:
-            v1, v2 = _split(self.m, self.problem.degree)
-            object.__setattr__(self, "_pp", (v1, v2, P.polyint(v1), P.polyint(v2)))
-        return self.__dict__["_pp"]
+        Parameters
+        ----------
+        eps : array_like, shape (N,)
 
+        Returns
+        -------
+        numpy.ndarray, shape (N,)
+        """
+
+    @abc.abstractmethod
     def clock(self, eps):
-        """The acrobot's time :math:`t(\\varepsilon)`."""
-        prob = self.problem
-        eps = np.atleast_1d(np.asarray(eps, dtype=float))
-        if self.method == "flat-y":
-            return _flat_clock(self, eps)
-        _, _, V1, V2 = self._polys()
-        x1 = prob.P[0] + P.polyval(eps, V2)
-        x2 = prob.x2P + P.polyval(eps, V1)
-        return prob.P[1] + alpha_derivs(prob.robot, x1)[0] * x2
+        """The acrobot's time :math:`t(\\varepsilon)`.
 
+        Parameters
+        ----------
+        eps : float or array_like, shape (N,)
+
+        Returns
+        -------
+        numpy.ndarray, shape (N,)  (shape (1,) for a scalar)
+        """
+
+    @abc.abstractmethod
     def _clock_and_rate(self, e: float):
-        """Scalar t(eps) and dt/deps = u1, in plain floats (the hot path of the re-simulation)."""
-        prob, r = self.problem, self.problem.robot
-        if self.method == "flat-y":
-            dy = prob.Q[2] + float(r.F(prob.Q[0])) - prob.P[2] - float(r.F(prob.P[0]))
-            return float(_flat_clock(self, np.array([e]))[0]), dy / r.P0 * float(r.h(_horner(self.m, e)))
-        v1, v2, V1, V2 = self._polys()
-        x1 = prob.P[0] + _horner(V2, e)
-        x2 = prob.x2P + _horner(V1, e)
-        if abs(x1) < 1e-3:
-            s0, s1 = 1 + x1 * x1 / 6, x1 / 3
-        else:
-            sn, cs = math.sin(x1), math.cos(x1)
-            s0, s1 = x1 / sn, (sn - x1 * cs) / (sn * sn)
-        h = r.M1 + r.A1 * math.cos(x1)
-        hp = -r.A1 * math.sin(x1)
-        n = (r.M1 + r.A1) ** 2
-        a0, a1 = s0 * h * h / n, (s1 * h * h + 2 * s0 * h * hp) / n
-        return prob.P[1] + a0 * x2, a0 * _horner(v1, e) + x2 * a1 * _horner(v2, e)
+        """Scalar t(eps) and dt/deps, in plain floats (the hot path of the re-simulation)."""
+
+    @abc.abstractmethod
+    def _u_at(self, e: float) -> float:
+        """Scalar u = dphi/dt at the virtual time ``e``."""
+
+    @abc.abstractmethod
+    def _coefficients(self) -> dict:
+        """The ``"coefficients"`` entry of :meth:`to_dict`."""
+
+    # ---------------------------------------------------------------- back to the acrobot's time
+    @functools.cached_property
+    def _clock_table(self):
+        """``(eps, t(eps))`` on 2049 points: the brackets of :meth:`eps_of_t` (built on first use)."""
+        e = np.linspace(0.0, 1.0, 2049)
+        return e, self.clock(e)
 
     def eps_of_t(self, t):
-        """Invert the (increasing) clock t(eps): a table brackets, Brent's method finishes."""
+        """The virtual time at the acrobot's time ``t``: the inverse of the (increasing) clock.
+
+        A table brackets, Newton's method (safeguarded by the bracket) and Brent's method finish.
+
+        Parameters
+        ----------
+        t : float
+            Times before ``P.t`` give 0, after ``Q.t`` give 1.
+
+        Returns
+        -------
+        float
+            :math:`\\varepsilon \\in [0, 1]`.
+        """
         T0, T1 = self.problem.P[1], self.problem.Q[1]
         if t <= T0:
             return 0.0
         if t >= T1:
             return 1.0
-        if "_table" not in self.__dict__:
-            e = np.linspace(0.0, 1.0, 2049)
-            object.__setattr__(self, "_table", (e, self.clock(e)))
-        e, tt = self.__dict__["_table"]
+        e, tt = self._clock_table
         i = int(np.clip(np.searchsorted(tt, t), 1, e.size - 1))
         lo, hi = e[i - 1], e[i]
         f = lambda x: float(self.clock(x)[0]) - t  # noqa: E731
@@ -452,19 +488,219 @@ class NilpotentResult:
         return brentq(f, lo, hi, xtol=1e-15, rtol=1e-15)
 
     def u_of_t(self, t):
-        e = self.eps_of_t(t)
-        if self.method == "nilpotent":
-            return _horner(self._polys()[1], e) / self._clock_and_rate(e)[1]
-        return float(self.u_of_eps(np.array([e]))[0])
+        """The input :math:`u(t) = d\\varphi/dt` at the acrobot's time ``t``.
 
+        Parameters
+        ----------
+        t : float
+
+        Returns
+        -------
+        float
+        """
+        return self._u_at(self.eps_of_t(t))
+
+    def evaluate(self, t):
+        """States and input at the acrobot's times ``t``, like :meth:`acroplan.PlanResult.evaluate`.
+
+        Each time is mapped to its virtual time by :meth:`eps_of_t`; the angles are read off
+        :meth:`curve` there and the input is :meth:`u_of_t`.
+
+        Parameters
+        ----------
+        t : float or array_like, shape (N,)
+            Times in ``[P.t, Q.t]`` (the problem's ``P[1]`` and ``Q[1]``).
+
+        Returns
+        -------
+        acroplan.core.result.Samples
+            ``t`` shape (N,), ``states`` shape (2, N) for ``("theta", "phi")``, ``inputs`` shape
+            (1, N) for ``("u",)``.
+
+        Raises
+        ------
+        ValueError
+            If a time lies outside ``[P.t, Q.t]`` or is not finite, or if the clock does not run
+            forward (``margin`` not positive: the curve is no motion of the acrobot).
+        """
+        from ...core.result import Samples
+
+        t = np.atleast_1d(np.asarray(t, dtype=float))
+        if t.ndim != 1:
+            raise ValueError(f"t: must be a number or a 1-d array of times, got shape {t.shape}")
+        if not self.margin > 0:
+            raise ValueError(f"this result's clock does not run forward (margin {self.margin:.4g}): it is no "
+                             "motion of the acrobot in its own time; use curve(eps) instead")
+        lo, hi = self.problem.P[1], self.problem.Q[1]
+        if not np.all(np.isfinite(t)) or np.any(t < lo) or np.any(t > hi):
+            raise ValueError(f"t: every time must lie in [P.t, Q.t] = [{lo}, {hi}]")
+        eps = np.array([self.eps_of_t(float(x)) for x in t])
+        _, theta, phi, _ = self.curve(eps)
+        u = np.array([self._u_at(e) for e in eps])
+        return Samples(t, np.vstack([theta, phi]), u[None, :], ("theta", "phi"), ("u",))
+
+    # ---------------------------------------------------------------- export
     def to_dict(self) -> dict:
-        d = self.problem.degree
-        return {"status": self.status, "success": self.success, "message": self.message, "method": self.method,
-                "P": list(self.problem.P), "Q": list(self.problem.Q), "degree": d,
-                "coefficients": {"v1": list(map(float, self.m[: d + 1])), "v2": list(map(float, self.m[d + 1:]))}
-                if self.method == "nilpotent" else {"phi_of_y": list(map(float, self.m))},
+        """The result as plain JSON types (the CLI's ``solution.json`` without ``"system"``).
+
+        Returns
+        -------
+        dict
+            ``status``, ``success``, ``message``, ``method``, ``P``, ``Q``, ``degree``,
+            ``coefficients`` (``{"v1", "v2"}`` or ``{"phi_of_y"}``), ``equation_residual``,
+            ``u1_margin``, ``max_abs_phi``, ``verified_error``.
+        """
+        return {"status": self.status, "success": self.success, "message": self.message,
+                "method": type(self).method, "P": list(self.problem.P), "Q": list(self.problem.Q),
+                "degree": self.problem.degree, "coefficients": self._coefficients(),
                 "equation_residual": self.residual, "u1_margin": self.margin, "max_abs_phi": self.phi_max,
                 "verified_error": self.verified_error}
+
+    def to_json(self, **kwargs) -> str:
+        """:meth:`to_dict` as a JSON string.
+
+        Parameters
+        ----------
+        **kwargs
+            Passed to :func:`json.dumps` (``indent`` is 2 unless given).
+
+        Returns
+        -------
+        str
+        """
+        kwargs.setdefault("indent", 2)
+        return json.dumps(self.to_dict(), **kwargs)
+
+    def plot(self, counter=None, *, samples: int = 801):
+        """Figures of the result (matplotlib), as :func:`~acroplan.families.acrobot.plots.plot_nilpotent`.
+
+        Parameters
+        ----------
+        counter : NilpotentResult, optional
+            A solution of the same equations along which :math:`u_1 < 0` (:func:`counterexample`),
+            to add the ``"failure_mode"`` figure.
+        samples : int
+            Virtual times sampled on [0, 1].
+
+        Returns
+        -------
+        dict of str to matplotlib.figure.Figure
+            ``{"input", "states", "u1"}``, plus ``"failure_mode"`` with ``counter``.
+        """
+        from .plots import plot_nilpotent
+
+        return plot_nilpotent(self, counter, samples=samples)
+
+
+@final
+@dataclasses.dataclass(frozen=True)
+class SeriesResult(NilpotentResult):
+    """A :class:`NilpotentResult` of the nilpotent model (``method = "nilpotent"``): polynomial
+    :math:`v_1, v_2` in the virtual time, ``m`` = coefficients of v1 then v2, shape (2 (degree+1),).
+
+    The polynomials :math:`v_1, v_2, V_1, V_2` are computed once, at construction.
+    """
+
+    method: ClassVar[str] = "nilpotent"
+
+    def __post_init__(self):
+        super().__post_init__()
+        v1, v2 = _split(self.m, self.problem.degree)
+        object.__setattr__(self, "_pp", (v1, v2, P.polyint(v1), P.polyint(v2)))
+
+    def curve(self, eps):
+        prob = self.problem
+        eps = np.asarray(eps, dtype=float)
+        x1 = prob.P[0] + P.polyval(eps, self._pp[3])
+        t = self.clock(eps)
+        u1, _ = u1_values(prob, self.m, eps)
+        theta = _theta_along(prob, self.m, eps)
+        return t, theta, x1, u1
+
+    def u_of_eps(self, eps):
+        return P.polyval(eps, self._pp[1]) / u1_values(self.problem, self.m, eps)[0]
+
+    def clock(self, eps):
+        prob = self.problem
+        eps = np.atleast_1d(np.asarray(eps, dtype=float))
+        _, _, V1, V2 = self._pp
+        x1 = prob.P[0] + P.polyval(eps, V2)
+        x2 = prob.x2P + P.polyval(eps, V1)
+        return prob.P[1] + alpha_derivs(prob.robot, x1)[0] * x2
+
+    def _clock_and_rate(self, e: float):
+        prob, r = self.problem, self.problem.robot
+        v1, v2, V1, V2 = self._pp
+        x1 = prob.P[0] + _horner(V2, e)
+        x2 = prob.x2P + _horner(V1, e)
+        if abs(x1) < 1e-3:
+            s0, s1 = 1 + x1 * x1 / 6, x1 / 3
+        else:
+            sn, cs = math.sin(x1), math.cos(x1)
+            s0, s1 = x1 / sn, (sn - x1 * cs) / (sn * sn)
+        h = r.M1 + r.A1 * math.cos(x1)
+        hp = -r.A1 * math.sin(x1)
+        n = (r.M1 + r.A1) ** 2
+        a0, a1 = s0 * h * h / n, (s1 * h * h + 2 * s0 * h * hp) / n
+        return prob.P[1] + a0 * x2, a0 * _horner(v1, e) + x2 * a1 * _horner(v2, e)
+
+    def _u_at(self, e: float) -> float:
+        return _horner(self._pp[1], e) / self._clock_and_rate(e)[1]
+
+    def _coefficients(self) -> dict:
+        d = self.problem.degree
+        return {"v1": list(map(float, self.m[: d + 1])), "v2": list(map(float, self.m[d + 1:]))}
+
+
+@final
+@dataclasses.dataclass(frozen=True)
+class FlatYResult(NilpotentResult):
+    """A :class:`NilpotentResult` of the flat-output variant (``method = "flat-y"``): the virtual time
+    is :math:`\\sigma = (y - y_P)/(y_Q - y_P)`, ``m`` = coefficients of :math:`\\varphi(\\sigma)`,
+    ascending, shape (3,).
+    """
+
+    method: ClassVar[str] = "flat-y"
+
+    def _dy(self) -> float:
+        prob, r = self.problem, self.problem.robot
+        return prob.Q[2] + float(r.F(prob.Q[0])) - prob.P[2] - float(r.F(prob.P[0]))
+
+    def curve(self, eps):
+        sig = np.asarray(eps, dtype=float)
+        prob, r = self.problem, self.problem.robot
+        yP = prob.P[2] + float(r.F(prob.P[0]))
+        yQ = prob.Q[2] + float(r.F(prob.Q[0]))
+        dy = yQ - yP
+        phi = P.polyval(sig, self.m)
+        t = self.clock(sig)
+        theta = yP + sig * dy - r.F(phi)
+        dtds = dy / r.P0 * r.h(phi)
+        return t, theta, phi, dtds
+
+    def u_of_eps(self, eps):
+        r = self.problem.robot
+        dy = self._dy()
+        phi = P.polyval(eps, self.m)
+        return P.polyval(eps, P.polyder(self.m)) / (dy / r.P0 * r.h(phi))
+
+    def clock(self, eps):
+        sig = np.atleast_1d(np.asarray(eps, dtype=float))
+        prob, r = self.problem, self.problem.robot
+        dy = self._dy()
+        xg, wg = np.polynomial.legendre.leggauss(60)
+        return np.array([prob.P[1] + s / 2 * dy / r.P0 * float(r.h(P.polyval(s * (xg + 1) / 2, self.m)) @ wg)
+                         for s in sig])
+
+    def _clock_and_rate(self, e: float):
+        r = self.problem.robot
+        return float(self.clock(np.array([e]))[0]), self._dy() / r.P0 * float(r.h(_horner(self.m, e)))
+
+    def _u_at(self, e: float) -> float:
+        return float(self.u_of_eps(np.array([e]))[0])
+
+    def _coefficients(self) -> dict:
+        return {"phi_of_y": list(map(float, self.m))}
 
 
 def _horner(c, x: float) -> float:
@@ -505,7 +741,7 @@ def _start(prob):
     return m
 
 
-def solve_nilpotent(prob: NilpotentProblem, *, starts: int = 8, seed: int = 0, verify: bool = True) -> NilpotentResult:
+def solve_nilpotent(prob: NilpotentProblem, *, starts: int = 8, seed: int = 0, verify: bool = True) -> SeriesResult:
     """Solve the endpoint equations with :math:`u_1 > 0` on [0, 1] (and :math:`|\\varphi| < \\pi`).
 
     SLSQP maximises the margin :math:`s` subject to the three equations, :math:`u_1(\\varepsilon_j) \\ge s`
@@ -553,14 +789,17 @@ def solve_nilpotent(prob: NilpotentProblem, *, starts: int = 8, seed: int = 0, v
             break
     ok_eq, margin, m, r, phimax = best
     if not ok_eq:
-        return NilpotentResult(False, "not_converged", f"no start solved the endpoint equations (residual {r:.1e})",
-                               prob, m, r, margin, phimax)
+        return SeriesResult(success=False, status="not_converged",
+                            message=f"no start solved the endpoint equations (residual {r:.1e})", problem=prob, m=m,
+                            residual=r, margin=margin, phi_max=phimax)
     if margin <= 0:
-        return NilpotentResult(False, "infeasible",
-                               f"no solution with u1 > 0 found for degree {d}: the best margin min u1 = {margin:.4g} "
-                               f"(time would run backwards); try a higher degree", prob, m, r, margin, phimax)
-    out = NilpotentResult(True, "success", f"endpoint equations solved (residual {r:.1e}) with u1 > 0: margin "
-                          f"{margin:.4g}", prob, m, r, margin, phimax)
+        return SeriesResult(success=False, status="infeasible",
+                            message=f"no solution with u1 > 0 found for degree {d}: the best margin min u1 = "
+                                    f"{margin:.4g} (time would run backwards); try a higher degree",
+                            problem=prob, m=m, residual=r, margin=margin, phi_max=phimax)
+    out = SeriesResult(success=True, status="success",
+                       message=f"endpoint equations solved (residual {r:.1e}) with u1 > 0: margin {margin:.4g}",
+                       problem=prob, m=m, residual=r, margin=margin, phi_max=phimax)
     if verify:
         err = resimulate(out)
         out = dataclasses.replace(out, verified_error=err)
@@ -590,7 +829,7 @@ def _flat_start(prob: NilpotentProblem):
     return np.concatenate([c2 * k, c1 * k])
 
 
-def counterexample(prob: NilpotentProblem, start, depth: float = 1.0) -> NilpotentResult:
+def counterexample(prob: NilpotentProblem, start, depth: float = 1.0) -> SeriesResult:
     """The text's failure mode: a solution of the same equations along which :math:`u_1 < 0`.
 
     Starting from a valid solution ``start``, SLSQP finds the nearest coefficients (least squares)
@@ -615,15 +854,16 @@ def counterexample(prob: NilpotentProblem, start, depth: float = 1.0) -> Nilpote
             best = (m, r)
             break
     if best is None:
-        return NilpotentResult(False, "not_converged", "no orbit-equivalent counterexample found", prob, m0,
-                               float("nan"), float("nan"), float("nan"))
+        return SeriesResult(success=False, status="not_converged", message="no orbit-equivalent counterexample found",
+                            problem=prob, m=m0, residual=float("nan"), margin=float("nan"), phi_max=float("nan"))
     m, r = best
     fine = np.linspace(0.0, 1.0, 100001)
     u1, x1 = u1_values(prob, m, fine)
     margin = float(np.min(u1))
-    return NilpotentResult(False, "infeasible", f"solves the endpoint equations (residual {r:.1e}) but min u1 = "
-                           f"{margin:.4g}: time runs backwards, so it is no motion of the acrobot", prob, m, r, margin,
-                           float(np.max(np.abs(x1))))
+    return SeriesResult(success=False, status="infeasible",
+                        message=f"solves the endpoint equations (residual {r:.1e}) but min u1 = {margin:.4g}: time "
+                                "runs backwards, so it is no motion of the acrobot",
+                        problem=prob, m=m, residual=r, margin=margin, phi_max=float(np.max(np.abs(x1))))
 
 
 def resimulate(res: NilpotentResult) -> float:
@@ -638,7 +878,7 @@ def resimulate(res: NilpotentResult) -> float:
 
 
 # ================================================================================ flat-output variant
-def solve_flat_y(prob: NilpotentProblem, verify: bool = True) -> NilpotentResult:
+def solve_flat_y(prob: NilpotentProblem, verify: bool = True) -> FlatYResult:
     """The variant with the flat output :math:`y = \\theta + F(\\varphi)` as the independent variable.
 
     :math:`dt/dy = h(\\varphi)/P_0` keeps one sign, so time moves forward by construction. With
@@ -665,47 +905,22 @@ def solve_flat_y(prob: NilpotentProblem, verify: bool = True) -> NilpotentResult
     vals = np.array([f(a) for a in amps])
     idx = np.nonzero(np.sign(vals[:-1]) * np.sign(vals[1:]) <= 0)[0]
     if dy * r.P0 <= 0 or idx.size == 0:
-        return NilpotentResult(False, "infeasible", "the flat-output family cannot meet t_Q: y must move with the "
-                               f"sign of P0 and int h/P0 dy must equal {T:.6g}", prob, coef(0.0), float("nan"),
-                               float("nan"), float("nan"), method="flat-y")
+        return FlatYResult(success=False, status="infeasible",
+                           message="the flat-output family cannot meet t_Q: y must move with the sign of P0 and "
+                                   f"int h/P0 dy must equal {T:.6g}",
+                           problem=prob, m=coef(0.0), residual=float("nan"), margin=float("nan"), phi_max=float("nan"))
     k = idx[np.argmin(np.abs(amps[idx]))]
     a = brentq(f, amps[k], amps[k + 1], xtol=1e-15, rtol=1e-15)
     m = coef(a)
     fine = np.linspace(0.0, 1.0, 100001)
     phis = P.polyval(fine, m)
     margin = float(np.min(dy / r.P0 * r.h(phis)))  # dt/dsigma
-    out = NilpotentResult(True, "success", f"flat output as the clock: dt/dsigma >= {margin:.4g} > 0 by construction",
-                          prob, m, abs(f(a)), margin, float(np.max(np.abs(phis))), method="flat-y")
+    out = FlatYResult(success=True, status="success",
+                      message=f"flat output as the clock: dt/dsigma >= {margin:.4g} > 0 by construction",
+                      problem=prob, m=m, residual=abs(f(a)), margin=margin, phi_max=float(np.max(np.abs(phis))))
     if verify:
         err = resimulate(out)
         out = dataclasses.replace(out, verified_error=err, success=err <= 1e-8,
                                   status="success" if err <= 1e-8 else "not_converged",
                                   message=out.message + f"; re-simulated acrobot reaches Q to {err:.1e}")
     return out
-
-
-def _flat_curve(res, sig):
-    prob, r = res.problem, res.problem.robot
-    yP = prob.P[2] + float(r.F(prob.P[0]))
-    yQ = prob.Q[2] + float(r.F(prob.Q[0]))
-    dy = yQ - yP
-    phi = P.polyval(sig, res.m)
-    t = _flat_clock(res, sig)
-    theta = yP + sig * dy - r.F(phi)
-    dtds = dy / r.P0 * r.h(phi)
-    return t, theta, phi, dtds
-
-
-def _flat_clock(res, sig):
-    prob, r = res.problem, res.problem.robot
-    dy = prob.Q[2] + float(r.F(prob.Q[0])) - prob.P[2] - float(r.F(prob.P[0]))
-    xg, wg = np.polynomial.legendre.leggauss(60)
-    return np.array([prob.P[1] + s / 2 * dy / r.P0 * float(r.h(P.polyval(s * (xg + 1) / 2, res.m)) @ wg)
-                     for s in sig])
-
-
-def _flat_u(res, sig):
-    prob, r = res.problem, res.problem.robot
-    dy = prob.Q[2] + float(r.F(prob.Q[0])) - prob.P[2] - float(r.F(prob.P[0]))
-    phi = P.polyval(sig, res.m)
-    return P.polyval(sig, P.polyder(res.m)) / (dy / r.P0 * r.h(phi))

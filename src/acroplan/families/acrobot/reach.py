@@ -1,6 +1,6 @@
 """Exact reachable sets of the acrobot, with and without rate and joint limits.
 
-Since :math:`k/h\\,d\\varphi = dF` is exact (NOTES.md),
+Since :math:`k/h\\,d\\varphi = dF` is exact (docs/mathematics.md),
 
 .. math::  \\theta(T) = \\theta(0) - [F(\\varphi(T)) - F(\\varphi(0))] + P_0\\, J[\\varphi],\\qquad
            J[\\varphi] = \\int_0^T g(\\varphi(t))\\,dt,\\quad g = 1/h ,
