@@ -195,7 +195,7 @@ def test_limits_in_the_problem_file(tmp_path):
     ("u_max = -1.0", "limits.u_max: must be > 0"),
     ("u_max = nan", "limits.u_max: must be finite"),
     ("phi_min = 1.0\nphi_max = 0.0", "limits.phi_min: must be < limits.phi_max"),
-    ("phi_min = -1.0", r"plan.phi: waypoint 0 \(phi = -3.14159265359\) is outside the joint limits"),
+    ("phi_min = -1.0", r"plan.phi: waypoint 0 \(t = 0\) has phi = -3.14159265359, outside the joint limits"),
     ("phi_mx = 1.0", "limits.phi_mx: is not a known key"),
 ])
 def test_bad_limits_exit_2(tmp_path, limits, match):

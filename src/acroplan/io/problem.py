@@ -47,6 +47,7 @@ from ..core.errors import InvalidInputError
 from ..core.limits import Limits
 from ..families.acrobot.model import Acrobot
 from ..families.acrobot.reach import reachable_set
+from ..planning import PlanRequest
 
 __all__ = ["Problem", "load_problem", "parse_problem", "system_to_dict"]
 
@@ -201,10 +202,6 @@ def parse_problem(data: dict, name: str = "") -> Problem:
         if key not in p:
             raise InvalidInputError(f"plan.{key}", "is missing", "give one value per waypoint")
     times, theta, phi = (_numbers(f"plan.{k}", p[k]) for k in ("times", "theta", "phi"))
-    for key, vals in (("theta", theta), ("phi", phi)):
-        if len(vals) != len(times):
-            raise InvalidInputError(f"plan.{key}", f"has {len(vals)} value(s) but plan.times has {len(times)}",
-                                    "give one value per waypoint time")
     conditions = p.get("conditions", "spline")
     if conditions not in ("spline", "free"):
         raise InvalidInputError("plan.conditions", f"must be \"spline\" or \"free\", got {conditions!r}",
@@ -217,47 +214,43 @@ def parse_problem(data: dict, name: str = "") -> Problem:
     for key in LIMIT_KEYS:
         if key in lim:
             options[key] = _number(f"limits.{key}", lim[key])
-    if "u_max" in options and options["u_max"] <= 0:
-        raise InvalidInputError("limits.u_max", f"must be > 0, got {options['u_max']}",
-                                "give the joint's top speed in rad/s")
-    if "phi_min" in options and "phi_max" in options and not options["phi_min"] < options["phi_max"]:
-        raise InvalidInputError("limits.phi_min", f"must be < limits.phi_max, got {options['phi_min']} >= "
-                                f"{options['phi_max']}", "swap or widen the joint limits")
-    for key in ("phi_min", "phi_max"):
-        if key in options:
-            bad = [i for i, v in enumerate(phi) if (v < options[key] if key == "phi_min" else v > options[key])]
-            if bad:
-                raise InvalidInputError("plan.phi", f"waypoint {bad[0]} (phi = {phi[bad[0]]:.12g}) is outside the "
-                                        f"joint limits ({key} = {options[key]:.12g})",
-                                        "move the waypoint inside the limits or widen them")
-    if "method" in opts:
-        if opts["method"] not in ("auto", "deform", "flat"):
-            raise InvalidInputError("options.method", f"must be \"auto\", \"deform\" or \"flat\", got "
-                                    f"{opts['method']!r}", "write method = \"auto\"")
-        options["method"] = opts["method"]
-    if "basis" in opts:
-        if opts["basis"] not in ("legendre", "monomial"):
-            raise InvalidInputError("options.basis", f"must be \"legendre\" or \"monomial\", got {opts['basis']!r}",
-                                    "write basis = \"legendre\"")
-        options["basis"] = opts["basis"]
+    for key, names in (("method", ("auto", "deform", "flat")), ("basis", ("legendre", "monomial"))):
+        if key in opts:
+            if opts[key] not in names:
+                raise InvalidInputError(f"options.{key}", f"must be one of {list(names)}, got {opts[key]!r}",
+                                        f"write {key} = \"{names[0]}\"")
+            options[key] = opts[key]
     for key in ("n_coefficients", "max_evaluations"):
         if key in opts:
             v = opts[key]
-            if isinstance(v, bool) or not isinstance(v, int) or v < 1:
+            if isinstance(v, bool) or not isinstance(v, int):
                 raise InvalidInputError(f"options.{key}", f"must be a whole number >= 1, got {v!r}",
                                         "write for example 6")
             options[key] = v
     if "tol" in opts:
-        v = _number("options.tol", opts["tol"])
-        if v <= 0:
-            raise InvalidInputError("options.tol", f"must be > 0, got {v}", "write for example 1e-10")
-        options["tol"] = v
-    # the planner's own checks (increasing times, ...) name the API field; give them the file's names
-    if len(times) < 2:
-        raise InvalidInputError("plan.times", f"needs at least 2 values, got {len(times)}", "give start and end times")
-    if any(b <= a for a, b in zip(times, times[1:])):
-        raise InvalidInputError("plan.times", "must be strictly increasing", "sort the waypoints by time")
-    return Problem(robot, times, theta, phi, conditions, options, name)
+        options["tol"] = _number("options.tol", opts["tol"])
+    problem = Problem(robot, times, theta, phi, conditions, options, name)
+    # the meaning (lengths, order, ranges, limits against waypoints) is checked by plan()'s own
+    # validation, once, with the fields named as the file names them
+    try:
+        PlanRequest.build(robot, **problem.plan_kwargs())
+    except InvalidInputError as e:
+        raise InvalidInputError(_FILE_FIELDS.get(e.field, e.field), _file_words(e.problem), _file_words(e.fix)) \
+            from None
+    return problem
+
+
+#: plan()'s keywords as a problem file names them
+_FILE_FIELDS = {**{k: f"plan.{k}" for k in PLAN_KEYS}, **{k: f"limits.{k}" for k in LIMIT_KEYS},
+                **{k: f"options.{k}" for k in OPTION_KEYS}}
+
+
+def _file_words(text: str) -> str:
+    """plan()'s option names in a message, as the file names them (``u_max`` -> ``limits.u_max``)."""
+    import re
+
+    keys = [k for k in LIMIT_KEYS + OPTION_KEYS if "_" in k]
+    return re.sub(r"(?<![\w.])(" + "|".join(keys) + r")(?!\w)", lambda m: _FILE_FIELDS[m.group(1)], text)
 
 
 def parse_nilpotent(data: dict, name: str = ""):
