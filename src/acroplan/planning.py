@@ -23,7 +23,7 @@ import numpy as np
 
 from .core import backend
 from .core.basis import InputBasis, make_basis
-from .core.conditions import CONDITIONS, Conditions
+from .core.conditions import CONDITIONS, Conditions, check_conditions
 from .core.errors import InvalidInputError
 from .core.limits import Limits
 from .core.result import PlanResult, SegmentResult, Status
@@ -122,12 +122,7 @@ class PlanRequest:
             raise InvalidInputError(missing[0], "is missing", f"give one value per waypoint for every state "
                                     f"{list(states)}")
         X = np.stack([_vector(name, waypoints[name], t.size) for name in states], axis=1)
-        if conditions not in CONDITIONS:
-            raise InvalidInputError("conditions", f"must be one of {list(CONDITIONS)}, got {conditions!r}",
-                                    "use \"spline\" (the text's scheme) or \"free\"")
-        if conditions == "spline" and set(system.rate_inputs) != set(system.input_names):
-            raise InvalidInputError("conditions", f"\"spline\" needs every input to be the rate of a state, "
-                                    f"which {type(system).__name__} does not have", "use conditions=\"free\"")
+        check_conditions(conditions, system)
         strategy = resolve_strategy(method, system)
         sizes = None if n_coefficients is None else (_whole("n_coefficients", n_coefficients, 6),)
         b = make_basis(basis, sizes[0] if sizes else DEFAULT_SIZE)

@@ -19,10 +19,20 @@ from scipy.interpolate import CubicSpline
 from .basis import InputBasis
 from .errors import InvalidInputError
 
-__all__ = ["CONDITIONS", "Conditions", "linear_conditions"]
+__all__ = ["CONDITIONS", "Conditions", "check_conditions", "linear_conditions"]
 
 #: The names ``conditions=`` accepts.
 CONDITIONS = ("spline", "free")
+
+
+def check_conditions(kind, system) -> None:
+    """Raise :class:`InvalidInputError` unless ``kind`` names conditions ``system`` can have."""
+    if kind not in CONDITIONS:
+        raise InvalidInputError("conditions", f"must be one of {list(CONDITIONS)}, got {kind!r}",
+                                "use \"spline\" (the text's scheme) or \"free\"")
+    if kind == "spline" and set(system.rate_inputs) != set(system.input_names):
+        raise InvalidInputError("conditions", f"\"spline\" needs every input to be the rate of a state, "
+                                f"which {type(system).__name__} does not have", "use conditions=\"free\"")
 
 
 class Conditions:
@@ -38,12 +48,7 @@ class Conditions:
     """
 
     def __init__(self, kind: str, system, times, waypoints, limits=None):
-        if kind not in CONDITIONS:
-            raise InvalidInputError("conditions", f"must be one of {list(CONDITIONS)}, got {kind!r}",
-                                    "use \"spline\" (the text's scheme) or \"free\"")
-        if kind == "spline" and set(system.rate_inputs) != set(system.input_names):
-            raise InvalidInputError("conditions", f"\"spline\" needs every input to be the rate of a state, "
-                                    f"which {type(system).__name__} does not have", "use conditions=\"free\"")
+        check_conditions(kind, system)
         self.kind = kind
         self.system = system
         self.times = times
