@@ -27,14 +27,23 @@ from .core.conditions import CONDITIONS, Conditions, check_conditions
 from .core.errors import InvalidInputError
 from .core.limits import Limits
 from .core.result import PlanResult, SegmentResult, Status
-from .core.strategies import Interval, Strategy, resolve_strategy
+from .core.budget import BudgetExceeded, budget
+from .core.strategies import Interval, IntervalOutcome, Strategy, resolve_strategy
 from .core.system import ControlAffineSystem
 from .core.verify import VERIFY_TOL, verify_plan
 
-__all__ = ["plan", "warm_up", "PlanRequest", "CONDITIONS", "VERIFY_TOL", "DEFAULT_SIZE"]
+__all__ = ["plan", "warm_up", "PlanRequest", "CONDITIONS", "VERIFY_TOL", "DEFAULT_SIZE", "MAX_COEFFICIENTS",
+           "TIME_LIMIT"]
 
 #: Coefficients per input per segment when neither ``n_coefficients`` nor the strategy says.
 DEFAULT_SIZE = 6
+#: The largest ``n_coefficients``: more costs compile time and memory for no accuracy (the
+#: Legendre basis at 14 already reaches every target the planner meets).
+MAX_COEFFICIENTS = 30
+#: The default wall-clock budget of one plan, in seconds.
+TIME_LIMIT = 60.0
+#: Segment durations and times the arithmetic carries (the power-basis export takes T**(n-1)).
+MIN_DURATION, MAX_DURATION, MAX_TIME = 1e-6, 1e6, 1e12
 
 
 def _vector(field, value, length=None) -> np.ndarray:
@@ -53,10 +62,17 @@ def _vector(field, value, length=None) -> np.ndarray:
     return a
 
 
-def _whole(field, value, example) -> int:
+def _whole(field, value, example, most: int | None = None) -> int:
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
-        raise InvalidInputError(field, f"must be a whole number >= 1, got {value!r}", f"give for example {example}")
+        raise InvalidInputError(field, f"must be a whole number >= 1, got {_short(value)}", f"give for example {example}")
+    if most is not None and value > most:
+        raise InvalidInputError(field, f"must be at most {most}, got {value}", f"give for example {example}")
     return int(value)
+
+
+def _short(value) -> str:
+    r = repr(value) if not isinstance(value, (int, np.integer)) or abs(int(value)) < 10**30 else "a huge integer"
+    return r if len(r) <= 80 else r[:77] + "..."
 
 
 @dataclasses.dataclass(frozen=True)
@@ -78,6 +94,7 @@ class PlanRequest:
     verify : bool
     tol : float
     max_evaluations : int
+    time_limit : float or None
     """
 
     system: ControlAffineSystem
@@ -91,12 +108,13 @@ class PlanRequest:
     verify: bool
     tol: float
     max_evaluations: int
+    time_limit: float | None = TIME_LIMIT
 
     @classmethod
     def build(cls, system, *, times, conditions: str = "spline", method="auto", basis="legendre",
               n_coefficients: int | None = None, limits: Limits | None = None, u_max: float | None = None,
               state_bounds=None, input_bounds=None, verify: bool = True, tol: float = 1e-10,
-              max_evaluations: int = 2000, **named) -> "PlanRequest":
+              max_evaluations: int = 2000, time_limit: float | None = TIME_LIMIT, **named) -> "PlanRequest":
         """Validate :func:`plan`'s arguments (same keywords). Raises :class:`InvalidInputError`."""
         if not isinstance(system, ControlAffineSystem):
             raise InvalidInputError("system", f"must be a ControlAffineSystem, got {type(system).__name__}",
@@ -117,6 +135,15 @@ class PlanRequest:
         tl = t.tolist()
         if any(b <= a for a, b in zip(tl, tl[1:])):
             raise InvalidInputError("times", "must be strictly increasing", "sort the waypoints by time")
+        if np.max(np.abs(t)) > MAX_TIME:
+            raise InvalidInputError("times", f"reach {np.max(np.abs(t)):.3g}; times beyond {MAX_TIME:g} are more than "
+                                    "the arithmetic carries", "count time from the start of the motion")
+        durations = np.diff(t)
+        for k, T in enumerate(durations):
+            if not MIN_DURATION <= T <= MAX_DURATION:
+                raise InvalidInputError("times", f"segment {k} lasts {T:.3g}; durations must lie in "
+                                        f"[{MIN_DURATION:g}, {MAX_DURATION:g}] (powers of T up to the 29th enter "
+                                        "the exported coefficients)", "rescale the units of time")
         missing = [name for name in states if name not in waypoints]
         if missing:
             raise InvalidInputError(missing[0], "is missing", f"give one value per waypoint for every state "
@@ -124,13 +151,17 @@ class PlanRequest:
         X = np.stack([_vector(name, waypoints[name], t.size) for name in states], axis=1)
         check_conditions(conditions, system)
         strategy = resolve_strategy(method, system)
-        sizes = None if n_coefficients is None else (_whole("n_coefficients", n_coefficients, 6),)
+        sizes = None if n_coefficients is None else (_whole("n_coefficients", n_coefficients, 6, MAX_COEFFICIENTS),)
         b = make_basis(basis, sizes[0] if sizes else DEFAULT_SIZE)
         if not (isinstance(tol, (int, float)) and not isinstance(tol, bool) and math.isfinite(tol) and tol > 0):
             raise InvalidInputError("tol", f"must be a positive number, got {tol!r}", "give for example 1e-10")
         max_evaluations = _whole("max_evaluations", max_evaluations, 2000)
         if not isinstance(verify, bool):
-            raise InvalidInputError("verify", f"must be True or False, got {verify!r}", "give a boolean")
+            raise InvalidInputError("verify", f"must be True or False, got {_short(verify)}", "give a boolean")
+        if time_limit is not None and not (isinstance(time_limit, (int, float, np.floating, np.integer))
+                                           and not isinstance(time_limit, bool) and 0 < time_limit < math.inf):
+            raise InvalidInputError("time_limit", f"must be a positive number of seconds or None, got "
+                                    f"{_short(time_limit)}", "give for example 60")
         if limits is not None and not isinstance(limits, Limits):
             raise InvalidInputError("limits", f"must be an acroplan.Limits, got {type(limits).__name__}",
                                     "give Limits(...) or the keywords u_max, NAME_min, NAME_max")
@@ -149,13 +180,15 @@ class PlanRequest:
                                             f"the joint limits [{lo:.12g}, {hi:.12g}]",
                                             "move the waypoint inside the limits or widen them")
         return cls(system=system, times=t, waypoints=X, conditions=conditions, strategy=strategy, basis=b,
-                   sizes=sizes, limits=limits, verify=verify, tol=float(tol), max_evaluations=max_evaluations)
+                   sizes=sizes, limits=limits, verify=verify, tol=float(tol), max_evaluations=max_evaluations,
+                   time_limit=None if time_limit is None else float(time_limit))
 
 
 def plan(system: ControlAffineSystem, *, times, conditions: str = "spline", method="auto", basis="legendre",
          n_coefficients: int | None = None, limits: Limits | None = None, u_max: float | None = None,
          state_bounds=None, input_bounds=None, verify: bool = True, tol: float = 1e-10,
-         max_evaluations: int = 2000, progress=None, **waypoints) -> PlanResult:
+         max_evaluations: int = 2000, time_limit: float | None = TIME_LIMIT, progress=None,
+         **waypoints) -> PlanResult:
     r"""Plan a motion of ``system`` through waypoints.
 
     Parameters
@@ -177,8 +210,8 @@ def plan(system: ControlAffineSystem, *, times, conditions: str = "spline", meth
     basis : {"legendre", "monomial"} or InputBasis
         Internal basis of each segment's input (results are also exported in the power basis).
     n_coefficients : int, optional
-        Coefficients per input per segment. Default: the strategy's choice (6, the text's, for
-        ``"deform"``; 6, 10 or 14 for ``"auto"``).
+        Coefficients per input per segment, at most :data:`MAX_COEFFICIENTS`. Default: the
+        strategy's choice (6, the text's, for ``"deform"``; 6, 10 or 14 for ``"auto"``).
     limits : Limits, optional
         All bounds at once; or the keywords ``u_max`` (:math:`|u_j| \le u_{max}` for every input),
         ``state_bounds`` (``{"phi": (lo, hi)}``), ``input_bounds`` (``{"u": 15.0}``), ``NAME_min``,
@@ -190,6 +223,9 @@ def plan(system: ControlAffineSystem, *, times, conditions: str = "spline", meth
         Required endpoint error of each segment (compiled integrator).
     max_evaluations : int
         Evaluation budget per segment and basis size.
+    time_limit : float or None
+        Wall-clock budget of the whole plan in seconds (default :data:`TIME_LIMIT`); when it is
+        spent the plan ends ``not_converged``, with the segments done so far. ``None``: no limit.
     progress : callable, optional
         Called as ``progress(done, total)`` after each waypoint interval (for a progress bar).
 
@@ -214,12 +250,18 @@ def plan(system: ControlAffineSystem, *, times, conditions: str = "spline", meth
     req = PlanRequest.build(system, times=times, conditions=conditions, method=method, basis=basis,
                             n_coefficients=n_coefficients, limits=limits, u_max=u_max, state_bounds=state_bounds,
                             input_bounds=input_bounds, verify=verify, tol=tol, max_evaluations=max_evaluations,
-                            **waypoints)
+                            time_limit=time_limit, **waypoints)
     return solve(req, progress=progress)
 
 
 def solve(req: PlanRequest, *, progress=None) -> PlanResult:
-    """Plan a validated :class:`PlanRequest` (what :func:`plan` does after validation)."""
+    """Plan a validated :class:`PlanRequest` (what :func:`plan` does after validation), within its
+    time budget."""
+    with budget(req.time_limit):
+        return _solve(req, progress)
+
+
+def _solve(req: PlanRequest, progress) -> PlanResult:
     system, t, X = req.system, req.times, req.waypoints
     limits = req.limits if req.limits.active else None
     common = dict(system=system, times=t, waypoints=X, conditions=req.conditions, basis=req.basis, limits=limits)
@@ -250,7 +292,10 @@ def solve(req: PlanRequest, *, progress=None) -> PlanResult:
         interval = Interval(system=system, basis=req.basis, sizes=req.sizes, x0=X[k], x1=X[k + 1],
                             T=float(t[k + 1] - t[k]), ends=conditions.ends(k, prev_end_input), limits=limits,
                             tol=req.tol, max_evaluations=req.max_evaluations)
-        out = req.strategy.solve(interval)
+        try:
+            out = req.strategy.solve(interval)
+        except BudgetExceeded as e:
+            out = IntervalOutcome(False, (), str(e))
         for i, piece in enumerate(out.pieces):
             t1 = float(t[k + 1]) if i == len(out.pieces) - 1 else piece.t1 + float(t[k])
             t0 = piece.t0 + float(t[k])
@@ -274,11 +319,16 @@ def solve(req: PlanRequest, *, progress=None) -> PlanResult:
                           **common)
 
     # ---------------------------------------------------------------- independent check
-    checked, bad = verify_plan(system, X[0], segments)
+    try:
+        checked, bad, allowed = verify_plan(system, X[0], segments)
+    except BudgetExceeded as e:
+        return PlanResult(status=Status.NOT_CONVERGED, message=f"not converged: every segment was planned, but "
+                          f"{e} before the independent re-simulation ended", segments=segments, verified=False,
+                          **common)
     if bad is not None:
         return PlanResult(status=Status.NOT_CONVERGED, message=f"not converged: the independent re-simulation (scipy "
                           f"DOP853) misses the planned state at t = {bad.t1:g} by {bad.verified_error:.2e} > "
-                          f"{VERIFY_TOL:g}", segments=checked, verified=True, **common)
+                          f"{allowed:.2g}", segments=checked, verified=True, **common)
     worst = max(s.verified_error for s in checked)
     return PlanResult(status=Status.SUCCESS, message=f"success: {K} segment(s), max endpoint error "
                       f"{max(s.final_error for s in checked):.2e}, independently verified to {worst:.2e}",

@@ -30,6 +30,7 @@ from typing import Hashable
 import heyoka as hy
 import numpy as np
 
+from . import budget
 from .basis import InputBasis
 from .system import ControlAffineSystem
 
@@ -148,6 +149,7 @@ def endpoint(system: ControlAffineSystem, basis: InputBasis, x0, T: float, c) ->
     J : numpy.ndarray, shape (n, m * basis.n)
         :math:`\\partial x(T) / \\partial c`, columns in flattened ``c`` order.
     """
+    budget.check()
     ta, state, n_x = _load(system, basis, x0, T, c)
     res = ta.propagate_until(1.0)
     out = state.copy()

@@ -208,12 +208,15 @@ class SegmentResult:
         return self.basis_coefficients @ self.basis.matrix((t - self.t0) / (self.t1 - self.t0)).T
 
     def _input_scalar(self, t: float) -> list:
-        """:meth:`input` at one time, in plain Python arithmetic (Clenshaw's recurrence for the
-        Legendre basis, Horner's otherwise): the independent re-simulation calls it for every
+        """:meth:`input` at one absolute time, in plain Python arithmetic (:meth:`_input_s`)."""
+        return self._input_s((t - self.t0) / (self.t1 - self.t0))
+
+    def _input_s(self, s: float) -> list:
+        """The inputs at normalised time ``s`` in plain Python arithmetic (Clenshaw's recurrence for
+        the Legendre basis, Horner's otherwise): the independent re-simulation calls it for every
         right-hand side, where numpy's per-call overhead would dominate."""
         if self.basis is None or self.basis.name not in ("legendre", "monomial"):
-            return [float(v) for v in self.input(t)[:, 0]]
-        s = (t - self.t0) / (self.t1 - self.t0)
+            return [float(v) for v in self.input([self.t0 + s * (self.t1 - self.t0)])[:, 0]]
         out = []
         for row in self.basis_coefficients.tolist():
             if self.basis.name == "monomial":

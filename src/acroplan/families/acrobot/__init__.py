@@ -10,6 +10,8 @@
 * :mod:`~.plots`, :mod:`~.drawing`: its figures and animation.
 """
 
+import math
+
 from . import flat  # noqa: F401  (registers the "flat" strategy)
 from .model import Acrobot, PhysicalParameters
 from .reach import Reach, reachable_set
@@ -37,6 +39,17 @@ def reachable_interval(robot: Acrobot, *, theta0: float, phi0: float, phiT: floa
     from ...core.errors import InvalidInputError
     from ...core.limits import Limits
 
+    if not isinstance(robot, Acrobot):
+        raise InvalidInputError("robot", f"must be an acroplan.Acrobot, got {type(robot).__name__}",
+                                "build one with acroplan.Acrobot.from_physical(...)")
+    for field, v in (("theta0", theta0), ("phi0", phi0), ("phiT", phiT), ("T", T)):
+        if isinstance(v, bool) or not isinstance(v, (int, float)) and not (hasattr(v, "dtype") and v.ndim == 0
+                                                                          and v.dtype.kind in "fi"):
+            raise InvalidInputError(field, f"must be a number, got {type(v).__name__}", "give a finite number")
+        if not math.isfinite(float(v)):
+            raise InvalidInputError(field, f"must be finite, got {v}", "give a finite number")
+    if not 0 < T <= 1e6:
+        raise InvalidInputError("T", f"must lie in (0, 1e6], got {T}", "give the segment's duration")
     R = reachable_set(robot, theta0=theta0, phi0=phi0, phiT=phiT, T=T,
                       limits=Limits(phi_min=phi_min, phi_max=phi_max, u_max=u_max))
     if R.empty:

@@ -436,6 +436,41 @@ def _flat_attempt(interval: Interval) -> IntervalOutcome:
     return IntervalOutcome(False, (out[-1],), f"flat output: endpoint error {out[-1].final_error:.2e} > tol")
 
 
+def _holonomic_attempt(interval: Interval) -> IntervalOutcome:
+    """P0 = 0: theta + F(phi) is constant, so theta(T) follows from phi(T) whatever the joint does
+    (the feasibility test has already checked that the target is that value). Plan the joint
+    motion directly: the lowest-degree polynomial meeting phi's end values and the input
+    conditions, and let theta follow; no iteration."""
+    system, x0, x1, T, limits = interval.system, interval.x0, interval.x1, interval.T, interval.limits
+    ends = _scalar_ends(interval.ends)
+    keys = tuple(k for k in ("u0", "du0", "uT", "duT") if k in ends)
+    deg = 1 + len(keys)
+    phi0, phiT = float(x0[1]), float(x1[1])
+    scale = {"u0": T, "du0": T * T, "uT": T, "duT": T * T}
+    ph = (_hermite(keys, deg) @ np.array([phi0, phiT] + [scale[k] * float(ends[k]) for k in keys])) if keys \
+        else np.array([phi0, phiT - phi0])
+    n = max(deg, (interval.sizes or AUTO_SIZES)[0])
+    q = np.zeros(n)
+    q[: ph.size - 1] = ph[1:] * np.arange(1, ph.size) / T  # u(s) = phi_h'(s) / T, power basis in s
+    nb = interval.sized(n)
+    c = nb.from_power_s(q)[None, :]
+    y, _ = backend.endpoint(system, nb, x0, T, c)
+    err = system.error(y, x1)
+    msg = (f"P0 = 0 (holonomic): the joint motion planned directly, theta follows; endpoint error {err:.2e}")
+    piece = make_segment(system, nb, x0, x1, T, c, t0=0.0, final_error=err, message=msg, method="holonomic",
+                         limits=limits, evaluations=1)
+    checked = piece.extremes
+    broke = checked is not None and limits is not None and (
+        (limits.input_bound("u") is not None and checked["max_abs_u"] > limits.input_bound("u") + COMPLIANCE_TOL)
+        or any(r[0] < limits.bounds(st)[0] - COMPLIANCE_TOL or r[1] > limits.bounds(st)[1] + COMPLIANCE_TOL
+               for st, r in checked["state_ranges"].items()))
+    if err <= interval.tol and not broke:
+        return IntervalOutcome(True, (piece,), "", 1)
+    why = "the lowest-degree joint motion breaks the limits" if broke else \
+        f"theta(T) is fixed by phi(T) and the joint motion ends {err:.2e} from the target"
+    return IntervalOutcome(False, (dataclasses.replace(piece, success=False),), f"P0 = 0: {why}", 1)
+
+
 class FlatOutput(Strategy):
     """``method="flat"``: the three-piece flat-output planner (:func:`flat_pieces`): move, dwell,
     move, exact up to a scalar root; reaches every target strictly inside the exact interval."""
@@ -448,6 +483,8 @@ class FlatOutput(Strategy):
         return None
 
     def solve(self, interval: Interval) -> IntervalOutcome:
+        if interval.system.P0 == 0.0:
+            return _holonomic_attempt(interval)
         return _flat_attempt(interval)
 
 
@@ -468,6 +505,8 @@ class AcrobotAuto(Strategy):
         return FlatOutput().unsupported(system)
 
     def solve(self, interval: Interval) -> IntervalOutcome:
+        if interval.system.P0 == 0.0:
+            return _holonomic_attempt(interval)
         sizes = interval.sizes or AUTO_SIZES
         guesses = {}
         scalar = _scalar_ends(interval.ends)

@@ -38,13 +38,25 @@ from .reach import reachable_set
 __all__ = ["Acrobot", "PhysicalParameters"]
 
 
+#: The largest parameter magnitude the arithmetic carries (squares and products of parameters
+#: must stay finite in double precision).
+MAX_MAGNITUDE = 1e100
+
+
 def _finite(field: str, value) -> float:
+    if isinstance(value, bool):
+        raise InvalidInputError(field, f"must be a real number, got {value!r}", "give a finite number")
     try:
         v = float(value)
-    except (TypeError, ValueError):
-        raise InvalidInputError(field, f"must be a real number, got {value!r}", "give a finite number") from None
+    except (TypeError, ValueError, OverflowError):
+        r = repr(value)
+        raise InvalidInputError(field, f"must be a real number, got {r if len(r) <= 80 else r[:77] + '...'}",
+                                "give a finite number") from None
     if not math.isfinite(v):
         raise InvalidInputError(field, f"must be finite, got {v}", "give a finite number")
+    if abs(v) > MAX_MAGNITUDE:
+        raise InvalidInputError(field, f"is {v:.3g}, beyond {MAX_MAGNITUDE:g}: more than the arithmetic carries "
+                                "(its squares overflow)", "change the units")
     return v
 
 
@@ -156,7 +168,13 @@ class Acrobot(ControlAffineSystem):
         """
         phys = PhysicalParameters(torso_mass, leg_mass, torso_inertia, leg_inertia, torso_length, leg_length,
                                   angular_momentum)
-        return cls(**phys.lumped(), physical=phys)
+        lumped = phys.lumped()
+        for name, v in lumped.items():
+            if not (math.isfinite(v) and abs(v) <= MAX_MAGNITUDE):
+                raise InvalidInputError("torso_length" if name != "P0" else "angular_momentum",
+                                        f"the body's {name} = {v:.3g} is more than the arithmetic carries",
+                                        "change the units (masses in kg, lengths in m)")
+        return cls(**lumped, physical=phys)
 
     @classmethod
     def example(cls) -> "Acrobot":
@@ -206,7 +224,7 @@ class Acrobot(ControlAffineSystem):
             sin, cos, atan2 = np.sin, np.cos, np.arctan2
         if b == 0.0:
             return (self.M2 * phi + self.A2 * sin(phi)) / a
-        s = math.sqrt(a * a - b * b)
+        s = math.sqrt(a * a - b * b)  # finite: |a|, |b| <= MAX_MAGNITUDE
         rho = (a - s) / b
         G = (phi - 2.0 * atan2(rho * sin(phi), 1.0 + rho * cos(phi))) / s
         return (self.A2 / b) * phi + (self.M2 - self.A2 * a / b) * G

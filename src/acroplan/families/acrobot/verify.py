@@ -2,9 +2,26 @@
 
 from __future__ import annotations
 
+import functools
+import math
+
 import numpy as np
 
 __all__ = ["flat_output_errors"]
+
+#: Panels of the composite rule at most (64 nodes each).
+MAX_PANELS = 200_000
+
+
+@functools.lru_cache(maxsize=16)
+def _nodes(panels: int):
+    """Composite Gauss-Legendre nodes and weights on [0, 1]: ``panels`` panels of 64 nodes."""
+    xg, wg = np.polynomial.legendre.leggauss(64)
+    s = ((np.arange(panels)[:, None] + (xg[None, :] + 1.0) / 2.0) / panels).ravel()
+    w = np.tile(wg / (2.0 * panels), panels)
+    s.flags.writeable = False
+    w.flags.writeable = False
+    return s, w
 
 
 def flat_output_errors(result) -> np.ndarray:
@@ -14,8 +31,10 @@ def flat_output_errors(result) -> np.ndarray:
                + P_0 \\int_{t_0}^{t_1} \\frac{dt}{h(\\varphi(t))},
 
     with :math:`\\varphi(t) = \\varphi(t_0) + \\int u` integrated exactly in the segment's basis
-    (:meth:`InputBasis.integral`) and the time integral by composite Gauss-Legendre
-    (32 panels of 64 nodes), chained through the segments from the first waypoint like
+    (:meth:`InputBasis.integral`) and the time integral by composite Gauss-Legendre with 64 nodes
+    per panel and as many panels as the joint needs: at least 32, and one per radian of its
+    largest travel :math:`\\max|u|\\,T` (so a joint that turns 1000 rad is resolved as well as one
+    that turns 1), chained through the segments from the first waypoint like
     :func:`acroplan.plan`'s own check. Every step is exact up to rounding, so this resolves
     errors far below the floor of an adaptive integrator at rtol ~ 3e-14, whose own error on
     :math:`\\theta` grows with :math:`|\\theta|` (measured in ``benchmarks/RESULTS.md``).
@@ -34,14 +53,11 @@ def flat_output_errors(result) -> np.ndarray:
     robot = result.system
     if not all(hasattr(robot, name) for name in ("F", "h", "P0")):
         raise TypeError("flat_output_errors needs an acrobot (a system with a flat output F, h, P0)")
-    xg, wg = np.polynomial.legendre.leggauss(64)
-    panels = 32
-    s = ((np.arange(panels)[:, None] + (xg[None, :] + 1.0) / 2.0) / panels).ravel()  # nodes on [0, 1]
-    w = np.tile(wg / (2.0 * panels), panels)
     theta, phi = (float(v) for v in result.waypoints[0])
     errors = []
     for seg in result.segments:
         T = seg.t1 - seg.t0
+        s, w = _nodes(int(min(MAX_PANELS, max(32, math.ceil(seg.max_abs_u * T)))))
         basis = result.basis_for(seg)
         c = np.asarray(seg.basis_coefficients[0], dtype=float)
         total = T * float(w @ (1.0 / robot.h(phi + T * (basis.integral(s) @ c))))

@@ -1,0 +1,51 @@
+"""A wall-clock budget for one plan.
+
+:func:`acroplan.plan` opens a budget (``time_limit`` seconds) around its work; the solvers call
+:func:`check` at every endpoint evaluation and the checking integrator at every right-hand side
+call (every 256th), so a plan that would run too long ends, between two evaluations, with
+:class:`BudgetExceeded`, which the front door turns into ``not_converged`` with the diagnostics
+gathered so far. The budget is a context variable: each thread (and each worker process) has its
+own, and code run outside a plan has none.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import contextvars
+import time
+
+__all__ = ["BudgetExceeded", "budget", "check", "remaining"]
+
+_DEADLINE: contextvars.ContextVar[tuple[float, float] | None] = contextvars.ContextVar("acroplan_deadline",
+                                                                                      default=None)
+
+
+class BudgetExceeded(RuntimeError):
+    """The plan's time budget is spent."""
+
+    def __init__(self, limit: float):
+        self.limit = limit
+        super().__init__(f"the time budget of {limit:g} s was spent (time_limit)")
+
+
+@contextlib.contextmanager
+def budget(seconds: float | None):
+    """Run the body with a deadline ``seconds`` from now (``None``: no deadline)."""
+    token = _DEADLINE.set(None if seconds is None else (time.monotonic() + float(seconds), float(seconds)))
+    try:
+        yield
+    finally:
+        _DEADLINE.reset(token)
+
+
+def check() -> None:
+    """Raise :class:`BudgetExceeded` when the current budget is spent."""
+    d = _DEADLINE.get()
+    if d is not None and time.monotonic() > d[0]:
+        raise BudgetExceeded(d[1])
+
+
+def remaining() -> float | None:
+    """Seconds left in the current budget (``None`` without one)."""
+    d = _DEADLINE.get()
+    return None if d is None else d[0] - time.monotonic()

@@ -1,0 +1,181 @@
+"""Bounded in time and memory, a status or a clear error instead of a crash (the API side).
+
+Each test pins a finding of the reliability review; the comment names it.
+"""
+
+import math
+import time
+import tracemalloc
+
+import numpy as np
+import pytest
+
+import acroplan
+from acroplan.families.acrobot.verify import flat_output_errors
+
+PI = np.pi
+
+
+def test_reachable_set_with_a_huge_rate_bound_is_instant_and_small(pike_robot):
+    """u_max = 1e12 listed every multiple of pi in [-u_max T/2, u_max T/2] (1e7: 51 s, 0.75 GB)."""
+    free = acroplan.reachable_interval(pike_robot, theta0=0.0, phi0=-2.0, phiT=-0.5, T=1.5)
+    tracemalloc.start()
+    t = time.perf_counter()
+    for u_max in (1e6, 1e9, 1e12, 1e15):
+        lo, hi = acroplan.reachable_interval(pike_robot, theta0=0.0, phi0=-2.0, phiT=-0.5, T=1.5, u_max=u_max)
+        # a rate bound this large gives (almost) the open interval, closed
+        assert free[0] <= lo < hi <= free[1] and hi - lo > 0.999 * (free[1] - free[0])
+    elapsed, peak = time.perf_counter() - t, tracemalloc.get_traced_memory()[1]
+    tracemalloc.stop()
+    assert elapsed < 0.5 and peak < 5e6
+
+
+def test_reachable_set_candidates_are_the_extremes_of_all_multiples(pike_robot):
+    """The four candidates per region give the same interval as every multiple of pi."""
+    from acroplan.families.acrobot import reach
+
+    rng = np.random.default_rng(4)
+    for _ in range(40):
+        phi0, phiT = rng.uniform(-9, 9, size=2)
+        T, U = rng.uniform(0.3, 3.0), rng.uniform(0.5, 20.0)
+        lim = acroplan.Limits(u_max=U)
+        if abs(phiT - phi0) > U * T:
+            continue
+        got = reach.reachable_set(pike_robot, theta0=0.0, phi0=phi0, phiT=phiT, T=T, limits=lim)
+        every = reach._pi_multiples  # the region-wise candidates, against the exhaustive list
+        try:
+            reach._pi_multiples = lambda lo, hi: {k * math.pi for k in range(math.ceil(lo / math.pi),
+                                                                            math.floor(hi / math.pi) + 1)}
+            ref = reach.reachable_set(pike_robot, theta0=0.0, phi0=phi0, phiT=phiT, T=T, limits=lim)
+        finally:
+            reach._pi_multiples = every
+        assert (got.low, got.high) == pytest.approx((ref.low, ref.high), abs=1e-12, rel=1e-14)
+
+
+def test_every_plan_has_a_wall_clock_budget(pike_robot):
+    """Valid problems ran past 5 minutes; max_evaluations does not bound time."""
+    lo, hi = acroplan.reachable_interval(pike_robot, theta0=0.0, phi0=-3.0, phiT=-0.2, T=1.0)
+    t = time.perf_counter()
+    res = acroplan.plan(pike_robot, times=[0, 1], theta=[0.0, lo + 0.999 * (hi - lo)], phi=[-3.0, -0.2],
+                        conditions="free", method="deform", max_evaluations=10**9, time_limit=0.3)
+    elapsed = time.perf_counter() - t
+    assert elapsed < 0.3 + 1.0  # one evaluation (~50 us) or one DOP853 batch past the deadline, plus setup
+    if not res.success:  # (the text's method may also just succeed in time)
+        assert res.status == "not_converged" and "time budget of 0.3 s" in res.message
+    with pytest.raises(acroplan.InvalidInputError, match="time_limit: must be a positive number"):
+        acroplan.plan(pike_robot, times=[0, 1], theta=[0, 1], phi=[0, 1], time_limit=-1)
+
+
+def test_the_budget_ends_a_plan_with_its_diagnostics(pike_robot):
+    """A budget too short for the work: not_converged, naming the budget, never an exception."""
+    problem = acroplan.examples.load("pike-dive")
+    res = acroplan.plan(problem.robot, time_limit=1e-4, **problem.plan_kwargs())
+    assert res.status == "not_converged" and "time budget" in res.message
+
+
+def test_n_coefficients_is_bounded_and_its_maximum_finishes(pike_robot):
+    """200 coefficients took 124 s and 0.9 GB; 2**62 crashed."""
+    kw = dict(times=[0, 2], theta=[-0.5 * PI, 0.9 * PI], phi=[-PI, -2 * PI])
+    for n in (31, 200, 2**62):
+        with pytest.raises(acroplan.InvalidInputError, match="n_coefficients: must be at most 30"):
+            acroplan.plan(pike_robot, n_coefficients=n, **kw)
+    t = time.perf_counter()
+    res = acroplan.plan(pike_robot, n_coefficients=30, **kw)
+    assert res.success and time.perf_counter() - t < 60  # compiling size 30 takes ~4 s here
+
+
+def test_holonomic_P0_zero_is_planned_directly():
+    """P0 = 0 with the target on the one reachable theta ran past 30 s in 30 of 54 cases."""
+    robot = acroplan.Acrobot(M1=2.0, A1=-0.5, M2=0.5, A2=-0.25, P0=0.0)
+    rng = np.random.default_rng(54)
+    for _ in range(10):
+        phi = rng.uniform(-4, 4, size=3)
+        theta = [0.1]
+        for a, b in zip(phi, phi[1:]):
+            theta.append(theta[-1] - float(robot.F(b)) + float(robot.F(a)))
+        for conditions in ("free", "spline"):
+            t = time.perf_counter()
+            res = acroplan.plan(robot, times=[0, 1.0, 2.5], theta=theta, phi=list(phi), conditions=conditions)
+            assert res.success, res.message
+            assert time.perf_counter() - t < 2.0
+            assert {s.method for s in res.segments} == {"holonomic"}
+            assert np.max(flat_output_errors(res)) < 1e-12
+
+
+def test_absolute_times_are_planned():
+    """times = [1.7e9, 1.7e9 + 1] crashed plan() with a TypeError in the checking integrator."""
+    robot = acroplan.examples.robot("pike-dive")
+    lo, hi = acroplan.reachable_interval(robot, theta0=0.0, phi0=-PI, phiT=-PI / 2, T=1.0)
+    res = acroplan.plan(robot, times=[1.7e9, 1.7e9 + 1], theta=[0, 0.5 * (lo + hi)], phi=[-PI, -PI / 2],
+                        conditions="free")
+    assert res.success and res.segments[0].verified_error < 1e-12
+
+
+@pytest.mark.parametrize("times, match", [
+    ([0, 1e-300], "segment 0 lasts 1e-300"),
+    ([0, 1e9], "segment 0 lasts 1e.09"),
+    ([-1e308, 1], "times beyond 1e.12"),
+])
+def test_durations_the_arithmetic_cannot_carry_are_refused(pike_robot, times, match):
+    with pytest.raises(acroplan.InvalidInputError, match="times: " if "beyond" in match else match):
+        acroplan.plan(pike_robot, times=times, theta=[0, 1], phi=[0, 1])
+
+
+@pytest.mark.parametrize("kwargs, field", [
+    (dict(M1=1e160, A1=-0.5, M2=0.5, A2=-0.25, P0=1.0), "M1"),
+    (dict(M1=2.0, A1=-0.5, M2=0.5, A2=-0.25, P0=1e120), "P0"),
+])
+def test_magnitudes_the_arithmetic_cannot_carry_are_refused(kwargs, field):
+    """M1 = 1e160 claimed the only reachable theta was -0.785; leg_length = 1e150 wrote NaN."""
+    with pytest.raises(acroplan.InvalidInputError, match=f"{field}: is .*beyond 1e.100"):
+        acroplan.Acrobot(**kwargs)
+    with pytest.raises(acroplan.InvalidInputError, match="leg_length: is 1e.150"):
+        acroplan.Acrobot.from_physical(torso_mass=40, leg_mass=20, torso_inertia=1.8, leg_inertia=1.2,
+                                       torso_length=0.35, leg_length=1e150, angular_momentum=10)
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(T=float("nan")), "T: must be finite"),
+    (dict(T=-1.0), r"T: must lie in \(0, 1e6\]"),
+    (dict(T=float("inf")), "T: must be finite"),
+    (dict(theta0="0"), "theta0: must be a number"),
+    (dict(phi0=None), "phi0: must be a number"),
+    (dict(phiT=np.array([1.0, 2.0])), "phiT: must be a number"),
+])
+def test_reachable_interval_validates_its_input(pike_robot, kwargs, match):
+    """T = NaN returned (nan, nan), T = -1 an interval; strings and arrays raised TypeError."""
+    args = dict(theta0=0.0, phi0=0.0, phiT=1.0, T=1.0)
+    args.update(kwargs)
+    with pytest.raises(acroplan.InvalidInputError, match=match):
+        acroplan.reachable_interval(pike_robot, **args)
+
+
+def test_long_plans_are_verified_relative_to_the_state_size(pike_robot):
+    """1,000 waypoints: every segment converged and the exact identity agreed to 4e-11, but DOP853
+    missed by up to 3e-8 at |theta| ~ 2,300, above its absolute 1e-9: exit 4. 200 waypoints here,
+    theta reaching 231, keep the test quick."""
+    K = 200
+    t = np.linspace(0.0, 0.5 * K, K + 1)
+    phi = np.where(np.arange(K + 1) % 2 == 0, -PI, -2 * PI)
+    theta = [0.0]
+    for k in range(K):
+        lo, hi = acroplan.reachable_interval(pike_robot, theta0=theta[-1], phi0=phi[k], phiT=phi[k + 1], T=0.5)
+        theta.append(lo + 0.5 * (hi - lo))
+    res = acroplan.plan(pike_robot, times=t, theta=theta, phi=phi, conditions="free", verify=True)
+    assert res.success, res.message
+    assert abs(theta[-1]) > 200
+    assert np.max(flat_output_errors(res)) < 1e-9 * max(1.0, abs(theta[-1]) / 50)
+
+
+def test_flat_output_check_resolves_a_fast_joint(pike_robot):
+    """phi from 0 to 1000 rad in 2 s: the fixed 32-panel rule raised a false alarm of 7.7e-4."""
+    lo, hi = acroplan.reachable_interval(pike_robot, theta0=0.0, phi0=0.0, phiT=1000.0, T=2.0)
+    res = acroplan.plan(pike_robot, times=[0, 2], theta=[0, 0.5 * (lo + hi)], phi=[0, 1000.0], conditions="free",
+                        n_coefficients=14)
+    assert res.success, res.message
+    assert flat_output_errors(res)[0] < 1e-11
+
+
+def test_workers_must_be_positive():
+    with pytest.raises(acroplan.InvalidInputError, match="workers: must be a whole number >= 1"):
+        acroplan.plan_many([], workers=-1)
