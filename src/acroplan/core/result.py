@@ -277,6 +277,17 @@ def _freeze(obj, *names):
         object.__setattr__(obj, name, a)
 
 
+def _json_safe(obj):
+    """``obj`` with every non-finite float replaced by ``None`` (recursively)."""
+    if isinstance(obj, float):
+        return obj if np.isfinite(obj) else None
+    if isinstance(obj, dict):
+        return {k: _json_safe(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_json_safe(v) for v in obj]
+    return obj
+
+
 def _num(v):
     if v is None:
         return None
@@ -390,8 +401,9 @@ class PlanResult:
 
     # ------------------------------------------------------------------ export
     def to_dict(self) -> dict[str, Any]:
-        """Everything needed to reproduce and check the plan, as plain JSON types."""
-        return {
+        """Everything needed to reproduce and check the plan, as plain JSON types (a number that
+        is not finite is written as ``null``: JSON has no NaN or infinity)."""
+        return _json_safe({
             "status": self.status.value,
             "success": self.success,
             "message": self.message,
@@ -416,11 +428,12 @@ class PlanResult:
                                                  if s.verified_error is not None), default=None)),
                 "sigma_min": _num(min((s.sigma_min for s in self.segments), default=None)),
             },
-        }
+        })
 
     def to_json(self, **kwargs) -> str:
         """:meth:`to_dict` as a JSON string (``kwargs`` go to :func:`json.dumps`)."""
         kwargs.setdefault("indent", 2)
+        kwargs.setdefault("allow_nan", False)
         return json.dumps(self.to_dict(), **kwargs)
 
     def plot(self, *, per_segment: int = 200):
