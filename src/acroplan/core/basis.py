@@ -223,6 +223,8 @@ def make_basis(basis, n: int) -> InputBasis:
     """A basis from its name (``"monomial"``, ``"legendre"``) or an :class:`InputBasis` instance."""
     if isinstance(basis, InputBasis):
         return basis
-    if basis not in _BASES:
-        raise InvalidInputError("basis", f"unknown basis {basis!r}", f"use one of {sorted(_BASES)}")
+    if not isinstance(basis, str) or basis not in _BASES:
+        r = repr(basis)
+        raise InvalidInputError("basis", f"unknown basis {r if len(r) <= 80 else r[:77] + '...'}",
+                                f"use one of {sorted(_BASES)} or an InputBasis")
     return _BASES[basis](n)

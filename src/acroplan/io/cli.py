@@ -3,11 +3,17 @@
 Exit codes: 0 success, 2 invalid input, 3 infeasible (with proof), 4 not converged. Errors are one
 line naming the field and the fix (``--debug`` shows the traceback); colours only on a terminal;
 progress bars only on a terminal; ``--json`` prints a machine-readable summary on stdout.
+
+Output folders are checked and reserved (:class:`~acroplan.io.output.OutputFolder`: lock, repair
+of what a killed run left) before any planning, and written atomically. No JSON written or printed
+holds a non-finite number: such a value is written as ``null`` and named in the document's
+``warnings`` list.
 """
 
 from __future__ import annotations
 
 import json
+import math
 import sys
 from pathlib import Path
 
@@ -16,16 +22,57 @@ import numpy as np
 
 from ..core.errors import EXIT_INFEASIBLE, EXIT_INVALID, EXIT_NOT_CONVERGED, EXIT_SUCCESS, InvalidInputError
 from . import examples as _examples
-from .output import atomic_dir, check_out_dir
+from .output import OutputFolder, atomic_dir, check_entry_name, check_out_dir
 from .problem import load_problem
 
 EXIT_BY_STATUS = {"success": EXIT_SUCCESS, "infeasible": EXIT_INFEASIBLE, "not_converged": EXIT_NOT_CONVERGED}
 FORMATS = ("png", "pdf")
 
 
+def _one_line(message: str, most: int = 2000) -> str:
+    message = str(message).replace("\r", "\\r").replace("\n", "\\n")
+    return message if len(message) <= most else message[:most - 3] + "..."
+
+
 def _fail(message: str, code: int = EXIT_INVALID):
-    click.echo(click.style("acroplan: error: ", fg="red", bold=True) + message, err=True)
+    click.echo(click.style("acroplan: error: ", fg="red", bold=True) + _one_line(message), err=True)
     sys.exit(code)
+
+
+def _json_safe(value, where: str = "", warnings: list | None = None):
+    """``value`` with every non-finite float replaced by None; each replacement is named in
+    ``warnings`` (``"segments[0].final_error: was nan, written as null"``)."""
+    if warnings is None:
+        warnings = []
+    if isinstance(value, dict):
+        return {k: _json_safe(v, f"{where}.{k}" if where else str(k), warnings) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_json_safe(v, f"{where}[{i}]", warnings) for i, v in enumerate(value)]
+    if isinstance(value, np.ndarray):
+        return _json_safe(value.tolist(), where, warnings)
+    if isinstance(value, (float, np.floating)) and not isinstance(value, bool):
+        if not math.isfinite(value):
+            warnings.append(f"{where or 'value'}: was {float(value)}, written as null")
+            return None
+        return float(value)
+    if isinstance(value, np.integer):
+        return int(value)
+    if isinstance(value, np.bool_):
+        return bool(value)
+    return value
+
+
+def _json_text(doc: dict, **kwargs) -> str:
+    """``doc`` as JSON with no NaN or infinity: those become null, listed under ``warnings``."""
+    warnings: list[str] = []
+    clean = _json_safe(doc, "", warnings)
+    if warnings:
+        clean["warnings"] = list(clean.get("warnings") or []) + warnings
+    return json.dumps(clean, allow_nan=False, **kwargs)
+
+
+def _write_json(path: Path, doc: dict) -> None:
+    path.write_text(_json_text(doc, indent=2) + "\n", encoding="utf-8")
 
 
 def _formats(text: str) -> tuple[str, ...]:
@@ -37,12 +84,20 @@ def _formats(text: str) -> tuple[str, ...]:
     return fmts
 
 
-def _check_outputs(out, force: bool, fmt: str, hint: str) -> tuple[str, ...]:
-    """Validate --out, --force and --format before any work; returns the figure formats."""
+def _check_outputs(out, force: bool, fmt: str, hint: str, inputs=()) -> tuple[str, ...]:
+    """Validate --out, --force and --format before any work; returns the figure formats.
+
+    ``inputs``: the problem files or folders read; --force must not replace a folder holding them.
+    """
     if out is None:
         raise InvalidInputError("--out", "is required", f"give an output folder, for example --out {hint}")
     fmts = _formats(fmt)
     check_out_dir(out, force)
+    target = Path(out).absolute().resolve()
+    for p in inputs:
+        if p is not None and Path(p).absolute().resolve().is_relative_to(target):
+            raise InvalidInputError("--out", f"{out} holds the problem {p}, which replacing it would delete",
+                                    "give another output folder")
     return fmts
 
 
@@ -72,7 +127,7 @@ def _progress(total: int, desc: str):
 
 def _report(summary: dict, as_json: bool, quiet: bool, lines: list[str], code: int) -> None:
     if as_json:
-        click.echo(json.dumps(summary))
+        click.echo(_json_text(summary))
     elif code != EXIT_SUCCESS:
         for line in lines:
             click.echo(click.style("acroplan: ", fg="yellow", bold=True) + line, err=True)
@@ -127,6 +182,8 @@ def run():
         sys.exit(130)
     except SystemExit:
         raise
+    except InvalidInputError as e:
+        _fail(str(e))
     except Exception as e:  # noqa: BLE001
         if "--debug" in sys.argv[1:]:
             raise
@@ -216,8 +273,16 @@ def plan_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do_ani
 
     PROBLEM may also be a folder of problem files, or a file of many problems ([[problem]] tables,
     each with an optional name): they are planned on all cores, each into OUT/NAME/, with
-    OUT/summary.csv (name, status, message, segments, evaluations, errors); the exit code is then
-    0 if all succeeded, else 4 if any did not converge, else 3.
+    OUT/summary.csv (name, status, message, segments, evaluations, errors). In a folder, hidden
+    files are skipped and a file that is not a valid problem is listed in summary.csv with status
+    "invalid" and its message (the others are planned). Names must be plain folder names (no
+    path, no "..", not hidden, not reserved, all different). The exit code of a batch is the
+    largest code among its problems: 4 if any did not converge, else 3 if any is infeasible,
+    else 2 if any file is invalid, else 0.
+
+    --out must be a real folder (a symbolic link is refused, not written through), and not the
+    current folder, one of its parents, the home folder or a filesystem root. One run at a time
+    writes to a folder (another gets exit 2).
 
     \b
     Examples:
@@ -229,20 +294,21 @@ def plan_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do_ani
         return _plan_batch(problem, out, force, quiet, as_json, no_plots, fmt)
     try:
         prob = _load(problem, example)
-        fmts = _check_outputs(out, force, fmt, "plan-out")
-        update, close = _progress(len(prob.times) - 1, "segments")
-        try:
-            result = prob.solve(verify=True, progress=update)
-        finally:
-            close()
-        with atomic_dir(out, force) as tmp:
-            (tmp / "solution.json").write_text(result.to_json() + "\n", encoding="utf-8")
-            if result.success:
-                _write_csv(result, tmp / "trajectory.csv")
-                if not no_plots:
-                    _save(result.plot(), tmp, fmts)
-                if do_animate:
-                    _write_animation(tmp)
+        fmts = _check_outputs(out, force, fmt, "plan-out", [problem])
+        with OutputFolder(out, force) as folder:
+            update, close = _progress(len(prob.times) - 1, "segments")
+            try:
+                result = prob.solve(verify=True, progress=update)
+            finally:
+                close()
+            with folder.write() as tmp:
+                _write_json(tmp / "solution.json", result.to_dict())
+                if result.success:
+                    _write_csv(result, tmp / "trajectory.csv")
+                    if not no_plots:
+                        _save(result.plot(), tmp, fmts)
+                    if do_animate:
+                        _write_animation(tmp)
     except InvalidInputError as e:
         _fail(str(e))
     code = EXIT_BY_STATUS[result.status]
@@ -265,67 +331,117 @@ def _is_batch(path: Path) -> bool:
         return False
 
 
+#: exit code of each status in a batch; the batch exits with the largest code present
+EXIT_BY_BATCH_STATUS = {**EXIT_BY_STATUS, "invalid": EXIT_INVALID}
+
+
+def _batch_entries(path: Path):
+    """[(name, Problem or None, message or None)] of a folder or a file of many problems.
+
+    A folder: every ``*.toml`` file not hidden, named by its stem; a file that cannot be read or
+    validated is kept with its message (naming the file), so that the others are planned. A file
+    of many problems: any invalid entry, name or duplicate name refuses the whole file.
+    """
+    from .problem import load_toml, parse_problem
+
+    entries = []
+    if path.is_dir():
+        files = sorted(f for f in path.glob("*.toml") if not f.name.startswith("."))
+        if not files:
+            raise InvalidInputError(str(path), "holds no .toml problem files", "put problem files in the folder")
+        seen = {}
+        for f in files:
+            try:
+                name = check_entry_name(f"{f}: file name", f.stem)
+                if name.lower() in seen:
+                    raise InvalidInputError(f"{f}: file name", f"gives the same output folder as {seen[name.lower()]}"
+                                            " (names differ only in case)", "rename one of the files")
+                seen[name.lower()] = f.name
+                entries.append((name, load_problem(f), None))
+            except InvalidInputError as e:
+                msg = str(e) if e.field.startswith(str(f)) else f"{f}: {e}"
+                entries.append((f.stem, None, _one_line(msg, 500)))
+        return entries
+    data = load_toml(path)
+    for key in data:
+        if key != "problem":
+            raise InvalidInputError(_short_key(key), "is not a known key of a file of many problems",
+                                    "put every problem in a [[problem]] table")
+    items = data["problem"]
+    if not isinstance(items, list) or not items or not all(isinstance(e, dict) for e in items):
+        raise InvalidInputError("problem", "must be an array of tables ([[problem]])", "see docs/problem-files.md")
+    seen = {}
+    for i, entry in enumerate(items):
+        entry = dict(entry)
+        name = check_entry_name(f"problem[{i}].name", entry.pop("name", f"problem-{i:04d}"))
+        if name.lower() in seen:
+            raise InvalidInputError(f"problem[{i}].name", f"{name!r} is also the name of problem[{seen[name.lower()]}]"
+                                    " (names must differ, also in case)", "rename the duplicates")
+        seen[name.lower()] = i
+        try:
+            entries.append((name, parse_problem(entry, name=name), None))
+        except InvalidInputError as e:
+            raise InvalidInputError(f"problem[{i}].{e.field}", e.problem, e.fix) from None
+    return entries
+
+
+def _short_key(key) -> str:
+    r = str(key)
+    return r if len(r) <= 60 and r.isprintable() else repr(r)[:57] + "..."
+
+
 def _plan_batch(path, out, force, quiet, as_json, no_plots, fmt):
     import csv
 
     from ..batch import plan_many
-    from .problem import load_toml, parse_problem
 
     try:
-        fmts = _check_outputs(out, force, fmt, "results")
-        named = []
-        if path.is_dir():
-            files = sorted(path.glob("*.toml"))
-            if not files:
-                raise InvalidInputError(str(path), "holds no .toml problem files", "put problem files in the folder")
-            named = [(f.stem, load_problem(f)) for f in files]
-        else:
-            data = load_toml(path)
-            entries = data["problem"]
-            if not isinstance(entries, list) or not entries:
-                raise InvalidInputError("problem", "must be an array of tables ([[problem]])", "see docs/problem-files.md")
-            for i, entry in enumerate(entries):
-                entry = dict(entry)
-                name = str(entry.pop("name", f"problem-{i:04d}"))
+        entries = _batch_entries(path)
+        fmts = _check_outputs(out, force, fmt, "results", [path])
+        valid = [(n, p) for n, p, _ in entries if p is not None]
+        with OutputFolder(out, force) as folder:
+            results = {}
+            if valid:
+                update, close = _progress(len(valid), "problems")
                 try:
-                    named.append((name, parse_problem(entry, name=name)))
-                except InvalidInputError as e:
-                    raise InvalidInputError(f"problem[{i}].{e.field}", e.problem, e.fix) from None
-        names = [n for n, _ in named]
-        if len(set(names)) != len(names):
-            raise InvalidInputError("name", "problem names must be unique", "rename the duplicates")
-        update, close = _progress(len(named), "problems")
-        try:
-            results = plan_many([p for _, p in named], progress=update)
-        finally:
-            close()
-        with atomic_dir(out, force) as tmp:
-            rows = []
-            for (name, _), r in zip(named, results):
-                folder = tmp / name
-                folder.mkdir()
-                (folder / "solution.json").write_text(r.to_json() + "\n", encoding="utf-8")
-                if r.success:
-                    _write_csv(r, folder / "trajectory.csv")
-                    if not no_plots:
-                        _save(r.plot(), folder, fmts)
-                d = r.to_dict()["diagnostics"]
-                rows.append({"name": name, "status": r.status, "message": r.message.splitlines()[0],
-                             "segments": len(r.segments), "evaluations": d["evaluations"],
-                             "max_final_error": d["max_final_error"], "max_verified_error": d["max_verified_error"]})
-            with open(tmp / "summary.csv", "w", newline="", encoding="utf-8") as f:
-                w = csv.DictWriter(f, fieldnames=list(rows[0]))
-                w.writeheader()
-                w.writerows(rows)
+                    results = dict(zip([n for n, _ in valid], plan_many([p for _, p in valid], progress=update)))
+                finally:
+                    close()
+            with folder.write() as tmp:
+                rows = []
+                for name, _, message in entries:
+                    if name not in results:
+                        rows.append({"name": name, "status": "invalid", "message": message, "segments": "",
+                                     "evaluations": "", "max_final_error": "", "max_verified_error": ""})
+                        continue
+                    r = results[name]
+                    sub = tmp / name
+                    sub.mkdir()
+                    _write_json(sub / "solution.json", r.to_dict())
+                    if r.success:
+                        _write_csv(r, sub / "trajectory.csv")
+                        if not no_plots:
+                            _save(r.plot(), sub, fmts)
+                    d = r.to_dict()["diagnostics"]
+                    rows.append({"name": name, "status": str(r.status), "message": r.message.splitlines()[0],
+                                 "segments": len(r.segments), "evaluations": d["evaluations"],
+                                 "max_final_error": d["max_final_error"],
+                                 "max_verified_error": d["max_verified_error"]})
+                with open(tmp / "summary.csv", "w", newline="", encoding="utf-8") as f:
+                    w = csv.DictWriter(f, fieldnames=list(rows[0]))
+                    w.writeheader()
+                    w.writerows(rows)
     except InvalidInputError as e:
         _fail(str(e))
-    statuses = [r.status for r in results]
-    code = (EXIT_SUCCESS if all(s == "success" for s in statuses) else
-            EXIT_NOT_CONVERGED if "not_converged" in statuses else EXIT_INFEASIBLE)
+    statuses = [row["status"] for row in rows]
+    code = max(EXIT_BY_BATCH_STATUS[s] for s in statuses)
     counts = {s: statuses.count(s) for s in sorted(set(statuses))}
-    _report({"command": "plan", "batch": True, "counts": counts, "out": str(out)}, as_json, quiet,
-            [f"{len(results)} problems: " + ", ".join(f"{v} {k}" for k, v in counts.items()),
-             f"wrote {out}/summary.csv"], code)
+    lines = [row["message"] for row in rows if row["status"] == "invalid"]
+    lines += [f"{len(rows)} problems: " + ", ".join(f"{v} {k}" for k, v in counts.items()),
+              f"wrote {out}/summary.csv"]
+    _report({"command": "plan", "batch": True, "counts": counts, "out": str(out),
+             "invalid": [row["message"] for row in rows if row["status"] == "invalid"]}, as_json, quiet,
+            lines, code)
 
 
 def _write_csv(result, path: Path, per_segment: int = 200) -> None:
@@ -358,11 +474,12 @@ def reach_cmd(problem, example, out, force, quiet, as_json, fmt):
 
     try:
         prob = _load(problem, example)
-        fmts = _check_outputs(out, force, fmt, "reach-out")
-        rows = prob.reach()
-        with atomic_dir(out, force) as tmp:
-            (tmp / "reach.json").write_text(json.dumps({"segments": rows}, indent=2) + "\n", encoding="utf-8")
-            _save({"reach": plot_reach(prob)}, tmp, fmts)
+        fmts = _check_outputs(out, force, fmt, "reach-out", [problem])
+        with OutputFolder(out, force) as folder:
+            rows = prob.reach()
+            with folder.write() as tmp:
+                _write_json(tmp / "reach.json", {"segments": rows})
+                _save({"reach": plot_reach(prob)}, tmp, fmts)
     except InvalidInputError as e:
         _fail(str(e))
     lines = []
@@ -419,43 +536,50 @@ def nilpotent_cmd(problem, example, out, force, quiet, as_json, equations, no_pl
         if equations:
             click.echo(nil.format_equations(prob))
             sys.exit(EXIT_SUCCESS)
-        fmts = _check_outputs(out, force, fmt, "ch4-out (or use --equations)")
-        R = reachable_set(prob.robot, theta0=prob.P[2], phi0=prob.P[0], phiT=prob.Q[0], T=prob.Q[1] - prob.P[1],
-                          limits=Limits(phi_min=-np.pi, phi_max=np.pi))
-        if not R.contains(prob.Q[2]):
-            payload = {"status": "infeasible", "success": False, "interval": [R.low, R.high],
-                       "message": f"theta(Q) = {prob.Q[2]:.12g} is outside the reachable interval ({R.low:.12g}, "
-                                  f"{R.high:.12g}) for |phi| < pi", "system": system_to_dict(prob.robot)}
-            with atomic_dir(out, force) as tmp:
-                (tmp / "solution.json").write_text(json.dumps(payload, indent=2) + "\n", encoding="utf-8")
-            _report({"command": "nilpotent", **payload, "out": str(out)}, as_json, quiet,
-                    [f"infeasible: {payload['message']}"], EXIT_INFEASIBLE)
-        update, close = _progress(1, "solving")
-        try:
-            result = nil.solve_nilpotent(prob) if method == "nilpotent" else nil.solve_flat_y(prob)
-            counter = nil.counterexample(prob, result.m) if (result.success and method == "nilpotent") else None
-            update(1, 1)
-        finally:
-            close()
-        with atomic_dir(out, force) as tmp:
-            doc = {**result.to_dict(), "system": system_to_dict(prob.robot)}
-            if counter is not None:
-                doc["counterexample"] = counter.to_dict()
-            (tmp / "solution.json").write_text(json.dumps(doc, indent=2) + "\n", encoding="utf-8")
-            if result.success:
-                eps = np.linspace(0.0, 1.0, 2001)
-                t, theta, phi, _ = result.curve(eps)
-                u = result.u_of_eps(eps)
-                np.savetxt(tmp / "trajectory.csv", np.column_stack([t, theta, phi, u]), delimiter=",",
-                           header="t,theta,phi,u", comments="", fmt="%.17g")
-                if not no_plots:
-                    from ..families.acrobot.plots import plot_nilpotent
+        fmts = _check_outputs(out, force, fmt, "ch4-out (or use --equations)", [problem])
+        with OutputFolder(out, force) as folder:
+            R = reachable_set(prob.robot, theta0=prob.P[2], phi0=prob.P[0], phiT=prob.Q[0], T=prob.Q[1] - prob.P[1],
+                              limits=Limits(phi_min=-np.pi, phi_max=np.pi))
+            if not R.contains(prob.Q[2]):
+                payload = {"status": "infeasible", "success": False, "interval": [R.low, R.high],
+                           "message": f"theta(Q) = {prob.Q[2]:.12g} is outside the reachable interval "
+                                      f"({R.low:.12g}, {R.high:.12g}) for |phi| < pi",
+                           "system": system_to_dict(prob.robot)}
+                with folder.write() as tmp:
+                    _write_json(tmp / "solution.json", payload)
+                infeasible = payload
+            else:
+                infeasible = None
+                update, close = _progress(1, "solving")
+                try:
+                    result = nil.solve_nilpotent(prob) if method == "nilpotent" else nil.solve_flat_y(prob)
+                    counter = nil.counterexample(prob, result.m) if (result.success and method == "nilpotent") \
+                        else None
+                    update(1, 1)
+                finally:
+                    close()
+                with folder.write() as tmp:
+                    doc = {**result.to_dict(), "system": system_to_dict(prob.robot)}
+                    if counter is not None:
+                        doc["counterexample"] = counter.to_dict()
+                    _write_json(tmp / "solution.json", doc)
+                    if result.success:
+                        eps = np.linspace(0.0, 1.0, 2001)
+                        t, theta, phi, _ = result.curve(eps)
+                        u = result.u_of_eps(eps)
+                        np.savetxt(tmp / "trajectory.csv", np.column_stack([t, theta, phi, u]), delimiter=",",
+                                   header="t,theta,phi,u", comments="", fmt="%.17g")
+                        if not no_plots:
+                            from ..families.acrobot.plots import plot_nilpotent
 
-                    _save(plot_nilpotent(result, counter), tmp, fmts)
-                if do_animate:
-                    _write_animation(tmp)
+                            _save(plot_nilpotent(result, counter), tmp, fmts)
+                        if do_animate:
+                            _write_animation(tmp)
     except InvalidInputError as e:
         _fail(str(e))
+    if infeasible is not None:
+        _report({"command": "nilpotent", **infeasible, "out": str(out)}, as_json, quiet,
+                [f"infeasible: {infeasible['message']}"], EXIT_INFEASIBLE)
     code = EXIT_SUCCESS if result.success else EXIT_NOT_CONVERGED
     summary = {"command": "nilpotent", "status": result.status, "message": result.message, "out": str(out),
                "u1_margin": result.margin, "verified_error": result.verified_error}

@@ -109,56 +109,133 @@ class Problem:
 _OPS = {ast.Add: operator.add, ast.Sub: operator.sub, ast.Mult: operator.mul, ast.Div: operator.truediv,
         ast.USub: operator.neg, ast.UAdd: operator.pos, ast.Pow: operator.pow}
 
+#: Bounds of the arithmetic in problem files: text of at most MAX_TEXT characters, expressions at
+#: most MAX_DEPTH deep, exponents at most MAX_EXPONENT in size, every intermediate result real and
+#: finite.
+MAX_TEXT, MAX_DEPTH, MAX_EXPONENT = 200, 32, 1024
+
+#: Magnitudes the arithmetic carries (values beyond are refused, naming the field and the limit):
+#: the body's masses, inertias, lengths and momentum, its lumped parameters M1, A1, M2, A2, P0
+#: and u_max (their squares and products must stay finite in double precision); times; angles
+#: (beyond 1e6 rad a double no longer resolves the 1e-9 rad that verification asks for).
+MAX_BODY, MAX_TIME, MAX_ANGLE = 1e150, 1e12, 1e6
+#: the smallest M1 (and physical mass or inertia) the arithmetic carries: its square must not vanish
+MIN_BODY = 1e-150
+#: tolerances the planner can meet; evaluation budgets it can spend
+TOL_RANGE, MAX_EVALUATIONS = (1e-15, 1.0), 10_000_000
+#: the largest problem file read
+MAX_FILE_BYTES = 10_000_000
+
+_TEXT_FIX = "write a number or arithmetic with pi, such as \"-0.5*pi\""
+
+
+def _short(value, most: int = 80) -> str:
+    """A repr of ``value`` cut to ``most`` characters, safe for any nesting and size."""
+    import reprlib
+
+    r = reprlib.Repr()
+    r.maxlevel, r.maxstring, r.maxother, r.maxlong = 3, most, most, most
+    r.maxlist = r.maxtuple = r.maxdict = r.maxset = 6
+    try:
+        text = r.repr(value)
+    except Exception:  # noqa: BLE001 - a repr must never fail a message
+        text = f"<{type(value).__name__}>"
+    return text if len(text) <= most else text[:most - 3] + "..."
+
+
+class _Refused(Exception):
+    def __init__(self, why: str):
+        self.why = why
+
 
 def _arith(field: str, text: str) -> float:
-    """Evaluate arithmetic on numbers and ``pi`` (no names, no calls)."""
+    """Evaluate arithmetic on numbers and ``pi`` (no names, no calls), bounded: at most
+    :data:`MAX_TEXT` characters, :data:`MAX_DEPTH` levels, exponents of at most
+    :data:`MAX_EXPONENT`, every intermediate result a finite real number."""
+    if len(text) > MAX_TEXT:
+        raise InvalidInputError(field, f"is a text of {len(text)} characters, more than {MAX_TEXT}", _TEXT_FIX)
 
-    def ev(node):
+    def real(v):
+        if isinstance(v, complex) or not isinstance(v, (int, float)):
+            raise _Refused("is not a real number")
+        v = float(v)
+        if not math.isfinite(v):
+            raise _Refused("is not finite (it overflows)")
+        return v
+
+    def ev(node, depth):
+        if depth > MAX_DEPTH:
+            raise _Refused(f"is nested more than {MAX_DEPTH} levels deep")
         if isinstance(node, ast.Expression):
-            return ev(node.body)
+            return ev(node.body, depth + 1)
         if isinstance(node, ast.Constant) and isinstance(node.value, (int, float)) and not isinstance(node.value, bool):
-            return float(node.value)
+            return real(node.value)
         if isinstance(node, ast.Name) and node.id == "pi":
             return math.pi
         if isinstance(node, ast.BinOp) and type(node.op) in _OPS:
-            return _OPS[type(node.op)](ev(node.left), ev(node.right))
+            left, right = ev(node.left, depth + 1), ev(node.right, depth + 1)
+            if isinstance(node.op, ast.Pow) and abs(right) > MAX_EXPONENT:
+                raise _Refused(f"has an exponent of {right:.6g}, beyond {MAX_EXPONENT}")
+            if isinstance(node.op, ast.Pow) and left < 0 and right != int(right):
+                raise _Refused("is not a real number (a fractional power of a negative number)")
+            return real(_OPS[type(node.op)](left, right))
         if isinstance(node, ast.UnaryOp) and type(node.op) in _OPS:
-            return _OPS[type(node.op)](ev(node.operand))
+            return real(_OPS[type(node.op)](ev(node.operand, depth + 1)))
         raise ValueError
 
     try:
-        return float(ev(ast.parse(text, mode="eval")))
-    except (SyntaxError, ValueError, ZeroDivisionError, OverflowError, RecursionError):
-        raise InvalidInputError(field, f"cannot read {text!r} as a number",
-                                "write a number or arithmetic with pi, such as \"-0.5*pi\"") from None
+        return ev(ast.parse(text.strip(), mode="eval"), 0)
+    except _Refused as e:
+        raise InvalidInputError(field, f"{_short(text)} {e.why}", _TEXT_FIX) from None
+    except (SyntaxError, ValueError, TypeError, ZeroDivisionError, OverflowError, RecursionError, MemoryError):
+        raise InvalidInputError(field, f"cannot read {_short(text)} as a number", _TEXT_FIX) from None
 
 
-def _number(field: str, value) -> float:
+def _number(field: str, value, most: float | None = None, what: str = "") -> float:
+    """A finite float from a TOML number or arithmetic text; ``|value| <= most`` when given
+    (``what`` names the kind of value in the message)."""
     if isinstance(value, bool):
-        raise InvalidInputError(field, f"must be a number, got {value!r}", "write a number")
+        raise InvalidInputError(field, f"must be a number, got {_short(value)}", "write a number")
     if isinstance(value, str):
         v = _arith(field, value)
     elif isinstance(value, (int, float)):
-        v = float(value)
+        try:
+            v = float(value)
+        except OverflowError:
+            raise InvalidInputError(field, "is an integer too large for the arithmetic",
+                                    "write a number of sensible size") from None
     else:
-        raise InvalidInputError(field, f"must be a number, got {value!r}", "write a number")
+        raise InvalidInputError(field, f"must be a number, got {_short(value)}", "write a number")
     if not math.isfinite(v):
         raise InvalidInputError(field, f"must be finite, got {v}", "write a finite number")
+    if most is not None and abs(v) > most:
+        raise InvalidInputError(field, f"is {v:.3g}: {what or 'values'} beyond {most:g} in size are more than the "
+                                "arithmetic carries", "change the units so that the numbers come nearer to 1")
     return v
 
 
-def _numbers(field: str, value) -> tuple[float, ...]:
+def _numbers(field: str, value, most: float | None = None, what: str = "",
+             most_of=None) -> tuple[float, ...]:
+    """A list of numbers; ``most_of(i)`` gives (most, what) per element when the kinds differ."""
     if not isinstance(value, list):
-        raise InvalidInputError(field, f"must be a list, got {value!r}", "write for example [0, 2, 4]")
-    return tuple(_number(f"{field}[{i}]", v) for i, v in enumerate(value))
+        raise InvalidInputError(field, f"must be a list, got {_short(value)}", "write for example [0, 2, 4]")
+    out = []
+    for i, v in enumerate(value):
+        lim, kind = most_of(i) if most_of is not None else (most, what)
+        out.append(_number(f"{field}[{i}]", v, lim, kind))
+    return tuple(out)
 
 
 def _check_keys(table: str, data: dict, allowed) -> None:
     if not isinstance(data, dict):
-        raise InvalidInputError(table, "must be a table", f"write [{table}] with its keys")
+        raise InvalidInputError(table, f"must be a table, got {_short(data)}", f"write [{table}] with its keys")
     for key in data:
         if key not in allowed:
-            raise InvalidInputError(f"{table}.{key}", "is not a known key", f"known keys are {list(allowed)}")
+            name = key if (isinstance(key, str) and len(key) <= 60 and key.isprintable()) else _short(key, 60)
+            raise InvalidInputError(f"{table}.{name}", "is not a known key", f"known keys are {list(allowed)}")
+
+
+_BODY = "the body's numbers"
 
 
 def parse_robot(data: dict) -> Acrobot:
@@ -173,20 +250,54 @@ def parse_robot(data: dict) -> Acrobot:
         missing = [k for k in PHYSICAL_KEYS if k not in data]
         if missing:
             raise InvalidInputError(f"robot.{missing[0]}", "is missing", f"the physical body needs {list(PHYSICAL_KEYS)}")
-        vals = {k: _number(f"robot.{k}", data[k]) for k in PHYSICAL_KEYS}
+        vals = {k: _number(f"robot.{k}", data[k], MAX_BODY, _BODY) for k in PHYSICAL_KEYS}
+        for k in ("torso_mass", "leg_mass", "torso_inertia", "leg_inertia"):
+            if 0 < vals[k] < MIN_BODY:
+                raise InvalidInputError(f"robot.{k}", f"is {vals[k]:.3g}: masses and inertias below {MIN_BODY:g} "
+                                        "are less than the arithmetic carries",
+                                        "change the units so that the numbers come nearer to 1")
         try:
-            return Acrobot.from_physical(**vals)
+            robot = Acrobot.from_physical(**vals)
         except InvalidInputError as e:
-            raise InvalidInputError(f"robot.{e.field}", e.problem, e.fix) from None
+            field = e.field if e.field.startswith("robot.") else f"robot.{e.field}"
+            raise InvalidInputError(field, e.problem, e.fix) from None
+        _check_lumped(robot, vals)
+        return robot
     missing = [k for k in LUMPED_KEYS if k not in data]
     if missing:
         raise InvalidInputError(f"robot.{missing[0]}", "is missing",
                                 f"give the physical body {list(PHYSICAL_KEYS)} or all of {list(LUMPED_KEYS)}")
-    vals = {k: _number(f"robot.{k}", data[k]) for k in LUMPED_KEYS}
+    vals = {k: _number(f"robot.{k}", data[k], MAX_BODY, _BODY) for k in LUMPED_KEYS}
     try:
-        return Acrobot(**vals)
+        robot = Acrobot(**vals)
     except InvalidInputError as e:
-        raise InvalidInputError(f"robot.{e.field}", e.problem, e.fix) from None
+        field = e.field if e.field.startswith("robot.") else f"robot.{e.field}"
+        raise InvalidInputError(field, e.problem, e.fix) from None
+    _check_lumped(robot, None)
+    return robot
+
+
+def _check_lumped(robot: Acrobot, physical: dict | None) -> None:
+    """Refuse lumped parameters the arithmetic cannot carry: |value| > MAX_BODY, or M1 < MIN_BODY
+    (its square vanishes). For a physical body the field named is the key behind it (the largest
+    length, mass or inertia; the momentum for P0; the smaller inertia for a tiny M1)."""
+    fix = "change the units so that the numbers come nearer to 1"
+    for k in LUMPED_KEYS:
+        v = float(getattr(robot, k))
+        if not (math.isfinite(v) and abs(v) <= MAX_BODY):
+            why = f"{k} = {v:.3g}, beyond {MAX_BODY:g} in size, more than the arithmetic carries"
+            if physical is None:
+                raise InvalidInputError(f"robot.{k}", f"is {v:.3g}, beyond {MAX_BODY:g} in size: more than the "
+                                        "arithmetic carries", fix)
+            big = "angular_momentum" if k == "P0" else max(PHYSICAL_KEYS[:6], key=lambda q: abs(physical[q]))
+            raise InvalidInputError(f"robot.{big}", f"is {physical[big]:.3g}, which makes {why}", fix)
+    if not robot.M1 >= MIN_BODY:
+        if physical is None:
+            raise InvalidInputError("robot.M1", f"is {robot.M1:.3g}, below {MIN_BODY:g}: less than the arithmetic "
+                                    "carries", fix)
+        small = min(("torso_inertia", "leg_inertia"), key=lambda q: physical[q])
+        raise InvalidInputError(f"robot.{small}", f"is {physical[small]:.3g}, which makes M1 = {robot.M1:.3g}, below "
+                                f"{MIN_BODY:g}, less than the arithmetic carries", fix)
 
 
 def parse_problem(data: dict, name: str = "") -> Problem:
@@ -201,10 +312,11 @@ def parse_problem(data: dict, name: str = "") -> Problem:
     for key in ("times", "theta", "phi"):
         if key not in p:
             raise InvalidInputError(f"plan.{key}", "is missing", "give one value per waypoint")
-    times, theta, phi = (_numbers(f"plan.{k}", p[k]) for k in ("times", "theta", "phi"))
+    times = _numbers("plan.times", p["times"], MAX_TIME, "times")
+    theta, phi = (_numbers(f"plan.{k}", p[k], MAX_ANGLE, "angles") for k in ("theta", "phi"))
     conditions = p.get("conditions", "spline")
-    if conditions not in ("spline", "free"):
-        raise InvalidInputError("plan.conditions", f"must be \"spline\" or \"free\", got {conditions!r}",
+    if not isinstance(conditions, str) or conditions not in ("spline", "free"):
+        raise InvalidInputError("plan.conditions", f"must be \"spline\" or \"free\", got {_short(conditions)}",
                                 "write conditions = \"spline\"")
     opts = data.get("options", {})
     _check_keys("options", opts, OPTION_KEYS)
@@ -213,22 +325,30 @@ def parse_problem(data: dict, name: str = "") -> Problem:
     _check_keys("limits", lim, LIMIT_KEYS)
     for key in LIMIT_KEYS:
         if key in lim:
-            options[key] = _number(f"limits.{key}", lim[key])
+            options[key] = _number(f"limits.{key}", lim[key], *((MAX_BODY, "rates") if key == "u_max"
+                                                                else (MAX_ANGLE, "angles")))
     for key, names in (("method", ("auto", "deform", "flat")), ("basis", ("legendre", "monomial"))):
         if key in opts:
-            if opts[key] not in names:
-                raise InvalidInputError(f"options.{key}", f"must be one of {list(names)}, got {opts[key]!r}",
+            if not isinstance(opts[key], str) or opts[key] not in names:
+                raise InvalidInputError(f"options.{key}", f"must be one of {list(names)}, got {_short(opts[key])}",
                                         f"write {key} = \"{names[0]}\"")
             options[key] = opts[key]
     for key in ("n_coefficients", "max_evaluations"):
         if key in opts:
             v = opts[key]
-            if isinstance(v, bool) or not isinstance(v, int):
-                raise InvalidInputError(f"options.{key}", f"must be a whole number >= 1, got {v!r}",
-                                        "write for example 6")
+            most = MAX_EVALUATIONS if key == "max_evaluations" else 1000
+            if isinstance(v, bool) or not isinstance(v, int) or not 1 <= v <= most:
+                raise InvalidInputError(f"options.{key}", f"must be a whole number from 1 to {most}, got "
+                                        f"{_short(v) if not isinstance(v, int) or abs(v) < 10**30 else 'a huge integer'}",
+                                        "write for example 6" if key == "n_coefficients" else "write for example 2000")
             options[key] = v
     if "tol" in opts:
-        options["tol"] = _number("options.tol", opts["tol"])
+        tol = _number("options.tol", opts["tol"])
+        if not TOL_RANGE[0] <= tol <= TOL_RANGE[1]:
+            raise InvalidInputError("options.tol", f"is {tol:.3g}; tolerances outside [{TOL_RANGE[0]:g}, "
+                                    f"{TOL_RANGE[1]:g}] are beyond what double precision can meet or mean",
+                                    "write for example 1e-10")
+        options["tol"] = tol
     problem = Problem(robot, times, theta, phi, conditions, options, name)
     # the meaning (lengths, order, ranges, limits against waypoints) is checked by plan()'s own
     # validation, once, with the fields named as the file names them
@@ -269,39 +389,75 @@ def parse_nilpotent(data: dict, name: str = ""):
     for key in ("P", "Q"):
         if key not in nil:
             raise InvalidInputError(f"nilpotent.{key}", "is missing", "give [phi, t, theta]")
-        vals = _numbers(f"nilpotent.{key}", nil[key])
+        vals = _numbers(f"nilpotent.{key}", nil[key],
+                        most_of=lambda i: (MAX_TIME, "times") if i == 1 else (MAX_ANGLE, "angles"))
         if len(vals) != 3:
             raise InvalidInputError(f"nilpotent.{key}", f"needs 3 values (phi, t, theta), got {len(vals)}",
                                     "give [phi, t, theta]")
         pts[key] = vals
     degree = nil.get("degree", 3)
-    if isinstance(degree, bool) or not isinstance(degree, int):
-        raise InvalidInputError("nilpotent.degree", f"must be a whole number, got {degree!r}", "write degree = 3")
+    if isinstance(degree, bool) or not isinstance(degree, int) or not 1 <= degree <= 12:
+        raise InvalidInputError("nilpotent.degree", "must be a whole number from 1 to 12, got "
+                                f"{_short(degree) if not isinstance(degree, int) or abs(degree) < 10**30 else 'a huge integer'}",
+                                "write degree = 3")
     method = nil.get("method", "nilpotent")
-    if method not in ("nilpotent", "flat-y"):
-        raise InvalidInputError("nilpotent.method", f"must be \"nilpotent\" or \"flat-y\", got {method!r}",
+    if not isinstance(method, str) or method not in ("nilpotent", "flat-y"):
+        raise InvalidInputError("nilpotent.method", f"must be \"nilpotent\" or \"flat-y\", got {_short(method)}",
                                 "write method = \"nilpotent\"")
     try:
         prob = NilpotentProblem(robot, pts["P"], pts["Q"], degree)
     except InvalidInputError as e:
-        raise InvalidInputError(f"nilpotent.{e.field}", e.problem, e.fix) from None
+        field = e.field if e.field.startswith(("robot.", "nilpotent.")) else f"nilpotent.{e.field}"
+        raise InvalidInputError(field, e.problem, e.fix) from None
     return prob, method
 
 
 def load_toml(path) -> dict:
-    """Read a TOML file, with errors as :class:`InvalidInputError`."""
+    """Read a TOML file, with errors as :class:`InvalidInputError` naming the file (and the line
+    when the parser gives up on a number or a nesting): at most :data:`MAX_FILE_BYTES` bytes,
+    regular files only."""
     path = Path(path)
+    fix = "give a readable UTF-8 .toml file"
     try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise InvalidInputError(str(path), "no such file", "give the path of a problem .toml file") from None
-    except (IsADirectoryError, PermissionError, UnicodeDecodeError) as e:
-        raise InvalidInputError(str(path), f"cannot be read ({e.__class__.__name__})",
-                                "give a readable UTF-8 .toml file") from None
+        if not path.exists():
+            raise InvalidInputError(str(path), "no such file", "give the path of a problem .toml file")
+        if not path.is_file():
+            raise InvalidInputError(str(path), "is not a regular file", fix)
+        with open(path, "rb") as f:
+            raw = f.read(MAX_FILE_BYTES + 1)
+        if len(raw) > MAX_FILE_BYTES:
+            raise InvalidInputError(str(path), f"is larger than {MAX_FILE_BYTES // 1_000_000} MB",
+                                    "a problem file is a few lines")
+        text = raw.decode("utf-8")
+    except (OSError, UnicodeDecodeError) as e:
+        raise InvalidInputError(str(path), f"cannot be read ({e.__class__.__name__})", fix) from None
     try:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as e:
-        raise InvalidInputError(str(path), f"is not valid TOML ({e})", "fix the syntax (see the README)") from None
+        raise InvalidInputError(str(path), f"is not valid TOML ({_one_line(e)})", "fix the syntax (see the README)") \
+            from None
+    except (RecursionError, MemoryError):
+        raise InvalidInputError(str(path), "is nested too deeply to read (arrays or tables within each other)",
+                                "write the values flat, as in the README") from None
+    except ValueError as e:  # an integer literal beyond Python's digit limit
+        where = _line_of_long_number(text)
+        raise InvalidInputError(f"{path}{where}", f"holds a number too long to read ({_short(str(e), 60)})",
+                                "write numbers of sensible size") from None
+
+
+def _one_line(e) -> str:
+    text = str(e).replace("\n", " ")
+    return text if len(text) <= 200 else text[:197] + "..."
+
+
+def _line_of_long_number(text: str) -> str:
+    import re
+
+    for i, line in enumerate(text.splitlines(), 1):
+        if re.search(r"[0-9_]{1000,}", line):
+            key = re.match(r"\s*([A-Za-z0-9_.\-\"' ]{1,60}?)\s*=", line)
+            return f" (line {i}{', key ' + key.group(1).strip() if key else ''})"
+    return ""
 
 
 def load_problem(path) -> Problem:

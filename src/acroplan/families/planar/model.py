@@ -1,0 +1,700 @@
+"""Free-flying planar bodies with any number of links: :class:`PlanarBody`.
+
+A body is a tree of :math:`n` rigid links (:mod:`~acroplan.families.planar.links`) flying freely
+in a plane, with no external force or torque: its centre of mass :math:`c` stays at rest (in its
+own frame) and its angular momentum about :math:`c` is a constant :math:`P_0`.
+
+State and input
+---------------
+:math:`x = (\\theta, q_1, \\dots, q_{n-1})`: :math:`\\theta` is the root link's angle to the
+inertial :math:`x` axis, :math:`q_j` the joint angles (the *shape* :math:`s = (q_1, \\dots,
+q_{n-1})`), named by their joints. The inputs are the joint rates :math:`u_j = \\dot q_j`, named
+``u_<joint>``. Link :math:`i`'s absolute angle is :math:`\\alpha_i = \\theta + \\beta_i(s)`,
+:math:`\\beta_i = \\sum_{j \\in \\mathrm{path}(i)} q_j`.
+
+The momentum map (text eq. 1)
+-----------------------------
+The angular momentum about the centre of mass is
+
+.. math::  L = \\sum_{i=1}^{n} m_i\\,(r_i - c) \\times \\dot r_i + I_i\\,\\dot\\alpha_i ,\\qquad
+           c = \\frac{1}{M}\\sum_i m_i r_i ,\\quad M = \\sum_i m_i .                     \\qquad (1)
+
+*Barycentric vectors.* With :math:`o_i` the origin of link :math:`i`'s frame (its joint),
+:math:`r_i = o_i + R(\\alpha_i) c_i` and :math:`o_h = o_k + R(\\alpha_k) j_h` for a child :math:`h`
+of :math:`k`, every :math:`r_i` is a sum of vectors fixed in the links:
+:math:`r_i = o + \\sum_k R(\\alpha_k)\\, e_{ik}`, where :math:`e_{ik} = c_k` if :math:`i = k`,
+:math:`e_{ik} = j_h` if :math:`i` lies in the subtree of the child :math:`h` of :math:`k`, else 0.
+So :math:`\\rho_i = r_i - c = \\sum_k R(\\alpha_k)\\, b_{ik}` with :math:`b_{ik} = e_{ik} - g_k/M`,
+
+.. math::  g_k = \\sum_i m_i e_{ik} = m_k c_k + \\sum_{h \\in \\mathrm{children}(k)} S_h\\, j_h ,
+
+:math:`S_h` the mass of the subtree of :math:`h`. Since :math:`\\sum_i m_i \\rho_i = 0`, (1) is
+:math:`L = \\sum_i m_i \\rho_i \\times \\dot\\rho_i + I_i \\dot\\alpha_i`, and with
+:math:`\\dot\\rho_i = \\sum_l \\dot\\alpha_l\\, J R(\\alpha_l) b_{il}` (:math:`J` the quarter turn),
+:math:`a \\times Jb = a \\cdot b` and :math:`a \\cdot R(\\Delta) b = \\cos\\Delta\\, a\\cdot b -
+\\sin\\Delta\\, a \\times b`:
+
+.. math::  L = \\sum_l Q_l(s)\\,\\dot\\alpha_l ,\\qquad Q_l = I_l + \\sum_k H_{kl} ,\\qquad
+           H_{kl} = \\cos(\\beta_l - \\beta_k)\\, D_{kl} - \\sin(\\beta_l - \\beta_k)\\, C_{kl} ,
+
+with the constants :math:`D_{kl} = \\sum_i m_i\\, b_{ik} \\cdot b_{il}` and
+:math:`C_{kl} = \\sum_i m_i\\, b_{ik} \\times b_{il}`. Summing over :math:`i` in closed form
+(:math:`e_{ik}` and :math:`e_{il}` overlap only when one link is an ancestor of the other):
+
+* :math:`D_{kk} = m_k |c_k|^2 + \\sum_{h \\in \\mathrm{children}(k)} S_h |j_h|^2 - |g_k|^2/M`;
+* :math:`k` a proper ancestor of :math:`l`, :math:`h` the child of :math:`k` towards :math:`l`:
+  :math:`D_{kl} = (j_h - g_k/M) \\cdot g_l`, :math:`C_{kl} = (j_h - g_k/M) \\times g_l`;
+* neither an ancestor of the other: :math:`D_{kl} = -g_k \\cdot g_l/M`,
+  :math:`C_{kl} = -g_k \\times g_l/M`;
+* :math:`D_{lk} = D_{kl}`, :math:`C_{lk} = -C_{kl}` (so :math:`H` is symmetric).
+
+:math:`\\theta` drops out (only angle differences appear), and since :math:`\\dot\\alpha_l =
+\\dot\\theta + \\sum_{j \\in \\mathrm{path}(l)} u_j`,
+
+.. math::  L = I(s)\\,\\dot\\theta + a(s) \\cdot u ,\\qquad I(s) = \\sum_l Q_l(s) ,\\qquad
+           a_j(s) = \\sum_{l \\in \\mathrm{subtree}(j)} Q_l(s) ,
+
+:math:`I(s) = \\sum_l I_l + \\sum_i m_i |\\rho_i|^2 > 0` the *locked inertia* and
+:math:`\\mathrm{subtree}(j)` the links moved by joint :math:`j`. Conservation
+:math:`L = P_0` gives the state equation
+
+.. math::  \\dot\\theta = \\frac{P_0 - a(s) \\cdot u}{I(s)} ,\\qquad \\dot q_j = u_j .
+
+:func:`momentum_from_definition` builds (1) literally in sympy (positions, centre of mass,
+velocities by differentiation), the tests check it against this compact form and both against
+Pinocchio's centroidal map (:mod:`~acroplan.families.planar.check`). With two links this is the
+acrobot of text eq. (2)-(3): :meth:`PlanarBody.from_acrobot_physical`.
+
+Parameters (runtime values of the compiled integrator)
+------------------------------------------------------
+``P0``, then per link, in table order, ``m_<link>``, ``I_<link>``, ``cx_<link>``, ``cy_<link>`` and,
+for every link but the root, ``jx_<link>``, ``jy_<link>``. The symbolic fields depend only on the
+topology (:attr:`PlanarBody.structure_key` ``= ("planar", parents)``), so one compilation serves
+every body of that topology, whatever its masses, lengths, names and :math:`P_0`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import threading
+from typing import Any, Hashable, Mapping
+
+import numpy as np
+import sympy as sp
+
+from ...core.errors import InvalidInputError
+from ...core.system import ControlAffineSystem, Infeasibility
+from .links import Link, LinkTable
+
+__all__ = ["PlanarBody", "momentum_from_definition", "structure_coefficients"]
+
+
+# ---------------------------------------------------------------------- the tree from parent indices
+def _tree(parents: tuple[int, ...]):
+    """children, ancestors (self first), path (non-root links from the root down) per link."""
+    n = len(parents)
+    children = [tuple(k for k in range(n) if parents[k] == i) for i in range(n)]
+    ancestors = []
+    for i in range(n):
+        a = [i]
+        while parents[a[-1]] != -1:
+            a.append(parents[a[-1]])
+        ancestors.append(tuple(a))
+    path = [tuple(reversed([k for k in ancestors[i] if parents[k] != -1])) for i in range(n)]
+    subtree = [tuple(k for k in range(n) if i in ancestors[k]) for i in range(n)]
+    return children, ancestors, path, subtree
+
+
+def structure_coefficients(parents, m, inertia, com, joint):
+    """The constants :math:`D_{kl}`, :math:`C_{kl}` of the momentum map (module docstring).
+
+    Plain arithmetic on the arguments, so they may be numbers (numeric helpers) or sympy symbols
+    (the symbolic fields).
+
+    Parameters
+    ----------
+    parents : tuple of int, length n
+        Parent index per link, -1 for the root.
+    m, inertia : sequence, length n
+    com, joint : sequence of (x, y) pairs, length n
+        ``joint[root]`` is ignored.
+
+    Returns
+    -------
+    D, C : list of lists, shape (n, n)
+        :math:`D` symmetric, :math:`C` antisymmetric.
+    """
+    n = len(parents)
+    children, ancestors, path, subtree = _tree(tuple(parents))
+    M = sum(m[1:], m[0])
+    S = [sum((m[k] for k in subtree[i][1:]), m[subtree[i][0]]) for i in range(n)]
+    g = []
+    for k in range(n):
+        gx, gy = m[k] * com[k][0], m[k] * com[k][1]
+        for h in children[k]:
+            gx, gy = gx + S[h] * joint[h][0], gy + S[h] * joint[h][1]
+        g.append((gx, gy))
+    D = [[0] * n for _ in range(n)]
+    C = [[0] * n for _ in range(n)]
+    for k in range(n):
+        D[k][k] = m[k] * (com[k][0] ** 2 + com[k][1] ** 2) - (g[k][0] ** 2 + g[k][1] ** 2) / M
+        for h in children[k]:
+            D[k][k] = D[k][k] + S[h] * (joint[h][0] ** 2 + joint[h][1] ** 2)
+    for k in range(n):
+        for l in range(n):  # noqa: E741
+            if k == l:
+                continue
+            if k in ancestors[l]:  # k a proper ancestor of l: h is the child of k towards l
+                h = ancestors[l][ancestors[l].index(k) - 1]
+                vx, vy = joint[h][0] - g[k][0] / M, joint[h][1] - g[k][1] / M
+                D[k][l] = vx * g[l][0] + vy * g[l][1]
+                C[k][l] = vx * g[l][1] - vy * g[l][0]
+            elif l in ancestors[k]:
+                continue  # filled from (l, k)
+            else:
+                D[k][l] = -(g[k][0] * g[l][0] + g[k][1] * g[l][1]) / M
+                C[k][l] = -(g[k][0] * g[l][1] - g[k][1] * g[l][0]) / M
+    for k in range(n):
+        for l in range(n):  # noqa: E741
+            if l in ancestors[k] and l != k:
+                D[k][l] = D[l][k]
+                C[k][l] = -C[l][k]
+    return D, C
+
+
+# ---------------------------------------------------------------------- symbols per topology
+def _generic_symbols(parents):
+    """State and parameter symbols that depend on the topology alone (not on names)."""
+    n = len(parents)
+    x = (sp.Symbol("theta", real=True),) + tuple(sp.Symbol(f"q{j}", real=True) for j in range(1, n))
+    p = [sp.Symbol("P0", real=True)]
+    for i in range(n):
+        p += [sp.Symbol(f"{k}{i}", real=True) for k in ("m", "I", "cx", "cy")]
+        if parents[i] != -1:
+            p += [sp.Symbol(f"{k}{i}", real=True) for k in ("jx", "jy")]
+    return x, tuple(p)
+
+
+def _unpack(parents, p):
+    """(P0, m, I, com, joint) from the parameter tuple (symbols or numbers), per link."""
+    it = iter(p)
+    P0 = next(it)
+    m, inertia, com, joint = [], [], [], []
+    for i in range(len(parents)):
+        m.append(next(it))
+        inertia.append(next(it))
+        com.append((next(it), next(it)))
+        joint.append((next(it), next(it)) if parents[i] != -1 else (0, 0))
+    return P0, m, inertia, com, joint
+
+
+_MAPS: dict[Hashable, tuple] = {}
+_LOCK = threading.Lock()
+
+
+def _symbolic_map(parents):
+    """(x, p, I, a) in the generic symbols, cached per topology."""
+    out = _MAPS.get(parents)
+    if out is None:
+        x, p = _generic_symbols(parents)
+        _, m, inertia, com, joint = _unpack(parents, p)
+        D, C = structure_coefficients(parents, m, inertia, com, joint)
+        children, ancestors, path, subtree = _tree(parents)
+        joints = [i for i in range(len(parents)) if parents[i] != -1]
+        qsym = {i: x[1 + j] for j, i in enumerate(joints)}
+        beta = [sum((qsym[k] for k in path[i]), sp.Integer(0)) for i in range(len(parents))]
+        n = len(parents)
+        H = [[None] * n for _ in range(n)]
+        for k in range(n):
+            H[k][k] = D[k][k]
+            for l in range(k + 1, n):  # noqa: E741
+                d = beta[l] - beta[k]
+                H[k][l] = H[l][k] = sp.cos(d) * D[k][l] - sp.sin(d) * C[k][l]
+        Q = [inertia[l] + sum(H[k][l] for k in range(n)) for l in range(n)]
+        I = sp.Add(*Q)  # noqa: E741
+        a = tuple(sp.Add(*[Q[l] for l in subtree[i]]) for i in joints)
+        out = (x, p, I, a)
+        with _LOCK:
+            out = _MAPS.setdefault(parents, out)
+    return out
+
+
+def momentum_from_definition(body: "PlanarBody"):
+    """The angular momentum about the centre of mass, built literally from eq. (1) in sympy.
+
+    Positions :math:`r_i(\\theta, s)` from the link table, :math:`c = \\sum m_i r_i / M`, velocities
+    :math:`\\dot r_i = \\partial_\\theta r_i\\,\\dot\\theta + \\sum_j \\partial_{q_j} r_i\\, u_j`, and
+    :math:`L = \\sum_i m_i (r_i - c) \\times \\dot r_i + I_i \\dot\\alpha_i`, nothing simplified. It is
+    slow (a check, not a model): :class:`PlanarBody` uses the compact form of the module docstring.
+
+    Returns
+    -------
+    L : sympy.Expr
+        In the body's generic symbols (:meth:`PlanarBody.symbols`) and the velocity symbols.
+    theta_dot : sympy.Symbol
+    u : tuple of sympy.Symbol, length n - 1
+    """
+    parents = body.links.parents
+    x, p = _generic_symbols(parents)
+    _, m, inertia, com, joint = _unpack(parents, p)
+    children, ancestors, path, subtree = _tree(parents)
+    joints = [i for i in range(len(parents)) if parents[i] != -1]
+    qsym = {i: x[1 + j] for j, i in enumerate(joints)}
+    theta = x[0]
+    n = len(parents)
+    alpha = [theta + sum((qsym[k] for k in path[i]), sp.Integer(0)) for i in range(n)]
+
+    def rot(a, v):
+        return sp.Matrix([sp.cos(a) * v[0] - sp.sin(a) * v[1], sp.sin(a) * v[0] + sp.cos(a) * v[1]])
+
+    origin = [None] * n
+    for i in body.links.topological_order():
+        pa = parents[i]
+        origin[i] = sp.zeros(2, 1) if pa == -1 else origin[pa] + rot(alpha[pa], joint[i])
+    r = [origin[i] + rot(alpha[i], com[i]) for i in range(n)]
+    M = sum(m[1:], m[0])
+    c = sum((m[i] * r[i] for i in range(1, n)), m[0] * r[0]) / M
+    theta_dot = sp.Symbol("theta_dot", real=True)
+    u = tuple(sp.Symbol(f"u{j}", real=True) for j in range(1, n))
+    coords = [theta] + [x[1 + j] for j in range(n - 1)]
+    rates = [theta_dot] + list(u)
+    L = sp.Integer(0)
+    for i in range(n):
+        v = sum((r[i].diff(q) * w for q, w in zip(coords, rates)), sp.zeros(2, 1))
+        d = r[i] - c
+        adot = sum((w for q, w in zip(coords, rates) if alpha[i].has(q)), sp.Integer(0))
+        L += m[i] * (d[0] * v[1] - d[1] * v[0]) + inertia[i] * adot
+    return L, theta_dot, u
+
+
+# ---------------------------------------------------------------------- the body
+def _finite(field, value) -> float:
+    if isinstance(value, bool):
+        raise InvalidInputError(field, f"must be a real number, got {value!r}", "give a finite number")
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise InvalidInputError(field, f"must be a real number, got {value!r}", "give a finite number") from None
+    if not math.isfinite(v):
+        raise InvalidInputError(field, f"must be finite, got {v}", "give a finite number")
+    return v
+
+
+@dataclasses.dataclass(frozen=True)
+class PlanarBody(ControlAffineSystem):
+    """A free-flying planar body of any number of links (module docstring for the model).
+
+    Parameters
+    ----------
+    links : LinkTable or sequence of Link
+        The link table (:mod:`~acroplan.families.planar.links`): one root, a tree.
+    P0 : float
+        The constant angular momentum about the centre of mass.
+
+    Attributes
+    ----------
+    state_names : tuple of str
+        ``("theta", <joint names>...)``, length n.
+    input_names : tuple of str
+        ``("u_<joint>", ...)``, length n - 1; ``rate_inputs`` maps each to its joint.
+    param_names : tuple of str
+        ``P0`` and the links' ``m_``, ``I_``, ``cx_``, ``cy_``, ``jx_``, ``jy_`` values.
+
+    Examples
+    --------
+    >>> from acroplan.families.planar import Link, PlanarBody
+    >>> body = PlanarBody([Link("a", None, 1.0, 0.1, com=(0.5, 0.0)),
+    ...                    Link("b", "a", 1.0, 0.1, com=(0.5, 0.0), joint=(1.0, 0.0))], P0=0.0)
+    >>> body.state_names, body.input_names
+    (('theta', 'b'), ('u_b',))
+    >>> round(body.locked_inertia([0.0]), 12)   # two rods in line: 2 * 0.1 + (1/2) * 1^2
+    0.7
+    """
+
+    links: LinkTable
+    P0: float = 0.0
+
+    def __post_init__(self):
+        object.__setattr__(self, "links", LinkTable(self.links))
+        object.__setattr__(self, "P0", _finite("P0", self.P0))
+        if len(self.links) < 2:
+            raise InvalidInputError("links", "has one link: a single rigid body has no joint to move",
+                                    "give at least two links")
+
+    # ------------------------------------------------------------------ structure and names
+    @property
+    def structure_key(self):
+        """``("planar", parents)``: the topology, in table order. Names and values are runtime."""
+        return ("planar", self.links.parents)
+
+    @property
+    def state_names(self):
+        return ("theta",) + self.links.joint_names
+
+    @property
+    def input_names(self):
+        return tuple(f"u_{j}" for j in self.links.joint_names)
+
+    @property
+    def rate_inputs(self):
+        return {f"u_{j}": j for j in self.links.joint_names}
+
+    @property
+    def param_names(self):
+        names = ["P0"]
+        for i, link in enumerate(self.links):
+            names += [f"m_{link.name}", f"I_{link.name}", f"cx_{link.name}", f"cy_{link.name}"]
+            if i != self.links.root:
+                names += [f"jx_{link.name}", f"jy_{link.name}"]
+        return tuple(names)
+
+    @property
+    def _param_tuple(self) -> tuple:
+        cached = self.__dict__.get("_acroplan_params")
+        if cached is None:
+            vals = [self.P0]
+            for i, link in enumerate(self.links):
+                vals += [link.mass, link.inertia, link.com[0], link.com[1]]
+                if i != self.links.root:
+                    vals += [link.joint[0], link.joint[1]]
+            cached = tuple(float(v) for v in vals)
+            object.__setattr__(self, "_acroplan_params", cached)
+        return cached
+
+    def lumped(self) -> dict[str, float]:
+        """Parameter values by name (``P0``, ``m_<link>``, ...)."""
+        return dict(zip(self.param_names, self._param_tuple))
+
+    @property
+    def angular_momentum(self) -> float:
+        """:math:`P_0`."""
+        return self.P0
+
+    @property
+    def n_links(self) -> int:
+        return len(self.links)
+
+    def symbols(self):
+        """Generic state and parameter symbols (``theta, q1, ...``; ``P0, m0, I0, cx0, ...`` by link
+        index): they depend on the topology alone, so the symbolic fields cached per
+        :attr:`structure_key` serve bodies with other names too."""
+        return _generic_symbols(self.links.parents)
+
+    # ------------------------------------------------------------------ fields
+    def symbolic_momentum_map(self):
+        """The momentum map :math:`L = I(s)\\dot\\theta + a(s) \\cdot u` in sympy (compact form).
+
+        Returns
+        -------
+        I : sympy.Expr
+            The locked inertia, in the generic symbols of :meth:`symbols`.
+        a : tuple of sympy.Expr, length n - 1
+        """
+        _, _, I, a = _symbolic_map(self.links.parents)  # noqa: E741
+        return I, a
+
+    def symbolic_fields(self, x, p):
+        """:math:`f = (P_0/I(s), 0, \\dots)`, :math:`G = \\begin{pmatrix} -a(s)^\\top/I(s) \\\\
+        \\mathbb{1}\\end{pmatrix}`; shapes (n, 1) and (n, n - 1)."""
+        x0, p0, I, a = _symbolic_map(self.links.parents)  # noqa: E741
+        sub = {s: t for s, t in zip(x0 + p0, tuple(x) + tuple(p)) if s != t}
+        if sub:
+            I, a = I.xreplace(sub), tuple(e.xreplace(sub) for e in a)  # noqa: E741
+        n = len(x)
+        f = sp.zeros(n, 1)
+        f[0] = p[0] / I
+        G = sp.zeros(n, n - 1)
+        for j in range(n - 1):
+            G[0, j] = -a[j] / I
+            G[1 + j, j] = 1
+        return f, G
+
+    # ------------------------------------------------------------------ numeric helpers
+    def _constants(self):
+        cached = self.__dict__.get("_planar_constants")
+        if cached is None:
+            L = self.links
+            D, C = structure_coefficients(L.parents, [k.mass for k in L], [k.inertia for k in L],
+                                          [k.com for k in L], [k.joint for k in L])
+            _, _, path, subtree = _tree(L.parents)
+            n = len(L)
+            P = np.zeros((n, n - 1))  # beta = P s
+            for i in range(n):
+                for k in path[i]:
+                    P[i, L.joints.index(k)] = 1.0
+            Sub = np.zeros((n - 1, n))  # a = Sub Q
+            for j, i in enumerate(L.joints):
+                Sub[j, list(subtree[i])] = 1.0
+            cached = dict(D=np.array(D, dtype=float), C=np.array(C, dtype=float),
+                          inertia=np.array([k.inertia for k in L]), P=P, Sub=Sub)
+            object.__setattr__(self, "_planar_constants", cached)
+        return cached
+
+    def _shape(self, shape) -> np.ndarray:
+        s = np.asarray(shape, dtype=float)
+        if s.shape[:1] != (self.n_links - 1,):
+            raise InvalidInputError("shape", f"must hold the {self.n_links - 1} joint angle(s) "
+                                    f"{list(self.links.joint_names)}, got shape {s.shape}", "give one angle per joint")
+        return s
+
+    def momentum_map(self, shape) -> tuple[np.ndarray, np.ndarray]:
+        """:math:`I(s)` and :math:`a(s)` at one shape or many.
+
+        Parameters
+        ----------
+        shape : array_like, shape (n - 1,) or (n - 1, N)
+            Joint angles in state order.
+
+        Returns
+        -------
+        I : float or numpy.ndarray, shape () or (N,)
+        a : numpy.ndarray, shape (n - 1,) or (n - 1, N)
+        """
+        K = self._constants()
+        s = self._shape(shape)
+        beta = np.tensordot(K["P"], s, axes=1)  # (n,) or (n, N)
+        d = beta[None, :] - beta[:, None]  # d[k, l] = beta_l - beta_k
+        D, C = K["D"], K["C"]
+        if s.ndim > 1:
+            D, C = D[..., None], C[..., None]
+        H = np.cos(d) * D - np.sin(d) * C
+        Q = K["inertia"].reshape((-1,) + (1,) * (s.ndim - 1)) + H.sum(axis=0)
+        I = Q.sum(axis=0)  # noqa: E741
+        a = np.tensordot(K["Sub"], Q, axes=1)
+        return (float(I) if s.ndim == 1 else I), a
+
+    def locked_inertia(self, shape):
+        """:math:`I(s) = \\sum_i I_i + m_i |r_i - c|^2`, the inertia of the body frozen in shape
+        ``s`` about its centre of mass.
+
+        Parameters
+        ----------
+        shape : array_like, shape (n - 1,) or (n - 1, N)
+
+        Returns
+        -------
+        float or numpy.ndarray, shape (N,)
+        """
+        return self.momentum_map(shape)[0]
+
+    def momentum(self, state, theta_dot, u):
+        """The angular momentum :math:`L = I(s)\\dot\\theta + a(s) \\cdot u` about the centre of mass.
+
+        Parameters
+        ----------
+        state : array_like, shape (n,) or (n, N)
+            :math:`(\\theta, q_1, \\dots)` (:math:`\\theta` does not enter).
+        theta_dot : float or array_like, shape (N,)
+        u : array_like, shape (n - 1,) or (n - 1, N)
+            Joint rates.
+
+        Returns
+        -------
+        float or numpy.ndarray, shape (N,)
+        """
+        x = np.asarray(state, dtype=float)
+        I, a = self.momentum_map(x[1:])  # noqa: E741
+        u = np.asarray(u, dtype=float)
+        return I * np.asarray(theta_dot, dtype=float) + np.sum(a * u, axis=0)
+
+    def theta_dot(self, state, u):
+        """The state equation's first row, :math:`\\dot\\theta = (P_0 - a(s) \\cdot u)/I(s)`.
+
+        Parameters
+        ----------
+        state : array_like, shape (n,) or (n, N)
+        u : array_like, shape (n - 1,) or (n - 1, N)
+
+        Returns
+        -------
+        float or numpy.ndarray, shape (N,)
+        """
+        x = np.asarray(state, dtype=float)
+        I, a = self.momentum_map(x[1:])  # noqa: E741
+        return (self.P0 - np.sum(a * np.asarray(u, dtype=float), axis=0)) / I
+
+    def _kinematics(self, state):
+        x = np.asarray(state, dtype=float)
+        if x.shape != (self.n_states,):
+            raise InvalidInputError("state", f"must have shape ({self.n_states},) {list(self.state_names)}, got "
+                                    f"{x.shape}", "give theta and every joint angle")
+        L = self.links
+        K = self._constants()
+        alpha = x[0] + K["P"] @ x[1:]
+        origin = np.zeros((len(L), 2))
+        for i in L.topological_order():
+            p = L.parents[i]
+            if p != -1:
+                ca, sa = math.cos(alpha[p]), math.sin(alpha[p])
+                jx, jy = L[i].joint
+                origin[i] = origin[p] + (ca * jx - sa * jy, sa * jx + ca * jy)
+        r = np.array([origin[i] + (math.cos(alpha[i]) * L[i].com[0] - math.sin(alpha[i]) * L[i].com[1],
+                                   math.sin(alpha[i]) * L[i].com[0] + math.cos(alpha[i]) * L[i].com[1])
+                      for i in range(len(L))])
+        m = np.array([k.mass for k in L])
+        c = m @ r / m.sum()
+        return alpha, origin - c, r - c
+
+    def link_frames(self, state) -> np.ndarray:
+        """Each link's centre of mass in the centre-of-mass frame, and its absolute angle.
+
+        Parameters
+        ----------
+        state : array_like, shape (n,)
+
+        Returns
+        -------
+        numpy.ndarray, shape (n_links, 3)
+            Row ``i`` (table order): :math:`(x_i, y_i, \\alpha_i)`, with :math:`(x_i, y_i) = r_i - c`
+            and :math:`\\alpha_i = \\theta + \\beta_i(s)` the angle of link ``i``'s frame.
+        """
+        alpha, _, rc = self._kinematics(state)
+        return np.column_stack([rc, alpha])
+
+    def joint_positions(self, state) -> np.ndarray:
+        """Each link's frame origin (its joint; for the root, its reference point) in the
+        centre-of-mass frame, for drawing: link ``i`` is the segment from ``joint_positions[i]``
+        to its children's joints (or to its centre of mass for a leaf).
+
+        Returns
+        -------
+        numpy.ndarray, shape (n_links, 2)
+        """
+        return self._kinematics(state)[1]
+
+    def joint_limits(self):
+        """The table's joint limits as a :class:`~acroplan.core.limits.Limits` (position limits on
+        the joint states, rate limits on their inputs), or ``None`` when the table has none. Pass
+        it to ``plan(..., limits=body.joint_limits())`` to honour them."""
+        from ...core.limits import Limits
+
+        states, inputs = {}, {}
+        for i, name in zip(self.links.joints, self.links.joint_names):
+            link = self.links[i]
+            if link.lower is not None or link.upper is not None:
+                states[name] = (link.lower, link.upper)
+            if link.velocity is not None:
+                inputs[f"u_{name}"] = link.velocity
+        if not states and not inputs:
+            return None
+        return Limits(states, inputs)
+
+    # ------------------------------------------------------------------ two links: the acrobot
+    def as_acrobot(self):
+        """A two-link body as the acrobot of text eq. (3), with its angle offsets.
+
+        Any two-link body is an acrobot: with :math:`d = j_1 - c_0` (root centre of mass to the
+        joint, root frame), :math:`l = |d|`, :math:`L = |c_1|`, the acrobot's angles are
+        :math:`\\theta_A = \\theta + \\psi_0`, :math:`\\varphi_A = \\varphi + \\delta`, where
+        :math:`\\psi_0 = \\arg(-d)` and :math:`\\delta = \\arg(c_1) - \\psi_0`.
+
+        Returns
+        -------
+        (Acrobot, psi0, delta)
+
+        Raises
+        ------
+        InvalidInputError
+            When the body does not have exactly two links.
+        """
+        if self.n_links != 2:
+            raise InvalidInputError("links", f"has {self.n_links} links; only a two-link body is an acrobot",
+                                    "use the PlanarBody itself")
+        from ..acrobot.model import Acrobot
+
+        root = self.links[self.links.root]
+        child = self.links[self.links.joints[0]]
+        dx, dy = child.joint[0] - root.com[0], child.joint[1] - root.com[1]
+        leg, torso = math.hypot(dx, dy), math.hypot(*child.com)
+        psi0 = math.atan2(-dy, -dx) if leg > 0 else 0.0
+        delta = (math.atan2(child.com[1], child.com[0]) if torso > 0 else 0.0) - psi0
+        acro = Acrobot.from_physical(torso_mass=child.mass, leg_mass=root.mass, torso_inertia=child.inertia,
+                                     leg_inertia=root.inertia, torso_length=torso, leg_length=leg,
+                                     angular_momentum=self.P0)
+        return acro, psi0, delta
+
+    def check_segment(self, x0, x1, duration, limits=None):
+        """Exact feasibility test for two-link bodies (the acrobot's reachable set, through
+        :meth:`as_acrobot`); bodies of three or more links have none (``None``).
+
+        Returns
+        -------
+        Infeasibility or None
+        """
+        if self.n_links != 2:
+            return None
+        from ...core.limits import Limits
+        from ..acrobot.reach import reachable_set
+
+        acro, psi0, delta = self.as_acrobot()
+        joint = self.links.joint_names[0]
+        alim = None
+        if limits is not None and limits.active:
+            lo, hi = limits.bounds(joint)
+            sb = {}
+            if lo > -math.inf or hi < math.inf:
+                sb["phi"] = (None if lo == -math.inf else lo + delta, None if hi == math.inf else hi + delta)
+            U = limits.input_bound(f"u_{joint}")
+            alim = Limits(sb, {"u": U} if U is not None else None)
+        th0, ph0 = float(x0[0]) + psi0, float(x0[1]) + delta
+        thT, phT = float(x1[0]) + psi0, float(x1[1]) + delta
+        R = reachable_set(acro, theta0=th0, phi0=ph0, phiT=phT, T=float(duration), limits=alim)
+        lim = "" if alim is None else f" under {limits.describe()}"
+        if R.empty:
+            reason = R.reason.replace("phi", joint).replace("u_max", f"the rate limit of u_{joint}")
+            return Infeasibility(f"no joint motion is possible{lim}: {reason}", joint, None)
+        lo, hi = R.low - psi0, R.high - psi0
+        target = float(x1[0])
+        scale = max(1.0, abs(lo), abs(hi))
+        if lo == hi or self.P0 == 0.0:
+            if abs(target - lo) <= 1e-12 * scale:
+                return None
+            why = ("P0 = 0 makes a two-link body holonomic (theta is a function of the joint angle)"
+                   if self.P0 == 0.0 else "only one theta(T) is reachable")
+            return Infeasibility(f"{why}: with {joint}(T) = {float(x1[1]):.12g} the only reachable theta(T) is "
+                                 f"{lo:.12g}, not {target:.12g}", "theta", (lo, lo))
+        if not lo < target < hi:
+            kind, ends = ("closed", f"[{lo:.12g}, {hi:.12g}]") if R.closed else ("open", f"({lo:.12g}, {hi:.12g})")
+            return Infeasibility(f"theta(T) = {target:.12g} is outside the reachable {kind} interval {ends}{lim} "
+                                 f"for theta(0) = {float(x0[0]):.12g}, {joint}(0) = {float(x0[1]):.12g}, "
+                                 f"{joint}(T) = {float(x1[1]):.12g}, T = {float(duration):.12g} (exact: a two-link "
+                                 "body is an acrobot)", "theta", (lo, hi))
+        return None
+
+    # ------------------------------------------------------------------ construction and records
+    @classmethod
+    def from_acrobot_physical(cls, *, torso_mass, leg_mass, torso_inertia, leg_inertia, torso_length, leg_length,
+                              angular_momentum) -> "PlanarBody":
+        """The acrobot of :meth:`Acrobot.from_physical <acroplan.families.acrobot.model.Acrobot.from_physical>`
+        as a two-link planar body, with the same state :math:`(\\theta, \\varphi)`.
+
+        The root is the leg (link ``"leg"``, frame at the joint, centre of mass at
+        :math:`(l, 0)`), so :math:`\\theta` is the leg's angle; the torso (``"torso"``, centre of mass
+        at :math:`(L, 0)` in its frame, joint at the leg frame's origin) hangs on the joint
+        ``"phi"``, so :math:`\\varphi` is the angle from leg to torso: the torso's centre of mass is
+        at :math:`L(\\cos(\\theta+\\varphi), \\sin(\\theta+\\varphi))` from the joint and the leg's
+        at :math:`l(\\cos\\theta, \\sin\\theta)`, as for :class:`~acroplan.families.acrobot.model.Acrobot`.
+        The input is ``u_phi``.
+        """
+        links = [
+            Link("leg", None, leg_mass, leg_inertia, com=(leg_length, 0.0)),
+            Link("torso", "leg", torso_mass, torso_inertia, com=(torso_length, 0.0), joint=(0.0, 0.0),
+                 joint_name="phi"),
+        ]
+        return cls(links, P0=angular_momentum)
+
+    def to_dict(self) -> dict[str, Any]:
+        """Type, parameters, :math:`P_0`, the topology and the link table (:meth:`from_dict` reads it)."""
+        out = super().to_dict()
+        out["P0"] = self.P0
+        out["parents"] = list(self.links.parents)
+        out["links"] = self.links.to_dicts()
+        return out
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "PlanarBody":
+        """Rebuild from :meth:`to_dict`'s output (``links`` and ``P0``; the rest is derived)."""
+        if not isinstance(d, Mapping) or "links" not in d:
+            raise InvalidInputError("links", "is missing", "give the link table (a list of link tables)")
+        return cls(LinkTable(d["links"]), P0=d.get("P0", 0.0))
