@@ -30,7 +30,7 @@ from .core.result import PlanResult, SegmentResult, Status
 from .core.budget import BudgetExceeded, budget
 from .core.strategies import Interval, IntervalOutcome, Strategy, resolve_strategy
 from .core.system import ControlAffineSystem
-from .core.verify import VERIFY_TOL, verify_plan
+from .core.verify import VERIFY_METHODS, VERIFY_TOL, verify_plan
 
 __all__ = ["plan", "warm_up", "PlanRequest", "CONDITIONS", "VERIFY_TOL", "DEFAULT_SIZE", "MAX_COEFFICIENTS",
            "TIME_LIMIT"]
@@ -91,7 +91,8 @@ class PlanRequest:
     sizes : tuple of int or None
         The user's ``n_coefficients``, or ``None`` (the strategy chooses).
     limits : Limits
-    verify : bool
+    verify : {"exact", "ode"} or None
+        How the plan is checked (``None``: not checked).
     tol : float
     max_evaluations : int
     time_limit : float or None
@@ -105,7 +106,7 @@ class PlanRequest:
     basis: InputBasis
     sizes: tuple[int, ...] | None
     limits: Limits
-    verify: bool
+    verify: str | None
     tol: float
     max_evaluations: int
     time_limit: float | None = TIME_LIMIT
@@ -113,7 +114,7 @@ class PlanRequest:
     @classmethod
     def build(cls, system, *, times, conditions: str = "spline", method="auto", basis="legendre",
               n_coefficients: int | None = None, limits: Limits | None = None, u_max: float | None = None,
-              state_bounds=None, input_bounds=None, verify: bool = True, tol: float = 1e-10,
+              state_bounds=None, input_bounds=None, verify: bool | str = True, tol: float = 1e-10,
               max_evaluations: int = 2000, time_limit: float | None = TIME_LIMIT, **named) -> "PlanRequest":
         """Validate :func:`plan`'s arguments (same keywords). Raises :class:`InvalidInputError`."""
         if not isinstance(system, ControlAffineSystem):
@@ -156,8 +157,17 @@ class PlanRequest:
         if not (isinstance(tol, (int, float)) and not isinstance(tol, bool) and math.isfinite(tol) and tol > 0):
             raise InvalidInputError("tol", f"must be a positive number, got {tol!r}", "give for example 1e-10")
         max_evaluations = _whole("max_evaluations", max_evaluations, 2000)
-        if not isinstance(verify, bool):
-            raise InvalidInputError("verify", f"must be True or False, got {_short(verify)}", "give a boolean")
+        has_exact = type(system).exact_errors is not ControlAffineSystem.exact_errors
+        if verify is True:
+            verify = "exact" if has_exact else "ode"
+        elif verify is False:
+            verify = None
+        elif verify not in VERIFY_METHODS or not isinstance(verify, str):
+            raise InvalidInputError("verify", f"must be True or False, or \"exact\" or \"ode\", got {_short(verify)}",
+                                    "give True (the fastest independent check), \"ode\" or False")
+        elif verify == "exact" and not has_exact:
+            raise InvalidInputError("verify", f"\"exact\" needs an exact check, which {type(system).__name__} does "
+                                    "not provide", "use True or \"ode\" (the DOP853 re-simulation)")
         if time_limit is not None and not (isinstance(time_limit, (int, float, np.floating, np.integer))
                                            and not isinstance(time_limit, bool) and 0 < time_limit < math.inf):
             raise InvalidInputError("time_limit", f"must be a positive number of seconds or None, got "
@@ -186,7 +196,7 @@ class PlanRequest:
 
 def plan(system: ControlAffineSystem, *, times, conditions: str = "spline", method="auto", basis="legendre",
          n_coefficients: int | None = None, limits: Limits | None = None, u_max: float | None = None,
-         state_bounds=None, input_bounds=None, verify: bool = True, tol: float = 1e-10,
+         state_bounds=None, input_bounds=None, verify: bool | str = True, tol: float = 1e-10,
          max_evaluations: int = 2000, time_limit: float | None = TIME_LIMIT, progress=None,
          **waypoints) -> PlanResult:
     r"""Plan a motion of ``system`` through waypoints.
@@ -216,9 +226,14 @@ def plan(system: ControlAffineSystem, *, times, conditions: str = "spline", meth
         All bounds at once; or the keywords ``u_max`` (:math:`|u_j| \le u_{max}` for every input),
         ``state_bounds`` (``{"phi": (lo, hi)}``), ``input_bounds`` (``{"u": 15.0}``), ``NAME_min``,
         ``NAME_max``.
-    verify : bool
-        Re-simulate the plan with scipy DOP853 (rtol = atol = 3e-14) and require every waypoint
-        within :data:`VERIFY_TOL`. Skip only for speed in batch work.
+    verify : bool or {"exact", "ode"}
+        Check the plan independently of the planner's compiled integrator, and require every
+        waypoint within :data:`VERIFY_TOL` (plus what the check can resolve on long chains,
+        :func:`acroplan.core.verify.verify_plan`): ``"ode"`` re-simulates it with scipy DOP853
+        (rtol = atol = 3e-14, about 5-10 ms a segment); ``"exact"`` uses the family's exact
+        identity (the acrobot's flat output: no ODE solver, microseconds); ``True`` (default) the
+        exact check when the family has one, else the ODE; ``False`` skips the check (only for
+        speed in batch work).
     tol : float
         Required endpoint error of each segment (compiled integrator).
     max_evaluations : int
@@ -319,20 +334,24 @@ def _solve(req: PlanRequest, progress) -> PlanResult:
                           **common)
 
     # ---------------------------------------------------------------- independent check
+    check = _CHECKS[req.verify]
     try:
-        checked, bad, allowed = verify_plan(system, X[0], segments)
+        checked, bad, allowed = verify_plan(system, X[0], segments, req.verify)
     except BudgetExceeded as e:
         return PlanResult(status=Status.NOT_CONVERGED, message=f"not converged: every segment was planned, but "
-                          f"{e} before the independent re-simulation ended", segments=segments, verified=False,
+                          f"{e} before the independent check ({check}) ended", segments=segments, verified=False,
                           **common)
     if bad is not None:
-        return PlanResult(status=Status.NOT_CONVERGED, message=f"not converged: the independent re-simulation (scipy "
-                          f"DOP853) misses the planned state at t = {bad.t1:g} by {bad.verified_error:.2e} > "
-                          f"{allowed:.2g}", segments=checked, verified=True, **common)
+        return PlanResult(status=Status.NOT_CONVERGED, message=f"not converged: the independent check ({check}) "
+                          f"misses the planned state at t = {bad.t1:g} by {bad.verified_error:.2e} > "
+                          f"{allowed:.2g}", segments=checked, verified=True, verification=req.verify, **common)
     worst = max(s.verified_error for s in checked)
     return PlanResult(status=Status.SUCCESS, message=f"success: {K} segment(s), max endpoint error "
-                      f"{max(s.final_error for s in checked):.2e}, independently verified to {worst:.2e}",
-                      segments=checked, verified=True, **common)
+                      f"{max(s.final_error for s in checked):.2e}, independently verified to {worst:.2e} ({check})",
+                      segments=checked, verified=True, verification=req.verify, **common)
+
+
+_CHECKS = {"exact": "exact identity", "ode": "scipy DOP853 re-simulation"}
 
 
 def warm_up(system: ControlAffineSystem | type, *, basis: str = "legendre", sizes=(6, 10, 14)) -> None:

@@ -316,9 +316,11 @@ class PlanResult:
     infeasible : tuple of dict
         Per infeasible segment: ``index``, ``field``, ``interval`` and ``reason``.
     verified : bool
-        Whether the independent re-simulation was run.
+        Whether the plan was checked independently.
     limits : Limits or None
         The limits the plan honours.
+    verification : {"exact", "ode"} or None
+        How it was checked: the family's exact identity, or the DOP853 re-simulation.
     """
 
     status: Status
@@ -332,6 +334,7 @@ class PlanResult:
     infeasible: tuple[dict, ...] = ()
     verified: bool = False
     limits: object = None
+    verification: str | None = None
 
     def __post_init__(self):
         _freeze(self, "times", "waypoints")
@@ -417,6 +420,7 @@ class PlanResult:
                       "export": "power basis in local time: u(t) = sum_i c_i (t - t0)^i on [t0, t1]",
                       "basis_coefficients": _BASIS_NOTE.get(self.basis.name, self.basis.name)},
             "verified": self.verified,
+            "verification": self.verification,
             "limits": None if self.limits is None else self.limits.to_dict(),
             "segments": [s.to_dict(self.system.input_names) for s in self.segments],
             "infeasible": [dict(d) for d in self.infeasible],

@@ -263,6 +263,24 @@ class ControlAffineSystem(abc.ABC):
         d = self.diff(y0, x1)
         return lambda tau: self.retract(y0, tau * d)
 
+    def exact_errors(self, x0, segments):
+        """An exact check of planned segments that uses neither the compiled integrator nor an ODE
+        solver (a closed form or a conserved quantity of the family), or ``None`` when the family
+        has none (the default): then plans are checked by the DOP853 re-simulation.
+
+        Parameters
+        ----------
+        x0 : numpy.ndarray, shape (n,)
+            The first waypoint; the segments are chained from it.
+        segments : sequence of SegmentResult
+
+        Returns
+        -------
+        numpy.ndarray, shape (len(segments),), or None
+            Each segment's distance from its target state.
+        """
+        return None
+
     def auto_strategy(self):
         """The strategy ``method="auto"`` uses for this system: a
         :class:`~acroplan.core.strategies.Strategy`, or ``None`` for the core's default, path

@@ -178,7 +178,12 @@ def _arith(field: str, text: str) -> float:
                 raise _Refused(f"has an exponent of {right:.6g}, beyond {MAX_EXPONENT}")
             if isinstance(node.op, ast.Pow) and left < 0 and right != int(right):
                 raise _Refused("is not a real number (a fractional power of a negative number)")
-            return real(_OPS[type(node.op)](left, right))
+            try:
+                return real(_OPS[type(node.op)](left, right))
+            except OverflowError:
+                raise _Refused("is not finite (it overflows)") from None
+            except ZeroDivisionError:
+                raise _Refused("divides by zero") from None
         if isinstance(node, ast.UnaryOp) and type(node.op) in _OPS:
             return real(_OPS[type(node.op)](ev(node.operand, depth + 1)))
         raise ValueError

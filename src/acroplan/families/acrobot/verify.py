@@ -7,7 +7,9 @@ import math
 
 import numpy as np
 
-__all__ = ["flat_output_errors"]
+from ...core.basis import Legendre
+
+__all__ = ["flat_output_errors", "chained_errors"]
 
 #: Panels of the composite rule at most (64 nodes each).
 MAX_PANELS = 200_000
@@ -53,16 +55,31 @@ def flat_output_errors(result) -> np.ndarray:
     robot = result.system
     if not all(hasattr(robot, name) for name in ("F", "h", "P0")):
         raise TypeError("flat_output_errors needs an acrobot (a system with a flat output F, h, P0)")
-    theta, phi = (float(v) for v in result.waypoints[0])
+    return chained_errors(robot, result.waypoints[0], result.segments)
+
+
+def chained_errors(robot, x0, segments) -> np.ndarray:
+    """:func:`flat_output_errors` of ``segments`` chained from the state ``x0`` (each segment
+    carries its basis)."""
+    theta, phi = (float(v) for v in x0)
     errors = []
-    for seg in result.segments:
+    for seg in segments:
         T = seg.t1 - seg.t0
-        s, w = _nodes(int(min(MAX_PANELS, max(32, math.ceil(seg.max_abs_u * T)))))
-        basis = result.basis_for(seg)
+        panels = int(min(MAX_PANELS, max(32, math.ceil(seg.max_abs_u * T))))
+        _, w = _nodes(panels)
+        basis = seg.basis if seg.basis is not None else Legendre(seg.basis_coefficients.shape[1])
         c = np.asarray(seg.basis_coefficients[0], dtype=float)
-        total = T * float(w @ (1.0 / robot.h(phi + T * (basis.integral(s) @ c))))
+        total = T * float(w @ (1.0 / robot.h(phi + T * (_integral(basis, panels) @ c))))
         phi_end = phi + T * float(basis.integral([1.0])[0] @ c)
         theta = theta - (float(robot.F(phi_end)) - float(robot.F(phi))) + robot.P0 * total
         phi = phi_end
         errors.append(max(abs(theta - float(seg.target[0])), abs(phi - float(seg.target[1]))))
     return np.array(errors)
+
+
+@functools.lru_cache(maxsize=64)
+def _integral(basis, panels: int):
+    """The basis integrals at the nodes of :func:`_nodes` (``panels``), cached, read-only."""
+    M = basis.integral(_nodes(panels)[0])
+    M.flags.writeable = False
+    return M

@@ -1,0 +1,137 @@
+"""A small zoo of planar bodies, for tests, examples and benchmarks.
+
+* :func:`three_rods`: three equal rods in a chain (the classic three-link swimmer);
+* :func:`diver_with_arms`: a human diver, legs in two links and arms, a branched tree;
+* :func:`planar_space_robot`: a spacecraft base with a two-joint arm;
+* :func:`random_body`: random physical chains.
+
+All lengths in metres, masses in kilograms, inertias in kg m^2 (any consistent units work).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ...core.errors import InvalidInputError
+from .links import Link
+from .model import PlanarBody
+
+__all__ = ["three_rods", "diver_with_arms", "planar_space_robot", "random_body"]
+
+
+def three_rods(P0: float = 0.0, *, mass: float = 1.0, length: float = 1.0) -> PlanarBody:
+    """Three equal uniform rods in a chain: ``rod1`` (the root), ``rod2``, ``rod3``.
+
+    Each rod's frame has its origin at the rod's first end and its x axis along the rod, so the
+    centre of mass is at :math:`(\\ell/2, 0)`, the next joint at :math:`(\\ell, 0)` and the inertia
+    :math:`m\\ell^2/12`. The joints are ``q1`` (rod2 relative to rod1) and ``q2`` (rod3 relative to
+    rod2); :math:`q = 0` is straight. The body is symmetric under reversing the chain (shape
+    :math:`(q_1, q_2) \\mapsto (-q_2, -q_1)`) and under the mirror in its axis
+    (:math:`q \\mapsto -q`, :math:`\\theta \\mapsto -\\theta`).
+
+    Parameters
+    ----------
+    P0 : float
+        Angular momentum.
+    mass, length : float
+        Of each rod.
+
+    Returns
+    -------
+    PlanarBody
+    """
+    rod = dict(mass=mass, inertia=mass * length**2 / 12.0, com=(length / 2.0, 0.0))
+    return PlanarBody([
+        Link("rod1", None, **rod),
+        Link("rod2", "rod1", **rod, joint=(length, 0.0), joint_name="q1"),
+        Link("rod3", "rod2", **rod, joint=(length, 0.0), joint_name="q2"),
+    ], P0=P0)
+
+
+def diver_with_arms(P0: float = 0.0) -> PlanarBody:
+    """A diver in the sagittal plane: trunk (with head), thighs, shanks (with feet), arms.
+
+    Both legs move together and both arms move together (one link each), from de Leva's (1996)
+    segment proportions for a 75 kg adult. A branched tree: the trunk (root, frame at the hip, x
+    axis towards the shoulders) carries the thighs at the hip (joint ``hip``) and the arms at the
+    shoulder (joint ``shoulder``); the shanks hang on the thighs at the knee (joint ``knee``).
+
+    Angles (every link's x axis runs from its joint along the segment):
+
+    * ``hip``: :math:`\\pi` straight, smaller values pike (legs to the front, the trunk's +y side);
+    * ``knee``: 0 straight, positive flexed;
+    * ``shoulder``: 0 arms overhead, :math:`\\pi/2` arms forward, :math:`\\pi` arms at the sides.
+
+    Joint limits and rate limits are in the table (:meth:`PlanarBody.joint_limits`).
+
+    Returns
+    -------
+    PlanarBody
+    """
+    return PlanarBody([
+        Link("trunk", None, 40.5, 1.9, com=(0.30, 0.0)),
+        Link("thighs", "trunk", 19.8, 0.35, com=(0.17, 0.0), joint=(0.0, 0.0), joint_name="hip",
+             lower=0.35, upper=3.5, velocity=12.0),
+        Link("shanks", "thighs", 8.0, 0.20, com=(0.25, 0.0), joint=(0.42, 0.0), joint_name="knee",
+             lower=0.0, upper=2.4, velocity=14.0),
+        Link("arms", "trunk", 6.9, 0.25, com=(0.30, 0.0), joint=(0.52, 0.0), joint_name="shoulder",
+             lower=-0.6, upper=3.4, velocity=15.0),
+    ], P0=P0)
+
+
+def planar_space_robot(P0: float = 0.0) -> PlanarBody:
+    """A free-floating spacecraft (150 kg, 1.5 m wide) with a two-link arm (1.2 m and 1.0 m).
+
+    The base is the root (frame at its centre); the arm's shoulder is on the base's edge at
+    :math:`(0.6, 0)` (joint ``shoulder``), the elbow at the end of the upper arm (joint ``elbow``);
+    both joints :math:`|q| \\le 2.6`/:math:`2.8` rad at :math:`|\\dot q| \\le 0.5` rad/s.
+
+    Returns
+    -------
+    PlanarBody
+    """
+    return PlanarBody([
+        Link("base", None, 150.0, 25.0, com=(0.0, 0.0)),
+        Link("upper_arm", "base", 12.0, 12.0 * 1.2**2 / 12.0, com=(0.6, 0.0), joint=(0.6, 0.0), joint_name="shoulder",
+             lower=-2.6, upper=2.6, velocity=0.5),
+        Link("forearm", "upper_arm", 8.0, 8.0 * 1.0**2 / 12.0, com=(0.5, 0.0), joint=(1.2, 0.0), joint_name="elbow",
+             lower=-2.8, upper=2.8, velocity=0.5),
+    ], P0=P0)
+
+
+def random_body(rng, n_links: int, P0: float = 0.0) -> PlanarBody:
+    """A random physical chain of ``n_links`` links.
+
+    Link ``k`` (``link0`` the root, joints ``q1 ... q{n-1}``) has length :math:`\\ell_k \\in
+    [0.2, 0.8]`, mass :math:`m_k \\in [1, 30]`, centre of mass at :math:`(f \\ell_k, e \\ell_k)`
+    with :math:`f \\in [0.3, 0.7]`, :math:`e \\in [-0.05, 0.05]` (slightly off the axis), inertia a
+    rod's :math:`m_k \\ell_k^2/12` times a factor in :math:`[0.8, 1.25]`; the next joint sits at
+    :math:`(\\ell_k, 0)`.
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator or int
+    n_links : int
+        >= 2.
+    P0 : float
+
+    Returns
+    -------
+    PlanarBody
+    """
+    if isinstance(n_links, bool) or not isinstance(n_links, (int, np.integer)) or n_links < 2:
+        raise InvalidInputError("n_links", f"must be a whole number >= 2, got {n_links!r}", "give for example 3")
+    rng = np.random.default_rng(rng)
+    links, prev_len = [], None
+    for k in range(int(n_links)):
+        length = float(rng.uniform(0.2, 0.8))
+        mass = float(rng.uniform(1.0, 30.0))
+        com = (float(rng.uniform(0.3, 0.7)) * length, float(rng.uniform(-0.05, 0.05)) * length)
+        inertia = mass * length**2 / 12.0 * float(rng.uniform(0.8, 1.25))
+        if k == 0:
+            links.append(Link("link0", None, mass, inertia, com=com))
+        else:
+            links.append(Link(f"link{k}", f"link{k - 1}", mass, inertia, com=com, joint=(prev_len, 0.0),
+                              joint_name=f"q{k}"))
+        prev_len = length
+    return PlanarBody(links, P0=P0)
