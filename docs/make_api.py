@@ -22,7 +22,7 @@ SECTIONS = [
                           "Infeasibility"]),
     ("Feasibility and limits", acroplan, ["Limits", "reachable_interval", "reachable_set", "Reach"]),
     ("Input bases", acroplan, ["InputBasis", "Legendre", "Monomial"]),
-    ("Problems", acroplan, ["Problem", "load_problem", "examples", "zoo"]),
+    ("Problems", acroplan, ["Problem", "load_problem", "load_result", "examples", "zoo"]),
     ("Chapter 4: nilpotentization", nilpotent, ["NilpotentProblem", "NilpotentResult", "SeriesResult", "FlatYResult",
                                                  "construction",
                                                  "endpoint_equations", "format_equations", "iterated_integrals",

@@ -22,8 +22,8 @@ Feasibility
     :func:`reachable_interval`, :func:`reachable_set`, :class:`Reach`.
 Input bases
     :class:`Legendre`, :class:`Monomial`.
-Problems
-    :func:`load_problem`, :class:`Problem`, :mod:`acroplan.examples`.
+Problems and results
+    :func:`load_problem`, :class:`Problem`, :mod:`acroplan.examples`, :func:`load_result`.
 Errors
     :class:`InvalidInputError`.
 """
@@ -47,7 +47,7 @@ _PUBLIC = {
     "Strategy": "acroplan.core.strategies", "register_strategy": "acroplan.core.strategies",
     "plan": "acroplan.planning", "warm_up": "acroplan.planning",
     "plan_many": "acroplan.batch", "simulate": "acroplan.simulation",
-    "Problem": "acroplan.io.problem", "load_problem": "acroplan.io.problem",
+    "Problem": "acroplan.io.problem", "load_problem": "acroplan.io.problem", "load_result": "acroplan.io.results",
 }
 _MODULES = {"examples": "acroplan.io.examples", "zoo": "acroplan.zoo"}
 

@@ -1,4 +1,5 @@
-"""Figures of any plan, kept apart from the numerics. Headless (Agg) unless a backend is already chosen.
+"""Figures of any plan, kept apart from the numerics. The user's matplotlib backend is never changed
+here (the command line chooses Agg for itself).
 
 * :func:`plot_input`: the text's Fig. 1, :math:`u(t)`, with the waypoint times marked;
 * :func:`plot_states`: the text's Fig. 2, :math:`\\theta(t)` above :math:`\\varphi(t)`, waypoints marked;
@@ -13,26 +14,19 @@ __all__ = ["plot_input", "plot_states", "plot_result", "plot_continuation"]
 
 
 def _plt():
-    import matplotlib
-
-    if matplotlib.get_backend().lower() not in ("agg", "pdf", "svg") and not _interactive():
-        matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     return plt
 
 
-def _interactive() -> bool:
-    import os
-
-    return bool(os.environ.get("DISPLAY") or os.environ.get("MPLBACKEND"))
-
-
-def plot_input(result, samples=None):
-    """Fig. 1 style: the input over time, waypoint times as dashed lines. Returns the figure."""
+def plot_input(result, samples=None, *, ax=None):
+    """Fig. 1 style: the input over time, waypoint times as dashed lines. Returns the figure (or,
+    given ``ax``, draws there and returns ``ax``)."""
     plt = _plt()
     samples = samples if samples is not None else result.sample()
-    fig, ax = plt.subplots(figsize=(7, 3.6), constrained_layout=True)
+    own = ax is None
+    if own:
+        fig, ax = plt.subplots(figsize=(7, 3.6), constrained_layout=True)
     for j, name in enumerate(samples.input_names):
         ax.plot(samples.t, samples.inputs[j], lw=1.6, label=f"{name}(t)")
     for tk in result.times:
@@ -41,26 +35,62 @@ def plot_input(result, samples=None):
     ax.set_ylabel("u = dφ/dt [rad/s]" if samples.input_names == ("u",) else "input")
     ax.set_title("Input u(t)" if samples.input_names == ("u",) else "Inputs")
     ax.grid(alpha=0.3)
-    if len(samples.input_names) > 1:
-        ax.legend()
-    return fig
+    limits = getattr(result, "limits", None)
+    for j, name in enumerate(samples.input_names):
+        U = limits.input_bound(name) if limits is not None else None
+        if U is not None:
+            for v in (-U, U):
+                ax.axhline(v, color="C3", lw=0.9, ls=":", label=f"rate limit ±{U:g}" if v > 0 and j == 0 else None)
+    if len(samples.input_names) > 1 or (limits is not None and limits.active):
+        ax.legend(fontsize=8)
+    return fig if own else ax
 
 
-def plot_states(result, samples=None):
-    """Fig. 2 style: one panel per state (θ above φ for the acrobot), waypoints marked."""
+_LABELS = {"theta": "θ [rad]", "phi": "φ [rad]"}
+
+
+def _state_panel(ax, result, samples, i, name, color):
+    ax.plot(samples.t, samples.states[i], lw=1.6, color=color, label=name)
+    ax.plot(result.times, result.waypoints[:, i], "o", mfc="white", color="k", ms=5)
+    lo_v, hi_v = float(np.min(samples.states[i])), float(np.max(samples.states[i]))
+    limits = getattr(result, "limits", None)
+    if limits is not None and name in limits.bounded_states:
+        for v in limits.bounds(name):
+            if np.isfinite(v):
+                ax.axhline(v, color="C3", lw=1.0, ls=":", label=f"{name} limit")
+    for v, label in result.system.reference_lines(name, lo_v, hi_v):
+        ax.axhline(v, color="0.6", lw=0.7, ls="--", zorder=0)
+        ax.annotate(label, (1.0, v), xycoords=("axes fraction", "data"), xytext=(2, 0),
+                    textcoords="offset points", va="center", fontsize=7, color="0.4", annotation_clip=False)
+
+
+def plot_states(result, samples=None, *, ax=None):
+    """Fig. 2 style: one panel per state (θ above φ for the acrobot), waypoints marked (white
+    dots), state limits dotted, and the family's reference values dashed (the acrobot's straight
+    and folded body). Given ``ax``, every state is drawn on that one panel and ``ax`` returned."""
     plt = _plt()
     samples = samples if samples is not None else result.sample()
-    n = len(samples.state_names)
+    names = samples.state_names
+    if ax is not None:
+        for i, name in enumerate(names):
+            _state_panel(ax, result, samples, i, name, f"C{i}")
+        ax.set_xlabel("t [s]")
+        ax.set_ylabel("state")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+        return ax
+    n = len(names)
     fig, axes = plt.subplots(n, 1, figsize=(7, 2.6 * n), sharex=True, constrained_layout=True)
     axes = np.atleast_1d(axes)
-    labels = {"theta": "θ [rad]", "phi": "φ [rad]"}
-    for i, (ax, name) in enumerate(zip(axes, samples.state_names)):
-        ax.plot(samples.t, samples.states[i], lw=1.6, color=f"C{i}")
-        ax.plot(result.times, result.waypoints[:, i], "o", mfc="white", color="k", ms=5, label="waypoints")
-        ax.set_ylabel(labels.get(name, name))
-        ax.grid(alpha=0.3)
-    axes[0].legend(loc="best")
-    axes[0].set_title("States" + (": θ (upper), φ (lower)" if samples.state_names == ("theta", "phi") else ""))
+    for i, (axi, name) in enumerate(zip(axes, names)):
+        _state_panel(axi, result, samples, i, name, f"C{i}")
+        axi.set_ylabel(_LABELS.get(name, name))
+        axi.grid(alpha=0.3)
+        handles, labels = axi.get_legend_handles_labels()
+        if len(handles) > 1:
+            axi.legend(loc="best", fontsize=8)
+    axes[0].set_title("States (white dots: waypoints)" + (": θ (upper), φ (lower)" if names == ("theta", "phi")
+                                                           else ""))
     axes[-1].set_xlabel("t [s]")
     return fig
 
@@ -97,14 +127,14 @@ def plot_continuation(result):
             axes[0].plot(tau, reached[:, i] - goal[0, i], "o", ms=3, color=line.get_color())
         axes[1].semilogy(tau, [max(h[2], 1e-300) for h in seg.history], "o-", ms=3, lw=1,
                          label=f"segment {seg.index}" if len(segs) <= 6 else None)
-    axes[0].set_xlabel("τ (path parameter)")
-    axes[0].set_ylabel("π(τ) − π(0): target (line), reached (dots)")
-    axes[0].set_title("Target path against what was reached")
+    axes[0].set_xlabel("τ (path parameter, no unit)")
+    axes[0].set_ylabel("change along the path [state units]")
+    axes[0].set_title("Target path (lines) against what was reached (dots)")
     axes[1].set_xlabel("τ")
     axes[1].set_ylabel("smallest singular value")
     axes[1].set_title("Distance from singularity")
     for ax in axes:
         ax.grid(alpha=0.3)
         if len(segs) <= 6 and segs:
-            ax.legend(fontsize=7)
+            ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.0, 1.0), borderaxespad=0.0)
     return fig

@@ -195,17 +195,33 @@ class SegmentResult:
         return next(iter(r.values())) if len(r) == 1 else None
 
     def input(self, t) -> np.ndarray:
-        """Inputs at times ``t`` in :math:`[t_0, t_1]`; shape ``(m, N)``.
+        """Inputs at times ``t`` in :math:`[t_0, t_1]`.
+
+        Parameters
+        ----------
+        t : float or array_like, shape (N,)
+
+        Returns
+        -------
+        numpy.ndarray, shape (m,) for a scalar ``t``, else (m, N)
 
         Evaluated from ``basis_coefficients`` in the segment's basis (for Legendre by the
         three-term recurrence), which stays accurate at every basis size; the power-basis
         ``coefficients`` lose digits to cancellation from about 10 coefficients on (measured:
         ``docs/design.md``).
         """
+        scalar = np.ndim(t) == 0
         t = np.atleast_1d(np.asarray(t, dtype=float))
         if self.basis is None:
-            return np.array([np.polynomial.polynomial.polyval(t - self.t0, row) for row in self.coefficients])
-        return self.basis_coefficients @ self.basis.matrix((t - self.t0) / (self.t1 - self.t0)).T
+            out = np.array([np.polynomial.polynomial.polyval(t - self.t0, row) for row in self.coefficients])
+        else:
+            out = self.basis_coefficients @ self.basis.matrix((t - self.t0) / (self.t1 - self.t0)).T
+        return out[:, 0] if scalar else out
+
+    def __repr__(self):
+        return (f"SegmentResult(index={self.index}, t=[{self.t0:g}, {self.t1:g}], method={self.method!r}, "
+                f"success={self.success}, final_error={self.final_error:.2e}, "
+                f"n_coefficients={self.basis_coefficients.shape[1]})")
 
     def _input_scalar(self, t: float) -> list:
         """:meth:`input` at one absolute time, in plain Python arithmetic (:meth:`_input_s`)."""
@@ -238,13 +254,18 @@ class SegmentResult:
             out.append(v)
         return out
 
-    def to_dict(self, input_names) -> dict[str, Any]:
+    def to_dict(self, input_names, state_names=None) -> dict[str, Any]:
+        """The segment as plain JSON types (``state_names`` adds its ``start`` and ``target``)."""
+        ends = {} if state_names is None else {
+            "start": {n: float(v) for n, v in zip(state_names, self.start)},
+            "target": {n: float(v) for n, v in zip(state_names, self.target)}}
         return {
             "index": self.index,
             "interval": self.interval,
             "method": self.method,
             "t0": self.t0,
             "t1": self.t1,
+            **ends,
             "coefficients": {name: list(map(float, row)) for name, row in zip(input_names, self.coefficients)},
             "basis_coefficients": {name: list(map(float, row))
                                    for name, row in zip(input_names, self.basis_coefficients)},
@@ -349,6 +370,42 @@ class PlanResult:
         """Endpoint-and-Jacobian evaluations over all segments."""
         return sum(s.evaluations for s in self.segments)
 
+    @property
+    def max_abs_u(self) -> float | None:
+        """:math:`\\max |u|` over the whole plan, exact (``None`` without segments)."""
+        return max((s.max_abs_u for s in self.segments), default=None)
+
+    @property
+    def state_ranges(self) -> dict:
+        """Exact range ``(lo, hi)`` of every bounded state over the whole plan."""
+        out: dict = {}
+        for seg in self.segments:
+            for name, (lo, hi) in seg.state_ranges.items():
+                a, b = out.get(name, (lo, hi))
+                out[name] = (min(a, lo), max(b, hi))
+        return out
+
+    def __repr__(self):
+        worst = max((s.final_error for s in self.segments), default=float("nan"))
+        return (f"PlanResult(status={self.status.value!r}, segments={len(self.segments)}, "
+                f"t=[{self.times[0]:g}, {self.times[-1]:g}], max_final_error={worst:.2e}, "
+                f"verification={self.verification!r}, system={type(self.system).__name__})")
+
+    def _repr_html_(self) -> str:
+        import html
+
+        rows = "".join(
+            f"<tr><td>{s.index}</td><td>[{s.t0:.4g}, {s.t1:.4g}]</td><td>{html.escape(s.method)}</td>"
+            f"<td>{s.basis_coefficients.shape[1]}</td><td>{s.final_error:.2e}</td>"
+            f"<td>{'' if s.verified_error is None else f'{s.verified_error:.2e}'}</td>"
+            f"<td>{s.max_abs_u:.4g}</td><td>{s.evaluations}</td></tr>" for s in self.segments[:50])
+        more = f"<p>... and {len(self.segments) - 50} more segments</p>" if len(self.segments) > 50 else ""
+        colour = {"success": "#1a7f37", "infeasible": "#9a6700", "not_converged": "#cf222e"}[self.status.value]
+        return (f"<div><b>PlanResult</b> of {html.escape(type(self.system).__name__)}: "
+                f"<b style='color:{colour}'>{self.status.value}</b><br><small>{html.escape(self.message)}</small>"
+                f"<table><tr><th>segment</th><th>t</th><th>method</th><th>coefficients</th><th>final error</th>"
+                f"<th>verified error</th><th>max |u|</th><th>evaluations</th></tr>{rows}</table>{more}</div>")
+
     # ------------------------------------------------------------------ evaluation
     def evaluate(self, t) -> Samples:
         """States and inputs at times ``t`` (within the planned segments).
@@ -421,8 +478,10 @@ class PlanResult:
                       "basis_coefficients": _BASIS_NOTE.get(self.basis.name, self.basis.name)},
             "verified": self.verified,
             "verification": self.verification,
+            "max_abs_u": self.max_abs_u,
+            "state_ranges": {k: list(v) for k, v in self.state_ranges.items()},
             "limits": None if self.limits is None else self.limits.to_dict(),
-            "segments": [s.to_dict(self.system.input_names) for s in self.segments],
+            "segments": [s.to_dict(self.system.input_names, self.system.state_names) for s in self.segments],
             "infeasible": [dict(d) for d in self.infeasible],
             "diagnostics": {
                 "evaluations": self.evaluations,
@@ -440,9 +499,41 @@ class PlanResult:
         kwargs.setdefault("allow_nan", False)
         return json.dumps(self.to_dict(), **kwargs)
 
-    def plot(self, *, per_segment: int = 200):
-        """Figures in the text's styles: ``{"input": Fig. 1, "states": Fig. 2}``, plus
-        ``"continuation"`` diagnostics when path deformation was used (matplotlib figures)."""
+    def plot(self, which: str | None = None, *, ax=None, per_segment: int = 200):
+        """Figures in the text's styles.
+
+        Parameters
+        ----------
+        which : {"input", "states", "continuation"}, optional
+            One figure; default: all of them as a dict ``{"input": Fig. 1, "states": Fig. 2}``
+            plus ``"continuation"`` diagnostics when path deformation was used.
+        ax : matplotlib Axes, optional
+            Draw one panel there (``which`` = ``"states"``, the default with ``ax``, puts every
+            state on it; or ``"input"``) and return ``ax``.
+        per_segment : int
+            Samples per segment.
+        """
         from . import plotting
 
-        return plotting.plot_result(self, per_segment=per_segment)
+        if which is None and ax is None:
+            return plotting.plot_result(self, per_segment=per_segment)
+        which = which or "states"
+        if which == "continuation":
+            if ax is not None:
+                raise ValueError("which: the continuation diagnostics need a figure of their own; leave ax out")
+            return plotting.plot_continuation(self)
+        if which not in ("input", "states"):
+            raise ValueError(f"which: must be 'input', 'states' or 'continuation', got {which!r}")
+        fn = plotting.plot_input if which == "input" else plotting.plot_states
+        return fn(self, self.sample(per_segment), ax=ax)
+
+    def to_pandas(self, per_segment: int = 200):
+        """A dense sample as a pandas DataFrame: columns ``t``, the states and the inputs (needs
+        pandas)."""
+        try:
+            import pandas as pd
+        except ImportError:  # pragma: no cover - pandas is there wherever the test extra is
+            raise ImportError("to_pandas needs pandas: pip install pandas") from None
+        smp = self.sample(per_segment)
+        return pd.DataFrame({"t": smp.t, **{n: smp.states[i] for i, n in enumerate(smp.state_names)},
+                             **{n: smp.inputs[j] for j, n in enumerate(smp.input_names)}})

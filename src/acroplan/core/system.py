@@ -69,6 +69,7 @@ class Infeasibility:
 _SYMBOLIC: dict[Hashable, tuple[sp.Matrix, sp.Matrix]] = {}
 _NUMERIC: dict[Hashable, Any] = {}
 _LOCK = threading.Lock()
+_TYPES: dict[str, type] = {}
 
 
 class ControlAffineSystem(abc.ABC):
@@ -77,6 +78,10 @@ class ControlAffineSystem(abc.ABC):
     Shapes: ``x`` is ``(n,)``, ``f`` is ``(n,)``, ``G`` is ``(n, m)``; tangent vectors
     (:meth:`diff`) are ``(n,)`` too (``ndx == n``) unless a subclass says otherwise.
     """
+
+    def __init_subclass__(cls, **kwargs):
+        super().__init_subclass__(**kwargs)
+        _TYPES.setdefault(cls.__name__, cls)  # for from_dict; the first class of a name keeps it
 
     state_names: ClassVar[tuple[str, ...]]
     input_names: ClassVar[tuple[str, ...]]
@@ -281,6 +286,11 @@ class ControlAffineSystem(abc.ABC):
         """
         return None
 
+    def reference_lines(self, state: str, lo: float, hi: float) -> list[tuple[float, str]]:
+        """Values of ``state`` worth marking on plots between ``lo`` and ``hi``, with labels (the
+        acrobot's straight and folded body). None by default."""
+        return []
+
     def auto_strategy(self):
         """The strategy ``method="auto"`` uses for this system: a
         :class:`~acroplan.core.strategies.Strategy`, or ``None`` for the core's default, path
@@ -296,3 +306,17 @@ class ControlAffineSystem(abc.ABC):
     def to_dict(self) -> dict[str, Any]:
         """What a result file records of the system: its type and parameters (families add more)."""
         return {"type": type(self).__name__, "params": self.lumped()}
+
+    @classmethod
+    def from_dict(cls, data: dict) -> "ControlAffineSystem":
+        """The system :meth:`to_dict` described. On the base class, dispatches on ``data["type"]``
+        among the system classes imported so far; the default rebuilds from the parameters."""
+        from .errors import InvalidInputError
+
+        if cls is ControlAffineSystem:
+            kind = data.get("type") if isinstance(data, dict) else None
+            if kind not in _TYPES:
+                raise InvalidInputError("system.type", f"unknown system type {kind!r}",
+                                        f"known types are {sorted(_TYPES)} (import the family first)")
+            return _TYPES[kind].from_dict(data)
+        return cls(**dict(data.get("params", {})))

@@ -207,8 +207,10 @@ def _number(field: str, value, most: float | None = None, what: str = "") -> flo
         try:
             v = float(value)
         except OverflowError:
-            raise InvalidInputError(field, "is an integer too large for the arithmetic",
-                                    "write a number of sensible size") from None
+            digits = int(abs(value).bit_length() * math.log10(2)) + 1
+            beyond = f": {what or 'values'} beyond {most:g} in size" if most is not None else ", which"
+            raise InvalidInputError(field, f"is an integer of about {digits} digits{beyond} are more than the "
+                                    "arithmetic carries", "write a number of sensible size") from None
     else:
         raise InvalidInputError(field, f"must be a number, got {_short(value)}", "write a number")
     if not math.isfinite(v):

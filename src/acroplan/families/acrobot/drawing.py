@@ -103,10 +103,9 @@ def animate(t, theta, phi, u, g: Geometry, path, *, speed: float = 1.0, fps: int
         The number of frames.
     """
     import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
     from matplotlib.animation import FFMpegWriter, FuncAnimation, PillowWriter
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
 
     t = np.asarray(t, dtype=float)
     tf = _frames(t, speed, fps, max_frames)
@@ -115,7 +114,10 @@ def animate(t, theta, phi, u, g: Geometry, path, *, speed: float = 1.0, fps: int
     uf = np.interp(tf, t, u)
     P = pose(th, ph, g)
     reach = 1.12 * max(float(np.max(np.hypot(*P[k].T))) for k in ("joint", "torso_end", "leg_end"))
-    fig, ax = plt.subplots(figsize=(4.8, 4.8), dpi=80)
+    # a figure of its own canvas (Agg), outside pyplot: the user's backend is never touched
+    fig = Figure(figsize=(4.8, 4.8), dpi=80)
+    FigureCanvasAgg(fig)
+    ax = fig.add_subplot()
     ax.set_xlim(-reach, reach)
     ax.set_ylim(-reach, reach)
     ax.set_aspect("equal")
@@ -149,12 +151,9 @@ def animate(t, theta, phi, u, g: Geometry, path, *, speed: float = 1.0, fps: int
         return torso, leg, joint, tr_t, tr_l, text
 
     anim = FuncAnimation(fig, draw, frames=len(tf), blit=False)
-    try:
-        anim.save(str(path), writer=PillowWriter(fps=fps))
-        if mp4_path is not None and shutil.which("ffmpeg"):
-            anim.save(str(mp4_path), writer=FFMpegWriter(fps=fps))
-    finally:
-        plt.close(fig)
+    anim.save(str(path), writer=PillowWriter(fps=fps))
+    if mp4_path is not None and shutil.which("ffmpeg"):
+        anim.save(str(mp4_path), writer=FFMpegWriter(fps=fps))
     return len(tf)
 
 

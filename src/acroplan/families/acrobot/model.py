@@ -324,6 +324,13 @@ class Acrobot(ControlAffineSystem):
 
         return AcrobotAuto()
 
+    def reference_lines(self, state, lo, hi):
+        """The straight body (phi = pi mod 2 pi) and the folded body (phi = 0 mod 2 pi) on plots of phi."""
+        if state != "phi" or not (np.isfinite(lo) and np.isfinite(hi)) or hi - lo > 40 * math.pi:
+            return []
+        ks = range(math.floor(lo / math.pi), math.ceil(hi / math.pi) + 1)
+        return [(k * math.pi, "folded" if k % 2 == 0 else "straight") for k in ks]
+
     def exact_errors(self, x0, segments):
         """The flat-output identity (:func:`acroplan.families.acrobot.verify.flat_output_errors`):
         exact up to rounding, with no ODE solver and no compiled code; microseconds per segment."""
@@ -336,3 +343,10 @@ class Acrobot(ControlAffineSystem):
         out = super().to_dict()
         out["physical"] = dataclasses.asdict(self.physical) if self.physical is not None else None
         return out
+
+    @classmethod
+    def from_dict(cls, data: dict) -> "Acrobot":
+        """The acrobot :meth:`to_dict` described (from the physical body when it is recorded)."""
+        if data.get("physical"):
+            return cls.from_physical(**data["physical"])
+        return cls(**data["params"])

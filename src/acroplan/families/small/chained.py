@@ -45,6 +45,13 @@ class ChainedForm(ControlAffineSystem):
     def structure_key(self):
         return ("ChainedForm", self.n)
 
+    def to_dict(self):
+        return {**super().to_dict(), "n": self.n}
+
+    @classmethod
+    def from_dict(cls, data):
+        return cls(n=int(data["n"]))
+
     def symbolic_fields(self, x, p):
         f = sp.zeros(self.n, 1)
         G = sp.zeros(self.n, 2)

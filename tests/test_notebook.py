@@ -1,0 +1,98 @@
+"""What a notebook user meets: shapes, reprs, plots that leave the backend alone, tables, files
+read back."""
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import acroplan
+
+PI = np.pi
+
+
+@pytest.fixture(scope="module")
+def limited():
+    p = acroplan.examples.load("pike-dive-limited")
+    return p.solve()
+
+
+def test_scalar_time_gives_a_flat_input(pike_result):
+    seg = pike_result.segments[0]
+    assert seg.input(0.3).shape == (1,) and seg.input([0.3]).shape == (1, 1)
+    assert seg.input(0.3)[0] == seg.input([0.3])[0, 0]
+    assert seg.input(np.linspace(seg.t0, seg.t1, 7)).shape == (1, 7)
+
+
+def test_reprs_are_concise_and_html_is_a_table(pike_result):
+    r = repr(pike_result)
+    assert len(r) < 250 and "status='success'" in r and "segments=5" in r
+    assert len(repr(pike_result.segments[0])) < 200
+    html = pike_result._repr_html_()
+    assert html.count("<tr>") == 1 + len(pike_result.segments) and "success" in html
+
+
+def test_plan_level_extremes_are_always_present(pike_result, limited):
+    assert pike_result.max_abs_u == max(s.max_abs_u for s in pike_result.segments)
+    lo, hi = limited.state_ranges["phi"]
+    assert -2 * PI - 1e-9 <= lo < hi <= -PI + 1e-9
+    d = limited.to_dict()
+    assert d["max_abs_u"] == limited.max_abs_u and d["state_ranges"]["phi"] == [lo, hi]
+
+
+def test_plot_into_an_axes_and_the_backend_is_left_alone(pike_result):
+    import matplotlib
+    import matplotlib.pyplot as plt
+
+    before = matplotlib.get_backend()
+    fig, ax = plt.subplots()
+    assert pike_result.plot(ax=ax) is ax and len(ax.lines) >= 2
+    assert pike_result.plot("input", ax=ax) is ax
+    figs = pike_result.plot()
+    assert set(figs) >= {"input", "states"}
+    assert matplotlib.get_backend() == before
+    plt.close("all")
+
+
+def test_library_code_never_switches_the_backend(tmp_path):
+    """result.plot() switched to Agg when DISPLAY was unset; animate() always did."""
+    code = ("import matplotlib; matplotlib.use('svg')\n"
+            "import acroplan, numpy as np\n"
+            "from acroplan.families.acrobot.drawing import animate, geometry_of\n"
+            "r = acroplan.examples.load('pike-dive').solve(verify=False)\n"
+            "r.plot(); s = r.sample(20)\n"
+            f"animate(s.t, s.theta, s.phi, s.u, geometry_of(r.to_dict()['system']), r'{tmp_path / 'a.gif'}',"
+            " max_frames=10)\n"
+            "print(matplotlib.get_backend())\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "svg" and (tmp_path / "a.gif").stat().st_size > 1000
+
+
+def test_to_pandas(pike_result):
+    df = pike_result.to_pandas(per_segment=11)
+    assert list(df.columns) == ["t", "theta", "phi", "u"] and len(df) == 5 * 10 + 1
+    assert df["t"].iloc[-1] == pike_result.times[-1]
+
+
+def test_a_result_file_reads_back_into_the_same_result(tmp_path, limited):
+    path = tmp_path / "solution.json"
+    path.write_text(limited.to_json())
+    back = acroplan.load_result(path)
+    assert back.status == limited.status and back.limits == limited.limits
+    assert back.to_dict()["segments"] == limited.to_dict()["segments"]
+    t = np.linspace(limited.times[0], limited.times[-1], 33)
+    a, b = limited.evaluate(t), back.evaluate(t)
+    assert np.array_equal(a.states, b.states) and np.array_equal(a.inputs, b.inputs)
+    assert json.loads(back.to_json()) == json.loads(limited.to_json())
+    with pytest.raises(acroplan.InvalidInputError, match="solution.json: is not a plan result"):
+        path.write_text('{"status": "success"}')
+        acroplan.load_result(path)
+
+
+def test_systems_round_trip_through_their_dicts():
+    for system in (acroplan.examples.robot("pike-dive"), acroplan.Unicycle(), acroplan.ChainedForm(5),
+                   acroplan.Acrobot(M1=2.0, A1=-0.5, M2=0.5, A2=-0.25, P0=1.0)):
+        again = acroplan.ControlAffineSystem.from_dict(system.to_dict())
+        assert again == system and again.structure_key == system.structure_key
