@@ -17,6 +17,7 @@ work is shared out as follows, and this module names no body:
 from __future__ import annotations
 
 import dataclasses
+import difflib
 import math
 
 import numpy as np
@@ -46,6 +47,12 @@ TIME_LIMIT = 60.0
 MIN_DURATION, MAX_DURATION, MAX_TIME = 1e-6, 1e6, 1e12
 
 
+#: plan()'s own keywords, for suggestions when one is mistyped
+_OPTIONS = ("times", "conditions", "method", "basis", "n_coefficients", "limits", "u_max", "state_bounds",
+            "input_bounds", "verify", "tol", "max_evaluations", "time_limit", "start_rate", "end_rate", "degrees",
+            "progress")
+
+
 def _vector(field, value, length=None) -> np.ndarray:
     try:
         a = np.asarray(value, dtype=float)
@@ -68,6 +75,14 @@ def _whole(field, value, example, most: int | None = None) -> int:
     if most is not None and value > most:
         raise InvalidInputError(field, f"must be at most {most}, got {value}", f"give for example {example}")
     return int(value)
+
+
+def _deg(field, value, is_angle: bool) -> float:
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise InvalidInputError(field, f"must be a number, got {_short(value)}", "give a number") from None
+    return math.radians(v) if is_angle else v
 
 
 def _short(value) -> str:
@@ -96,6 +111,9 @@ class PlanRequest:
     tol : float
     max_evaluations : int
     time_limit : float or None
+    start_rate, end_rate : numpy.ndarray, shape (m,), or None
+    degrees : bool
+        Whether the caller gave angles in degrees (already converted: every array here is in radians).
     """
 
     system: ControlAffineSystem
@@ -110,12 +128,16 @@ class PlanRequest:
     tol: float
     max_evaluations: int
     time_limit: float | None = TIME_LIMIT
+    start_rate: np.ndarray | None = None
+    end_rate: np.ndarray | None = None
+    degrees: bool = False
 
     @classmethod
     def build(cls, system, *, times, conditions: str = "spline", method="auto", basis="legendre",
               n_coefficients: int | None = None, limits: Limits | None = None, u_max: float | None = None,
               state_bounds=None, input_bounds=None, verify: bool | str = True, tol: float = 1e-10,
-              max_evaluations: int = 2000, time_limit: float | None = TIME_LIMIT, **named) -> "PlanRequest":
+              max_evaluations: int = 2000, time_limit: float | None = TIME_LIMIT, start_rate=None,
+              end_rate=None, degrees: bool = False, **named) -> "PlanRequest":
         """Validate :func:`plan`'s arguments (same keywords). Raises :class:`InvalidInputError`."""
         if not isinstance(system, ControlAffineSystem):
             raise InvalidInputError("system", f"must be a ControlAffineSystem, got {type(system).__name__}",
@@ -128,7 +150,10 @@ class PlanRequest:
             elif (key.endswith("_min") or key.endswith("_max")) and key[:-4] in states:
                 shorthand[key] = value
             else:
+                known = list(_OPTIONS) + list(states) + [f"{n}_{e}" for n in states for e in ("min", "max")]
+                close = difflib.get_close_matches(key, known, n=1, cutoff=0.6)
                 raise InvalidInputError(key, f"is not an option of plan() nor a state of {type(system).__name__}",
+                                        (f"did you mean {close[0]!r}? " if close else "") +
                                         f"states are {list(states)}; bounds are NAME_min / NAME_max")
         t = _vector("times", times)
         if t.size < 2:
@@ -149,7 +174,21 @@ class PlanRequest:
         if missing:
             raise InvalidInputError(missing[0], "is missing", f"give one value per waypoint for every state "
                                     f"{list(states)}")
+        if not isinstance(degrees, bool):
+            raise InvalidInputError("degrees", f"must be True or False, got {_short(degrees)}", "give a boolean")
         X = np.stack([_vector(name, waypoints[name], t.size) for name in states], axis=1)
+        angles = [i for i, name in enumerate(states) if name in system.angle_states]
+        if degrees:  # every angle given in degrees: waypoints, bounds and rate limits
+            X[:, angles] = np.radians(X[:, angles])
+            shorthand = {k: (None if v is None else _deg(k, v, k[:-4] in system.angle_states))
+                         for k, v in shorthand.items()}
+            u_max = None if u_max is None else _deg("u_max", u_max, True)
+            state_bounds = None if not state_bounds else {
+                k: tuple(None if v is None else _deg(f"state_bounds.{k}", v, k in system.angle_states) for v in pair)
+                for k, pair in dict(state_bounds).items()}
+            input_bounds = None if not input_bounds else {
+                k: _deg(f"input_bounds.{k}", v, system.rate_inputs.get(k) in system.angle_states)
+                for k, v in dict(input_bounds).items()}
         check_conditions(conditions, system)
         strategy = resolve_strategy(method, system)
         sizes = None if n_coefficients is None else (_whole("n_coefficients", n_coefficients, 6, MAX_COEFFICIENTS),)
@@ -189,16 +228,36 @@ class PlanRequest:
                     raise InvalidInputError(state, f"waypoint {k} (t = {t[k]:g}) has {state} = {v:.12g}, outside "
                                             f"the joint limits [{lo:.12g}, {hi:.12g}]",
                                             "move the waypoint inside the limits or widen them")
+        rates = {}
+        for field, value in (("start_rate", start_rate), ("end_rate", end_rate)):
+            if value is None:
+                continue
+            if conditions == "spline":
+                raise InvalidInputError(field, "applies to conditions=\"free\" only (the spline already starts and "
+                                        "ends at rest)", "leave it out, or use conditions=\"free\"")
+            if isinstance(value, dict):
+                unknown = sorted(set(value) - set(system.input_names))
+                if unknown:
+                    raise InvalidInputError(f"{field}.{unknown[0]}", f"is not an input of {type(system).__name__}",
+                                            f"inputs are {list(system.input_names)}")
+                value = [value.get(name, 0.0) for name in system.input_names]
+            v = _vector(field, np.broadcast_to(np.asarray(value, dtype=float), (system.n_inputs,))
+                        if np.ndim(value) == 0 and not isinstance(value, (str, bool)) else value, system.n_inputs)
+            if degrees:
+                v = np.array([np.radians(x) if system.rate_inputs.get(n) in system.angle_states else x
+                              for n, x in zip(system.input_names, v)])
+            rates[field] = v
         return cls(system=system, times=t, waypoints=X, conditions=conditions, strategy=strategy, basis=b,
                    sizes=sizes, limits=limits, verify=verify, tol=float(tol), max_evaluations=max_evaluations,
-                   time_limit=None if time_limit is None else float(time_limit))
+                   time_limit=None if time_limit is None else float(time_limit), start_rate=rates.get("start_rate"),
+                   end_rate=rates.get("end_rate"), degrees=degrees)
 
 
 def plan(system: ControlAffineSystem, *, times, conditions: str = "spline", method="auto", basis="legendre",
          n_coefficients: int | None = None, limits: Limits | None = None, u_max: float | None = None,
          state_bounds=None, input_bounds=None, verify: bool | str = True, tol: float = 1e-10,
-         max_evaluations: int = 2000, time_limit: float | None = TIME_LIMIT, progress=None,
-         **waypoints) -> PlanResult:
+         max_evaluations: int = 2000, time_limit: float | None = TIME_LIMIT, start_rate=None, end_rate=None,
+         degrees: bool = False, progress=None, **waypoints) -> PlanResult:
     r"""Plan a motion of ``system`` through waypoints.
 
     Parameters
@@ -241,6 +300,13 @@ def plan(system: ControlAffineSystem, *, times, conditions: str = "spline", meth
     time_limit : float or None
         Wall-clock budget of the whole plan in seconds (default :data:`TIME_LIMIT`); when it is
         spent the plan ends ``not_converged``, with the segments done so far. ``None``: no limit.
+    start_rate, end_rate : float, array_like of shape (m,), or dict by input name, optional
+        With ``conditions="free"``: the inputs at the first and at the last waypoint, ``0`` to
+        start or end at rest (the default leaves them free).
+    degrees : bool
+        Angles (the system's :attr:`~ControlAffineSystem.angle_states`) are given in degrees:
+        waypoints, their bounds, and rate limits and rates of angles in degrees per second. The
+        result is in radians.
     progress : callable, optional
         Called as ``progress(done, total)`` after each waypoint interval (for a progress bar).
 
@@ -265,7 +331,8 @@ def plan(system: ControlAffineSystem, *, times, conditions: str = "spline", meth
     req = PlanRequest.build(system, times=times, conditions=conditions, method=method, basis=basis,
                             n_coefficients=n_coefficients, limits=limits, u_max=u_max, state_bounds=state_bounds,
                             input_bounds=input_bounds, verify=verify, tol=tol, max_evaluations=max_evaluations,
-                            time_limit=time_limit, **waypoints)
+                            time_limit=time_limit, start_rate=start_rate, end_rate=end_rate, degrees=degrees,
+                            **waypoints)
     return solve(req, progress=progress)
 
 
@@ -292,9 +359,13 @@ def _solve(req: PlanRequest, progress) -> PlanResult:
                                "reason": proof.reason})
     if infeasible:
         msg = "; ".join(f"segment {d['index']} [{d['t0']:g}, {d['t1']:g}]: {d['reason']}" for d in infeasible)
+        angles = [i for i, name in enumerate(system.state_names) if name in system.angle_states]
+        if not req.degrees and angles and np.max(np.abs(X[:, angles])) >= 45:
+            msg += (f" (angles up to {np.max(np.abs(X[:, angles])):.4g} rad: if these are degrees, pass "
+                    "degrees=True, or degrees = true in [options])")
         return PlanResult(status=Status.INFEASIBLE, message="infeasible: " + msg, infeasible=tuple(infeasible),
                           **common)
-    conditions = Conditions(req.conditions, system, t, X, limits)
+    conditions = Conditions(req.conditions, system, t, X, limits, req.start_rate, req.end_rate)
     proof = conditions.infeasible()
     if proof:
         return PlanResult(status=Status.INFEASIBLE, message="infeasible: " + proof["reason"], infeasible=(proof,),

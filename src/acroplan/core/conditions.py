@@ -45,10 +45,15 @@ class Conditions:
     times : numpy.ndarray, shape (K+1,)
     waypoints : numpy.ndarray, shape (K+1, n)
     limits : Limits or None
+    start_rate, end_rate : numpy.ndarray, shape (m,), optional
+        Free conditions only: the inputs at the first and the last waypoint (zeros: start or end
+        at rest).
     """
 
-    def __init__(self, kind: str, system, times, waypoints, limits=None):
+    def __init__(self, kind: str, system, times, waypoints, limits=None, start_rate=None, end_rate=None):
         check_conditions(kind, system)
+        self.start_rate = None if start_rate is None else np.asarray(start_rate, dtype=float)
+        self.end_rate = None if end_rate is None else np.asarray(end_rate, dtype=float)
         self.kind = kind
         self.system = system
         self.times = times
@@ -93,9 +98,13 @@ class Conditions:
             slopes = np.array([spl(ends, 2) for spl in self.splines])
             return {"u0": vals[:, 0], "du0": slopes[:, 0], "uT": vals[:, 1], "duT": slopes[:, 1]}
         out = {}
+        K = len(self.times) - 1
         if prev_end_input is not None:
             out["u0"] = np.asarray(prev_end_input, dtype=float)
-        K = len(self.times) - 1
+        elif k == 0 and self.start_rate is not None:
+            out["u0"] = self.start_rate
+        if k == K - 1 and self.end_rate is not None:
+            out["uT"] = self.end_rate
         if self.limits is not None and k + 1 < K:
             # an interior waypoint on a joint limit: the joint must arrive there at rest, else the
             # continuous input carries it out of the limits in the next interval

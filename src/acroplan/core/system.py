@@ -88,6 +88,8 @@ class ControlAffineSystem(abc.ABC):
     param_names: ClassVar[tuple[str, ...]] = ()
     #: inputs that are the time derivative of a state: ``{"u": "phi"}`` means u = d(phi)/dt.
     rate_inputs: ClassVar[dict[str, str]] = {}
+    #: states that are angles (in radians): ``degrees=True`` converts these.
+    angle_states: ClassVar[tuple[str, ...]] = ()
 
     # ------------------------------------------------------------------ structure
     @property

@@ -147,6 +147,7 @@ class Acrobot(ControlAffineSystem):
     input_names = ("u",)
     param_names = ("M1", "A1", "M2", "A2", "P0")
     rate_inputs = {"u": "phi"}
+    angle_states = ("theta", "phi")
 
     def __post_init__(self):
         for name in self.param_names:

@@ -21,6 +21,7 @@ class Unicycle(ControlAffineSystem):
     state_names = ("x", "y", "psi")
     input_names = ("v", "omega")
     param_names = ()
+    angle_states = ("psi",)
 
     @classmethod
     def symbolic_fields(cls, x, p):

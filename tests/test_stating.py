@@ -1,0 +1,51 @@
+"""Stating a problem: suggestions for typos, angles in degrees, rest at the ends."""
+
+import numpy as np
+import pytest
+
+import acroplan
+
+PI = np.pi
+
+
+def test_a_mistyped_keyword_gets_a_suggestion(pike_robot):
+    with pytest.raises(acroplan.InvalidInputError, match="u_mx: .*did you mean 'u_max'"):
+        acroplan.plan(pike_robot, times=[0, 1], theta=[0, 1], phi=[0, 1], u_mx=3.0)
+    with pytest.raises(acroplan.InvalidInputError, match="phi_mn: .*did you mean 'phi_min'"):
+        acroplan.plan(pike_robot, times=[0, 1], theta=[0, 1], phi=[0, 1], phi_mn=-3.0)
+
+
+def test_degrees_give_the_radian_plan(pike_robot):
+    lo, hi = acroplan.reachable_interval(pike_robot, theta0=0.0, phi0=-PI, phiT=-PI / 2, T=1.0)
+    th = 0.5 * (lo + hi)
+    rad = acroplan.plan(pike_robot, times=[0, 1], theta=[0, th], phi=[-PI, -PI / 2], conditions="free",
+                        phi_min=-PI, phi_max=0.0, u_max=20.0)
+    deg = acroplan.plan(pike_robot, times=[0, 1], theta=[0, np.degrees(th)], phi=[-180, -90], conditions="free",
+                        phi_min=-180, phi_max=0.0, u_max=np.degrees(20.0), degrees=True)
+    assert rad.success and deg.success
+    assert np.allclose(deg.waypoints, rad.waypoints, rtol=1e-15, atol=1e-15)
+    assert np.allclose(deg.segments[0].basis_coefficients, rad.segments[0].basis_coefficients, rtol=1e-9)
+    assert deg.limits.bounds("phi") == pytest.approx((-PI, 0.0)) and deg.limits.u_max == pytest.approx(20.0)
+
+
+def test_degrees_that_look_like_radians_get_a_hint(pike_robot):
+    res = acroplan.plan(pike_robot, times=[0, 1], theta=[0, 1], phi=[-180, -90])
+    assert res.status == "infeasible" and "pass degrees=True" in res.message
+    small = acroplan.plan(pike_robot, times=[0, 1], theta=[0, 100.0], phi=[-PI, -PI / 2])
+    assert small.status == "infeasible" and "degrees" in small.message  # theta = 100 rad looks like degrees too
+
+
+def test_free_conditions_can_start_and_end_at_rest(pike_robot):
+    problem = acroplan.examples.load("pike-dive")
+    kw = dict(problem.plan_kwargs(), conditions="free")
+    loose = acroplan.plan(problem.robot, **kw)
+    rest = acroplan.plan(problem.robot, start_rate=0.0, end_rate=0.0, **kw)
+    assert loose.success and rest.success, rest.message
+    assert abs(rest.segments[0].input(rest.times[0])[0]) < 1e-9
+    assert abs(rest.segments[-1].input(rest.times[-1])[0]) < 1e-9
+    given = acroplan.plan(problem.robot, start_rate={"u": 1.5}, **kw)
+    assert given.success and given.segments[0].input(0.0)[0] == pytest.approx(1.5, abs=1e-9)
+    with pytest.raises(acroplan.InvalidInputError, match="start_rate: applies to conditions=\"free\" only"):
+        acroplan.plan(problem.robot, start_rate=0.0, **problem.plan_kwargs())
+    with pytest.raises(acroplan.InvalidInputError, match="end_rate.w: is not an input"):
+        acroplan.plan(problem.robot, end_rate={"w": 0.0}, **kw)
