@@ -487,7 +487,7 @@ class Raw(str):
 BASE = {
     "robot": {"torso_mass": 40.0, "leg_mass": 20.0, "torso_inertia": 1.8, "leg_inertia": 1.2,
               "torso_length": 0.35, "leg_length": 0.45, "angular_momentum": 10.0},
-    "plan": {"times": [0, 1, 2], "theta": [0, 0.5, 1.0], "phi": ["-pi", "-pi/2", "-pi"], "conditions": "free"},
+    "plan": {"times": [0, 1, 2], "theta": [0, 1.5, 4.2], "phi": ["-pi", "-pi/2", "-pi"], "conditions": "free"},
 }
 
 
@@ -501,7 +501,7 @@ def toml_value(v) -> str:
     if isinstance(v, int):
         return str(v)
     if isinstance(v, str):
-        return json.dumps(v)  # a TOML basic string
+        return json.dumps(v, ensure_ascii=False)  # a TOML basic string
     if isinstance(v, list):
         return "[" + ", ".join(toml_value(x) for x in v) + "]"
     if isinstance(v, dict):
