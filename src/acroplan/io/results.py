@@ -8,13 +8,12 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import families  # noqa: F401  (the system types a file may name)
 from ..core.basis import make_basis
 from ..core.errors import InvalidInputError
 from ..core.limits import Limits
 from ..core.result import PlanResult, SegmentResult, Status
 from ..core.system import ControlAffineSystem
-from ..families import acrobot, small  # noqa: F401
+from ..families import acrobot, small  # noqa: F401  (the system types a file may name)
 
 __all__ = ["load_result", "result_from_dict"]
 
