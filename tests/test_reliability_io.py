@@ -537,12 +537,15 @@ NESTED = st.integers(min_value=1, max_value=1200).map(lambda n: Raw("[" * n + "]
 SENSIBLE = st.one_of(st.floats(min_value=-4, max_value=4),
                      st.sampled_from(["0.3*pi", "-pi/3", "2*pi/3", "1/3", "-0.25*pi"]),
                      st.floats(min_value=0.05, max_value=3).map(lambda v: Raw(repr(v))))
+#: huge and tiny magnitudes, both signs
+MAGNITUDE = st.tuples(st.sampled_from([1, -1]), st.floats(min_value=-320, max_value=308)).map(
+    lambda t: Raw(repr(t[0] * 10.0 ** t[1])))
 MUTATION = st.tuples(
     st.sampled_from([(t, k) for t, keys in BASE.items() for k in keys] + [("plan", "extra"), ("limits", "u_max"),
                                                                         ("limits", "phi_min"), ("options", "tol")]),
     st.sampled_from(["replace", "element", "element", "delete"]),
     st.integers(min_value=0, max_value=3),
-    st.one_of(SENSIBLE, SENSIBLE, VALUE, NESTED),
+    st.one_of(SENSIBLE, SENSIBLE, MAGNITUDE, VALUE, NESTED),
 )
 
 

@@ -56,7 +56,8 @@ def pose(theta, phi, g: Geometry):
     Returns
     -------
     dict of numpy.ndarray, each shape (N, 2)
-        ``joint``, ``torso_end``, ``leg_end``, ``torso_cm``, ``leg_cm``.
+        ``joint``, ``torso_end``, ``leg_end``, ``torso_cm``, ``leg_cm``, ``head`` (the head's centre,
+        beyond the torso's end).
     """
     theta = np.atleast_1d(np.asarray(theta, dtype=float))
     phi = np.atleast_1d(np.asarray(phi, dtype=float))
@@ -65,8 +66,15 @@ def pose(theta, phi, g: Geometry):
     M, m = g.torso_mass, g.leg_mass
     cm = (m * g.leg_length * e_leg + M * g.torso_length * e_torso) / (m + M)
     joint = -cm
+    head = 0.22 * g.torso_length
     return {"joint": joint, "torso_cm": joint + g.torso_length * e_torso, "leg_cm": joint + g.leg_length * e_leg,
-            "torso_end": joint + 2 * g.torso_length * e_torso, "leg_end": joint + 2 * g.leg_length * e_leg}
+            "torso_end": joint + 2 * g.torso_length * e_torso, "leg_end": joint + 2 * g.leg_length * e_leg,
+            "head": joint + (2 * g.torso_length + head) * e_torso}
+
+
+def head_radius(g: Geometry) -> float:
+    """Radius of the head drawn on the torso's end (so a reader tells the torso from the legs)."""
+    return 0.22 * g.torso_length
 
 
 def _frames(t, speed, fps, max_frames):
@@ -103,6 +111,7 @@ def animate(t, theta, phi, u, g: Geometry, path, *, speed: float = 1.0, fps: int
         The number of frames.
     """
     import matplotlib
+    import matplotlib.patches
     from matplotlib.animation import FFMpegWriter, FuncAnimation, PillowWriter
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
@@ -113,25 +122,31 @@ def animate(t, theta, phi, u, g: Geometry, path, *, speed: float = 1.0, fps: int
     ph = np.interp(tf, t, phi)
     uf = np.interp(tf, t, u)
     P = pose(th, ph, g)
-    reach = 1.12 * max(float(np.max(np.hypot(*P[k].T))) for k in ("joint", "torso_end", "leg_end"))
+    rh = head_radius(g)
+    reach = 1.12 * max(float(np.max(np.hypot(*P[k].T))) + (rh if k == "head" else 0.0)
+                       for k in ("joint", "head", "leg_end"))
     # a figure of its own canvas (Agg), outside pyplot: the user's backend is never touched
-    fig = Figure(figsize=(4.8, 4.8), dpi=80)
+    fig = Figure(figsize=(5.0, 5.0), dpi=100, layout="constrained")
     FigureCanvasAgg(fig)
     ax = fig.add_subplot()
     ax.set_xlim(-reach, reach)
     ax.set_ylim(-reach, reach)
     ax.set_aspect("equal")
     ax.grid(alpha=0.25)
-    ax.set_title("acroplan: centre-of-mass frame" + (" (representative geometry)" if g.representative else ""),
-                 fontsize=9)
-    torso, = ax.plot([], [], lw=7, solid_capstyle="round", color="C0", label="torso")
-    leg, = ax.plot([], [], lw=5, solid_capstyle="round", color="C1", label="leg")
-    joint, = ax.plot([], [], "o", color="k", ms=6)
+    ax.tick_params(labelsize=9)
+    ax.set_xlabel("x [m], centre-of-mass frame" if not g.representative else "x (representative geometry)",
+                  fontsize=10)
+    ax.set_ylabel("y [m]" if not g.representative else "y", fontsize=10)
+    torso, = ax.plot([], [], lw=8, solid_capstyle="round", color="C0", label="torso and head")
+    leg, = ax.plot([], [], lw=5, solid_capstyle="round", color="C1", label="legs")
+    head = matplotlib.patches.Circle((0, 0), rh, color="C0")
+    ax.add_patch(head)
+    joint, = ax.plot([], [], "o", color="k", ms=6, label="hip (joint)")
     ax.plot([0], [0], "+", color="0.4", ms=10)
     tr_t = ax.scatter([], [], s=6, color="C0")
     tr_l = ax.scatter([], [], s=6, color="C1")
-    text = ax.text(0.02, 0.98, "", transform=ax.transAxes, va="top", family="monospace", fontsize=8)
-    ax.legend(loc="lower right", fontsize=7)
+    text = ax.text(0.02, 0.98, "", transform=ax.transAxes, va="top", family="monospace", fontsize=11)
+    ax.legend(loc="lower right", fontsize=9)
     n_trail = max(1, int(round(trail * fps / speed)))
 
     def draw(i):
@@ -139,6 +154,7 @@ def animate(t, theta, phi, u, g: Geometry, path, *, speed: float = 1.0, fps: int
         torso.set_data([j[0], P["torso_end"][i, 0]], [j[1], P["torso_end"][i, 1]])
         leg.set_data([j[0], P["leg_end"][i, 0]], [j[1], P["leg_end"][i, 1]])
         joint.set_data([j[0]], [j[1]])
+        head.center = tuple(P["head"][i])
         lo = max(0, i - n_trail)
         alpha = np.linspace(0.05, 0.6, i + 1 - lo)
         for sc, key, c in ((tr_t, "torso_end", "C0"), (tr_l, "leg_end", "C1")):
@@ -148,7 +164,7 @@ def animate(t, theta, phi, u, g: Geometry, path, *, speed: float = 1.0, fps: int
             sc.set_facecolors(rgba)
             sc.set_edgecolors("none")
         text.set_text(f"t = {tf[i]:7.3f} s\nθ = {th[i]:7.3f} rad\nφ = {ph[i]:7.3f} rad\nu = {uf[i]:7.3f} rad/s")
-        return torso, leg, joint, tr_t, tr_l, text
+        return torso, leg, joint, head, tr_t, tr_l, text
 
     anim = FuncAnimation(fig, draw, frames=len(tf), blit=False)
     anim.save(str(path), writer=PillowWriter(fps=fps))
@@ -164,24 +180,32 @@ def strobe(t, theta, phi, g: Geometry, *, poses: int = 9, ax=None):
     each other; the centre of mass moves in a straight line, as for a body in free flight seen in a
     frame moving with its horizontal speed.
     """
+    import matplotlib.patches
     import matplotlib.pyplot as plt
 
     ts = np.linspace(t[0], t[-1], poses)
     P = pose(np.interp(ts, t, theta), np.interp(ts, t, phi), g)
-    step = 2.2 * max(g.torso_length, g.leg_length)
+    rh = head_radius(g)
+    step = 2.2 * max(g.torso_length + rh, g.leg_length)
     own = ax is None
     if own:
-        fig, ax = plt.subplots(figsize=(1.2 * poses + 1, 3.2), constrained_layout=True)
+        fig, ax = plt.subplots(figsize=(1.25 * poses + 1, 3.6), constrained_layout=True)
     for k in range(poses):
         dx = np.array([k * step, 0.0])
-        a = 0.25 + 0.75 * k / max(poses - 1, 1)
+        a = 0.45 + 0.55 * k / max(poses - 1, 1)
         j = P["joint"][k] + dx
-        ax.plot([j[0], P["torso_end"][k, 0] + dx[0]], [j[1], P["torso_end"][k, 1]], lw=5, color="C0", alpha=a,
-                solid_capstyle="round")
+        ax.plot([j[0], P["torso_end"][k, 0] + dx[0]], [j[1], P["torso_end"][k, 1]], lw=6, color="C0", alpha=a,
+                solid_capstyle="round", label="torso and head" if k == 0 else None)
+        ax.add_patch(matplotlib.patches.Circle(tuple(P["head"][k] + dx), rh, color="C0", alpha=a))
         ax.plot([j[0], P["leg_end"][k, 0] + dx[0]], [j[1], P["leg_end"][k, 1]], lw=3.5, color="C1", alpha=a,
-                solid_capstyle="round")
-        ax.plot([j[0]], [j[1]], "o", color="k", ms=3, alpha=a)
-        ax.text(dx[0], -1.2 * step / 2.2 * 2, f"t = {ts[k]:.3g} s", ha="center", fontsize=7, color="0.3")
+                solid_capstyle="round", label="legs" if k == 0 else None)
+        ax.plot([j[0]], [j[1]], "o", color="k", ms=3.5, alpha=a)
+        ax.text(dx[0], -1.15 * step, f"t = {ts[k]:.3g} s", ha="center", fontsize=9, color="0.25")
+    if not g.representative:  # a scale bar instead of axes
+        x0, y0 = -0.5 * step, 1.05 * step
+        ax.plot([x0, x0 + 0.5], [y0, y0], color="0.3", lw=2)
+        ax.text(x0 + 0.25, y0 + 0.05 * step, "0.5 m", ha="center", va="bottom", fontsize=9, color="0.3")
+    ax.legend(loc="lower center", bbox_to_anchor=(0.5, 1.0), fontsize=9, frameon=False, ncols=2)
     ax.set_aspect("equal")
     ax.axis("off")
     return ax.figure if own else ax

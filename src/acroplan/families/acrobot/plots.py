@@ -36,16 +36,26 @@ def plot_reach(problem, *, samples: int = 241):
         phis = np.linspace(lo_p, hi_p, samples)
         free = np.array([[reachable_set(robot, theta0=th0, phi0=ph0, phiT=p, T=T).low,
                           reachable_set(robot, theta0=th0, phi0=ph0, phiT=p, T=T).high] for p in phis])
-        ax.fill_between(phis, free[:, 0], free[:, 1], color="C0", alpha=0.2, lw=0, label="reachable (no limits)")
+        # the band without limits: hatched, with its edges drawn, so it shows under the limited one
+        ax.fill_between(phis, free[:, 0], free[:, 1], facecolor="none", edgecolor="C0", hatch="///", lw=0,
+                        alpha=0.5, label="reachable (no limits)")
+        ax.plot(phis, free[:, 0], color="C0", lw=1.0)
+        ax.plot(phis, free[:, 1], color="C0", lw=1.0)
+        ys = [free.min(), free.max(), problem.theta[k + 1]]
         if lim.active:
             R = [reachable_set(robot, theta0=th0, phi0=ph0, phiT=p, T=T, limits=lim) for p in phis]
             ok = np.array([not r.empty for r in R])
             band = np.array([[r.low, r.high] for r in R])
-            ax.fill_between(phis, np.where(ok, band[:, 0], np.nan), np.where(ok, band[:, 1], np.nan), color="C0",
-                            alpha=0.55, lw=0, label="reachable within limits")
+            ax.fill_between(phis, np.where(ok, band[:, 0], np.nan), np.where(ok, band[:, 1], np.nan), color="C2",
+                            alpha=0.45, lw=0, label="reachable within limits")
         ax.plot([problem.phi[k + 1]], [problem.theta[k + 1]], marker="*", ms=13, color="C3", ls="none",
-                label="target")
-        ax.set_title(f"segment {k}: t ∈ [{problem.times[k]:g}, {problem.times[k + 1]:g}]")
+                label="target", clip_on=False, zorder=5)
+        pad = 0.08 * (max(ys) - min(ys) + 1e-9)
+        ax.set_ylim(min(ys) - pad, max(ys) + pad)
+        xpad = 0.04 * (hi_p - lo_p)
+        ax.set_xlim(min(lo_p, problem.phi[k + 1]) - xpad, max(hi_p, problem.phi[k + 1]) + xpad)
+        ax.set_title(f"segment {k}: t ∈ [{problem.times[k]:g}, {problem.times[k + 1]:g}] s\n"
+                     f"from θ(0) = {th0:.4g} rad, φ(0) = {ph0:.4g} rad", fontsize=10)
         ax.set_xlabel("φ(T) [rad]")
         ax.set_ylabel("θ(T) [rad]")
         ax.grid(alpha=0.3)
@@ -60,9 +70,10 @@ def plot_nilpotent(result, counter=None, *, samples: int = 801):
     """Figures of a nilpotentization result: ``{"input", "states", "u1", "failure_mode"}``.
 
     ``u1`` shows :math:`u_1(\\varepsilon) = dt/d\\varepsilon` (positive: time moves forward);
-    ``failure_mode`` compares the valid solution with ``counter``, a solution of the same equations
-    along which :math:`u_1 < 0`: its clock :math:`t(\\varepsilon)` runs backwards, so the same curve
-    from P to Q is traversed, but it is no motion of the acrobot.
+    ``failure_mode`` shows ``counter``, another solution of the same endpoint equations along which
+    :math:`u_1 < 0` somewhere: one curve from P to Q, drawn against its own clock
+    :math:`t(\\varepsilon)`, which runs backwards on part of it (red), so it is no motion of the
+    acrobot; the clocks of both solutions are compared beside it.
     """
     plt = _plt()
     eps = np.linspace(0.0, 1.0, samples)
@@ -102,20 +113,31 @@ def plot_nilpotent(result, counter=None, *, samples: int = 801):
     ax.legend()
     figs["u1"] = fig
     if counter is not None:
-        tc, thc, phc, _ = counter.curve(eps)
-        fig, axes = plt.subplots(1, 2, figsize=(10, 3.8), constrained_layout=True)
-        axes[0].plot(eps, t, lw=1.6, label="valid")
-        axes[0].plot(eps, tc, lw=1.4, ls="--", color="C3", label="u1 < 0 somewhere")
-        axes[0].set_xlabel("ε")
+        tc, thc, phc, u1c = counter.curve(eps)
+        back = u1c < 0  # where the counterexample's clock runs backwards
+        fig, axes = plt.subplots(1, 2, figsize=(10.5, 4.0), constrained_layout=True)
+        axes[0].plot(eps, t, lw=1.6, color="C0", label="valid solution (u1 > 0)")
+        axes[0].plot(eps, tc, lw=1.4, color="0.5", label="other solution of the same equations")
+        axes[0].plot(eps, np.where(back, tc, np.nan), lw=3, color="C3", label="its clock running backwards")
+        axes[0].set_xlabel("ε (virtual time, no unit)")
         axes[0].set_ylabel("t(ε) [s]")
-        axes[0].set_title("The clock: monotone only for the valid one")
-        axes[1].plot(t, phi, lw=1.6, label="valid")
-        axes[1].plot(tc, phc, lw=1.4, ls="--", color="C3", label="u1 < 0: goes back in time")
-        axes[1].set_xlabel("t [s]")
+        axes[0].set_title("The clocks: t(ε) is monotone only for the valid one", fontsize=10)
+        # the other solution alone: one curve, drawn against its own clock; the red part is
+        # traversed backwards in time
+        axes[1].plot(tc, phc, lw=1.4, color="0.5", label="u1 > 0: forward in time")
+        axes[1].plot(np.where(back, tc, np.nan), np.where(back, phc, np.nan), lw=3, color="C3",
+                     label="u1 < 0: backwards in time")
+        step = max(1, len(eps) // 12)
+        for i in range(step, len(eps) - 1, step):
+            axes[1].annotate("", xy=(tc[i + 1], phc[i + 1]), xytext=(tc[i], phc[i]),
+                             arrowprops=dict(arrowstyle="->", color="C3" if back[i] else "0.4", lw=1.2))
+        axes[1].plot([tc[0], tc[-1]], [phc[0], phc[-1]], "o", mfc="white", color="k", label="P, Q")
+        axes[1].set_xlabel("t(ε) [s]")
         axes[1].set_ylabel("φ [rad]")
-        axes[1].set_title("Orbit-equivalent, not trajectory-equivalent")
+        axes[1].set_title("One curve from P to Q (arrows: ε grows), partly backwards in time", fontsize=9)
         for ax in axes:
             ax.grid(alpha=0.3)
-            ax.legend()
+            ax.legend(fontsize=8)
+        fig.suptitle("A solution of the endpoint equations with u1 < 0 is no motion of the acrobot", fontsize=11)
         figs["failure_mode"] = fig
     return figs

@@ -67,10 +67,26 @@ acrobot of text eq. (2)-(3): :meth:`PlanarBody.from_acrobot_physical`.
 
 Parameters (runtime values of the compiled integrator)
 ------------------------------------------------------
-``P0``, then per link, in table order, ``m_<link>``, ``I_<link>``, ``cx_<link>``, ``cy_<link>`` and,
-for every link but the root, ``jx_<link>``, ``jy_<link>``. The symbolic fields depend only on the
-topology (:attr:`PlanarBody.structure_key` ``= ("planar", parents)``), so one compilation serves
-every body of that topology, whatever its masses, lengths, names and :math:`P_0`.
+The compiled fields are written in *lumped* parameters, as the acrobot's are in
+:math:`M_1, A_1, M_2, A_2`: with :math:`D_{kl} + i\\,C_{kl} = R_{kl} e^{i\\psi_{kl}}`,
+
+.. math::  H_{kl} = R_{kl} \\cos(\\beta_l - \\beta_k + \\psi_{kl}) ,\\qquad
+           I(s) = I_c + 2 \\sum_{k<l} H_{kl} ,\\qquad
+           a_j(s) = A_j + \\sum_{k<l} w^j_{kl} H_{kl} ,
+
+:math:`w^j_{kl}` the number of :math:`k, l` in the subtree of joint :math:`j`,
+:math:`I_c = \\sum_l (I_l + D_{ll})`, :math:`A_j = \\sum_{l \\in \\mathrm{subtree}(j)} (I_l + D_{ll})`.
+The runtime parameters are ``P0, Ic, Ac_<joint>..., R_k_l, psi_k_l...`` (pairs of table indices),
+computed from the link table in Python (:func:`lumped_coefficients`). The symbolic fields depend
+only on the topology (:attr:`PlanarBody.structure_key` ``= ("planar", parents)``), so one
+compilation serves every body of that topology, whatever its masses, lengths, names and
+:math:`P_0`.
+
+Why lumped: heyoka recomputes every parameter-only subexpression (and its Taylor derivatives) at
+every step and order, and carries it into the variational equations. Written in the raw link
+parameters (mass, inertia, centre of mass, joint position) a 4-link chain's integrator with 6
+coefficients has 716 nodes in its Taylor decomposition and took about 10 s to compile cold; in
+the lumped ones it has 434 nodes and about 4 s (3 links: 248 nodes).
 """
 
 from __future__ import annotations
@@ -87,7 +103,8 @@ from ...core.errors import InvalidInputError
 from ...core.system import ControlAffineSystem, Infeasibility
 from .links import Link, LinkTable
 
-__all__ = ["PlanarBody", "momentum_from_definition", "structure_coefficients"]
+__all__ = ["PlanarBody", "momentum_from_definition", "structure_coefficients", "lumped_coefficients",
+           "physical_symbols"]
 
 
 # ---------------------------------------------------------------------- the tree from parent indices
@@ -164,10 +181,27 @@ def structure_coefficients(parents, m, inertia, com, joint):
 
 
 # ---------------------------------------------------------------------- symbols per topology
+def _pairs(n):
+    return [(k, l) for k in range(n) for l in range(k + 1, n)]  # noqa: E741
+
+
 def _generic_symbols(parents):
-    """State and parameter symbols that depend on the topology alone (not on names)."""
+    """The compiled state and parameter symbols; they depend on the topology alone (not on names):
+    ``theta, q1, ...`` and ``P0, Ic, Ac1, ..., R_k_l, psi_k_l, ...`` (link indices)."""
     n = len(parents)
     x = (sp.Symbol("theta", real=True),) + tuple(sp.Symbol(f"q{j}", real=True) for j in range(1, n))
+    p = [sp.Symbol("P0", real=True), sp.Symbol("Ic", real=True)]
+    p += [sp.Symbol(f"Ac{j}", real=True) for j in range(1, n)]
+    for k, l in _pairs(n):  # noqa: E741
+        p += [sp.Symbol(f"R_{k}_{l}", real=True), sp.Symbol(f"psi_{k}_{l}", real=True)]
+    return x, tuple(p)
+
+
+def physical_symbols(parents):
+    """State and *physical* parameter symbols: ``theta, q1, ...`` and ``P0``, then per link (table
+    index ``i``) ``m{i}, I{i}, cx{i}, cy{i}`` and, but for the root, ``jx{i}, jy{i}``."""
+    n = len(parents)
+    x, _ = _generic_symbols(parents)
     p = [sp.Symbol("P0", real=True)]
     for i in range(n):
         p += [sp.Symbol(f"{k}{i}", real=True) for k in ("m", "I", "cx", "cy")]
@@ -177,7 +211,7 @@ def _generic_symbols(parents):
 
 
 def _unpack(parents, p):
-    """(P0, m, I, com, joint) from the parameter tuple (symbols or numbers), per link."""
+    """(P0, m, I, com, joint) from the physical parameter tuple (symbols or numbers), per link."""
     it = iter(p)
     P0 = next(it)
     m, inertia, com, joint = [], [], [], []
@@ -189,34 +223,76 @@ def _unpack(parents, p):
     return P0, m, inertia, com, joint
 
 
+def lumped_coefficients(parents, m, inertia, com, joint, P0, *, symbolic=False):
+    """The compiled parameters from the physical ones (module docstring):
+
+    .. math::  I_c = \\sum_l (I_l + D_{ll}),\\quad A_j = \\sum_{l \\in \\mathrm{subtree}(j)} (I_l + D_{ll}),
+               \\quad R_{kl} = \\sqrt{D_{kl}^2 + C_{kl}^2},\\quad \\psi_{kl} = \\operatorname{atan2}(C_{kl}, D_{kl}),
+
+    so that :math:`H_{kl} = R_{kl}\\cos(\\beta_l - \\beta_k + \\psi_{kl})`.
+
+    Returns
+    -------
+    tuple, length 2 + (n - 1) + n (n - 1)
+        In :func:`_generic_symbols`' parameter order; floats, or sympy expressions when
+        ``symbolic``.
+    """
+    n = len(parents)
+    D, C = structure_coefficients(parents, m, inertia, com, joint)
+    _, _, _, subtree = _tree(tuple(parents))
+    diag = [inertia[l] + D[l][l] for l in range(n)]  # noqa: E741
+    out = [P0, sum(diag[1:], diag[0])]
+    for i in range(n):
+        if parents[i] != -1:
+            out.append(sum((diag[l] for l in subtree[i][1:]), diag[subtree[i][0]]))
+    for k, l in _pairs(n):  # noqa: E741
+        if symbolic:
+            out += [sp.sqrt(D[k][l] ** 2 + C[k][l] ** 2), sp.atan2(C[k][l], D[k][l])]
+        else:
+            out += [math.hypot(D[k][l], C[k][l]), math.atan2(C[k][l], D[k][l])]
+    return tuple(out)
+
+
 _MAPS: dict[Hashable, tuple] = {}
 _LOCK = threading.Lock()
 
 
-def _symbolic_map(parents):
-    """(x, p, I, a) in the generic symbols, cached per topology."""
-    out = _MAPS.get(parents)
+def _symbolic_map(parents, physical=False):
+    """(x, p, I, a) in the compiled symbols, or in the physical ones, cached per topology."""
+    key = (parents, physical)
+    out = _MAPS.get(key)
     if out is None:
-        x, p = _generic_symbols(parents)
-        _, m, inertia, com, joint = _unpack(parents, p)
-        D, C = structure_coefficients(parents, m, inertia, com, joint)
-        children, ancestors, path, subtree = _tree(parents)
-        joints = [i for i in range(len(parents)) if parents[i] != -1]
-        qsym = {i: x[1 + j] for j, i in enumerate(joints)}
-        beta = [sum((qsym[k] for k in path[i]), sp.Integer(0)) for i in range(len(parents))]
         n = len(parents)
-        H = [[None] * n for _ in range(n)]
-        for k in range(n):
-            H[k][k] = D[k][k]
-            for l in range(k + 1, n):  # noqa: E741
-                d = beta[l] - beta[k]
-                H[k][l] = H[l][k] = sp.cos(d) * D[k][l] - sp.sin(d) * C[k][l]
-        Q = [inertia[l] + sum(H[k][l] for k in range(n)) for l in range(n)]
-        I = sp.Add(*Q)  # noqa: E741
-        a = tuple(sp.Add(*[Q[l] for l in subtree[i]]) for i in joints)
-        out = (x, p, I, a)
+        children, ancestors, path, subtree = _tree(parents)
+        joints = [i for i in range(n) if parents[i] != -1]
+        if physical:
+            x, p = physical_symbols(parents)
+            _, m, inertia, com, joint = _unpack(parents, p)
+            D, C = structure_coefficients(parents, m, inertia, com, joint)
+            diag = [inertia[l] + D[l][l] for l in range(n)]  # noqa: E741
+            Ic = sp.Add(*diag)
+            Ac = [sp.Add(*[diag[l] for l in subtree[i]]) for i in joints]
+        else:
+            x, p = _generic_symbols(parents)
+            Ic, Ac = p[1], p[2:1 + n]
+        qsym = {i: x[1 + j] for j, i in enumerate(joints)}
+        beta = [sp.Add(*[qsym[k] for k in path[i]]) for i in range(n)]
+        H = {}
+        for idx, (k, l) in enumerate(_pairs(n)):  # noqa: E741
+            d = beta[l] - beta[k]
+            if physical:
+                H[k, l] = sp.cos(d) * D[k][l] - sp.sin(d) * C[k][l]
+            else:
+                R, psi = p[1 + n + 2 * idx], p[2 + n + 2 * idx]
+                H[k, l] = R * sp.cos(d + psi)
+        I = Ic + sp.Add(*[2 * h for h in H.values()])  # noqa: E741
+        a = []
+        for Aj, i in zip(Ac, joints):
+            sub = set(subtree[i])
+            a.append(Aj + sp.Add(*[((k in sub) + (l in sub)) * h for (k, l), h in H.items()]))  # noqa: E741
+        out = (x, p, I, tuple(a))
         with _LOCK:
-            out = _MAPS.setdefault(parents, out)
+            out = _MAPS.setdefault(key, out)
     return out
 
 
@@ -231,12 +307,13 @@ def momentum_from_definition(body: "PlanarBody"):
     Returns
     -------
     L : sympy.Expr
-        In the body's generic symbols (:meth:`PlanarBody.symbols`) and the velocity symbols.
+        In the physical symbols (:func:`physical_symbols`: ``theta, q1, ...``, ``m0, I0, cx0, ...``)
+        and the velocity symbols.
     theta_dot : sympy.Symbol
     u : tuple of sympy.Symbol, length n - 1
     """
     parents = body.links.parents
-    x, p = _generic_symbols(parents)
+    x, p = physical_symbols(parents)
     _, m, inertia, com, joint = _unpack(parents, p)
     children, ancestors, path, subtree = _tree(parents)
     joints = [i for i in range(len(parents)) if parents[i] != -1]
@@ -299,7 +376,8 @@ class PlanarBody(ControlAffineSystem):
     input_names : tuple of str
         ``("u_<joint>", ...)``, length n - 1; ``rate_inputs`` maps each to its joint.
     param_names : tuple of str
-        ``P0`` and the links' ``m_``, ``I_``, ``cx_``, ``cy_``, ``jx_``, ``jy_`` values.
+        The compiled (lumped) parameters ``P0, Ic, Ac_<joint>..., R_k_l, psi_k_l...``; the physical
+        ones are the link table's (:meth:`physical_values`, :meth:`to_dict`).
 
     Examples
     --------
@@ -342,22 +420,22 @@ class PlanarBody(ControlAffineSystem):
 
     @property
     def param_names(self):
-        names = ["P0"]
-        for i, link in enumerate(self.links):
-            names += [f"m_{link.name}", f"I_{link.name}", f"cx_{link.name}", f"cy_{link.name}"]
-            if i != self.links.root:
-                names += [f"jx_{link.name}", f"jy_{link.name}"]
+        """The compiled parameters (lumped, as the acrobot's ``M1, A1, M2, A2``): ``P0``, ``Ic``
+        (the constant part of :math:`I(s)`), ``Ac_<joint>`` (of :math:`a_j(s)`), and per pair of
+        links ``k < l`` (table indices) ``R_k_l``, ``psi_k_l`` (:func:`lumped_coefficients`)."""
+        n = self.n_links
+        names = ["P0", "Ic"] + [f"Ac_{j}" for j in self.links.joint_names]
+        for k, l in _pairs(n):  # noqa: E741
+            names += [f"R_{k}_{l}", f"psi_{k}_{l}"]
         return tuple(names)
 
     @property
     def _param_tuple(self) -> tuple:
         cached = self.__dict__.get("_acroplan_params")
         if cached is None:
-            vals = [self.P0]
-            for i, link in enumerate(self.links):
-                vals += [link.mass, link.inertia, link.com[0], link.com[1]]
-                if i != self.links.root:
-                    vals += [link.joint[0], link.joint[1]]
+            L = self.links
+            vals = lumped_coefficients(L.parents, [k.mass for k in L], [k.inertia for k in L], [k.com for k in L],
+                                       [k.joint for k in L], self.P0)
             cached = tuple(float(v) for v in vals)
             object.__setattr__(self, "_acroplan_params", cached)
         return cached
@@ -376,27 +454,59 @@ class PlanarBody(ControlAffineSystem):
         return len(self.links)
 
     def symbols(self):
-        """Generic state and parameter symbols (``theta, q1, ...``; ``P0, m0, I0, cx0, ...`` by link
-        index): they depend on the topology alone, so the symbolic fields cached per
-        :attr:`structure_key` serve bodies with other names too."""
+        """The compiled state and parameter symbols (``theta, q1, ...``; ``P0, Ic, Ac1, ...,
+        R_k_l, psi_k_l``): they depend on the topology alone, so the symbolic fields cached per
+        :attr:`structure_key` serve every body of that topology, whatever its names."""
         return _generic_symbols(self.links.parents)
 
+    def physical_symbols(self):
+        """State and physical parameter symbols (``P0, m0, I0, cx0, cy0, ..., jx1, jy1, ...`` by
+        link index), in which :meth:`symbolic_momentum_map` ``(physical=True)`` and
+        :func:`momentum_from_definition` are written."""
+        return physical_symbols(self.links.parents)
+
+    def physical_values(self) -> dict:
+        """Values of :meth:`physical_symbols`' parameters for this body, by symbol."""
+        _, p = physical_symbols(self.links.parents)
+        vals = [self.P0]
+        for i, link in enumerate(self.links):
+            vals += [link.mass, link.inertia, link.com[0], link.com[1]]
+            if i != self.links.root:
+                vals += [link.joint[0], link.joint[1]]
+        return dict(zip(p, vals))
+
+    def lumped_expressions(self) -> dict:
+        """The compiled parameters as sympy expressions of the physical ones, by symbol
+        (substitute them in :meth:`symbolic` to get the fields in physical symbols)."""
+        parents = self.links.parents
+        _, p = _generic_symbols(parents)
+        _, q = physical_symbols(parents)
+        P0, m, inertia, com, joint = _unpack(parents, q)
+        return dict(zip(p, lumped_coefficients(parents, m, inertia, com, joint, P0, symbolic=True)))
+
     # ------------------------------------------------------------------ fields
-    def symbolic_momentum_map(self):
+    def symbolic_momentum_map(self, physical: bool = False):
         """The momentum map :math:`L = I(s)\\dot\\theta + a(s) \\cdot u` in sympy (compact form).
+
+        Parameters
+        ----------
+        physical : bool
+            ``False``: in the compiled symbols (:meth:`symbols`),
+            :math:`H_{kl} = R_{kl}\\cos(\\beta_l - \\beta_k + \\psi_{kl})`; ``True``: in the physical
+            symbols (:meth:`physical_symbols`), :math:`H_{kl} = \\cos(\\Delta) D_{kl} - \\sin(\\Delta) C_{kl}`.
 
         Returns
         -------
         I : sympy.Expr
-            The locked inertia, in the generic symbols of :meth:`symbols`.
+            The locked inertia.
         a : tuple of sympy.Expr, length n - 1
         """
-        _, _, I, a = _symbolic_map(self.links.parents)  # noqa: E741
+        _, _, I, a = _symbolic_map(self.links.parents, physical)  # noqa: E741
         return I, a
 
     def symbolic_fields(self, x, p):
         """:math:`f = (P_0/I(s), 0, \\dots)`, :math:`G = \\begin{pmatrix} -a(s)^\\top/I(s) \\\\
-        \\mathbb{1}\\end{pmatrix}`; shapes (n, 1) and (n, n - 1)."""
+        \\mathbb{1}\\end{pmatrix}`; shapes (n, 1) and (n, n - 1), in the compiled symbols."""
         x0, p0, I, a = _symbolic_map(self.links.parents)  # noqa: E741
         sub = {s: t for s, t in zip(x0 + p0, tuple(x) + tuple(p)) if s != t}
         if sub:
@@ -685,7 +795,8 @@ class PlanarBody(ControlAffineSystem):
         return cls(links, P0=angular_momentum)
 
     def to_dict(self) -> dict[str, Any]:
-        """Type, parameters, :math:`P_0`, the topology and the link table (:meth:`from_dict` reads it)."""
+        """Type, lumped parameters, :math:`P_0`, the topology and the link table (:meth:`from_dict`
+        reads it back)."""
         out = super().to_dict()
         out["P0"] = self.P0
         out["parents"] = list(self.links.parents)
