@@ -48,7 +48,7 @@ def test_animation_frames_size_and_cap(tmp_path):
     n = animate(t, 0.5 * t, -np.pi + t, np.ones_like(t), g, tmp_path / "m.gif", fps=10)
     assert n == 21
     im = Image.open(tmp_path / "m.gif")
-    assert im.n_frames == 21 and im.size == (384, 384)
+    assert im.n_frames == 21 and im.size == (500, 500)  # 5 in at 100 dpi: text legible (issue: "~7 px")
     with pytest.warns(UserWarning, match="capped at 30"):
         n = animate(np.linspace(0, 36000, 20), np.zeros(20), np.zeros(20), np.zeros(20), g, tmp_path / "l.gif",
                     fps=10, max_frames=30)
