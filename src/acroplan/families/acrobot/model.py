@@ -60,6 +60,16 @@ def _finite(field: str, value) -> float:
     return v
 
 
+def _alias(name: str, value, alias: str, alias_value):
+    if value is not None and alias_value is not None:
+        raise InvalidInputError(alias, f"is the same distance as {name}; give one of them",
+                                f"keep {alias} (the clearer name) and drop {name}")
+    if value is None and alias_value is None:
+        raise InvalidInputError(alias, "is missing", f"give the distance from the centre of mass to the joint "
+                                "(m), not the segment's length")
+    return value if value is not None else alias_value
+
+
 @dataclasses.dataclass(frozen=True)
 class PhysicalParameters:
     """The body as the text's Fig. 4 describes it (SI units or any consistent set).
@@ -160,13 +170,22 @@ class Acrobot(ControlAffineSystem):
             )
 
     @classmethod
-    def from_physical(cls, *, torso_mass, leg_mass, torso_inertia, leg_inertia, torso_length, leg_length,
-                      angular_momentum) -> "Acrobot":
-        """Build from the body's masses, inertias and lengths (text eq. 3's parameter formulas).
+    def from_physical(cls, *, torso_mass, leg_mass, torso_inertia, leg_inertia, torso_length=None,
+                      leg_length=None, angular_momentum, torso_com_to_joint=None,
+                      leg_com_to_joint=None) -> "Acrobot":
+        """Build from the body's masses, inertias and distances (text eq. 3's parameter formulas).
 
         .. math::  \\mu = \\frac{mM}{m+M},\\quad M_1 = j + J + \\mu(L^2 + l^2),\\quad
                    A_1 = -2\\mu L l,\\quad M_2 = J + \\mu L^2,\\quad A_2 = -\\mu L l .
+
+        ``torso_length`` (L) and ``leg_length`` (l) are the text's names for the distances from each
+        link's **centre of mass to the joint**, not the segments' lengths (for a uniform segment,
+        half of it); ``torso_com_to_joint`` and ``leg_com_to_joint`` are the same with names that
+        say so (give one of each pair). The figure of the body's parameters is in
+        ``docs/problem-files.md``.
         """
+        torso_length = _alias("torso_length", torso_length, "torso_com_to_joint", torso_com_to_joint)
+        leg_length = _alias("leg_length", leg_length, "leg_com_to_joint", leg_com_to_joint)
         phys = PhysicalParameters(torso_mass, leg_mass, torso_inertia, leg_inertia, torso_length, leg_length,
                                   angular_momentum)
         lumped = phys.lumped()
