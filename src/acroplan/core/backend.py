@@ -15,6 +15,12 @@ every system of one structure (:attr:`ControlAffineSystem.structure_key`), every
 every coefficient value; it is compiled once per process per (structure key, basis family, basis
 size) and cached.
 
+On-disk cache: heyoka keeps compiled code in ``~/.cache/heyoka`` (its default; about 65 MB after
+acroplan's test suite, capped by heyoka at 20 GB). The environment variable
+``ACROPLAN_HEYOKA_CACHE`` moves it (a folder path) or turns it off (``off``: nothing is written, and
+each new process compiles anew, 0.1-0.4 s per structure and basis size); it is read when this module
+is first imported.
+
 Threads: the compiled integrator is a template; each thread works on its own copy (a copy costs
 about a millisecond, a compilation 0.1 s or more), so threads never wait on each other and never
 share an integrator's state. Processes compile on first use (heyoka also keeps compiled code in an
@@ -38,6 +44,22 @@ __all__ = ["IntegrationError", "endpoint", "sample", "compile_for", "compiled_co
 
 #: Taylor integrator tolerance: machine precision for double.
 TOL = 1e-15
+
+
+def _configure_disk_cache() -> None:
+    import os
+
+    where = os.environ.get("ACROPLAN_HEYOKA_CACHE", "").strip()
+    if not where:
+        return
+    if where.lower() in ("off", "0", "false", "no"):
+        hy.llvm_state.set_diskcache_enabled(False)
+    else:
+        os.makedirs(where, exist_ok=True)
+        hy.llvm_state.set_diskcache_path(where)
+
+
+_configure_disk_cache()
 
 
 class IntegrationError(RuntimeError):
