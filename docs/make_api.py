@@ -20,6 +20,7 @@ SECTIONS = [
     ("Strategies", strategies, ["Interval", "IntervalOutcome", "Deform", "deform_attempt", "run_stages"]),
     ("Models", acroplan, ["ControlAffineSystem", "Acrobot", "PhysicalParameters", "Unicycle", "ChainedForm",
                           "Infeasibility"]),
+    ("Planar bodies", acroplan, ["PlanarBody", "Link"]),
     ("Feasibility and limits", acroplan, ["Limits", "reachable_interval", "reachable_set", "Reach"]),
     ("Input bases", acroplan, ["InputBasis", "Legendre", "Monomial"]),
     ("Problems", acroplan, ["Problem", "load_problem", "load_result", "examples", "zoo"]),

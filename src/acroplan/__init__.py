@@ -5,14 +5,16 @@ The package is layered, imports pointing one way (``docs/design.md``)::
 
     acroplan.core       systems, bases, the compiled back end, conditions, limits, path deformation,
                         strategies, verification, results; knows no body
-    acroplan.families   acrobot (the dissertation's body), small (unicycle, chained form)
+    acroplan.families   acrobot (the dissertation's body), planar (bodies of any number of links),
+                        small (unicycle, chained form)
     acroplan.planning, .batch, .simulation   the front doors: plan, plan_many, simulate
     acroplan.io         problem files, examples, output folders, the command line
 
 The public API, grouped (names load on first use, so ``import acroplan.core`` loads the core alone):
 
 Models
-    :class:`Acrobot`, :class:`PhysicalParameters`, :class:`Unicycle`, :class:`ChainedForm`,
+    :class:`Acrobot`, :class:`PhysicalParameters`, :class:`PlanarBody`, :class:`Link`,
+    :class:`Unicycle`, :class:`ChainedForm`,
     :class:`ControlAffineSystem` (the interface for your own systems).
 Planning
     :func:`plan`, :func:`plan_many`, :func:`simulate`, :func:`warm_up`, :class:`Limits`,
@@ -39,6 +41,7 @@ _PUBLIC = {
     "reachable_interval": "acroplan.families.acrobot", "reachable_set": "acroplan.families.acrobot",
     "Reach": "acroplan.families.acrobot",
     "Unicycle": "acroplan.families.small", "ChainedForm": "acroplan.families.small",
+    "PlanarBody": "acroplan.families.planar", "Link": "acroplan.families.planar",
     "ControlAffineSystem": "acroplan.core.system", "Infeasibility": "acroplan.core.system",
     "InputBasis": "acroplan.core.basis", "Legendre": "acroplan.core.basis", "Monomial": "acroplan.core.basis",
     "Limits": "acroplan.core.limits", "InvalidInputError": "acroplan.core.errors",

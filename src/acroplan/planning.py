@@ -218,7 +218,10 @@ class PlanRequest:
             raise InvalidInputError("limits", "is given together with limit keywords",
                                     "give either limits=Limits(...) or the keywords")
         if limits is None:
-            limits = Limits(state_bounds, input_bounds, u_max=u_max, **shorthand)
+            given = Limits(state_bounds, input_bounds, u_max=u_max, **shorthand)
+            # the system's own limits (a URDF's joint ranges and rates) hold unless the call gives
+            # limits of its own; limits=Limits() (empty) switches them off
+            limits = given if given.active else (system.default_limits() or given)
         limits.check_for(system)
         for state in limits.bounded_states:
             i = states.index(state)
@@ -282,7 +285,9 @@ def plan(system: ControlAffineSystem, *, times, conditions: str = "spline", meth
         Coefficients per input per segment, at most :data:`MAX_COEFFICIENTS`. Default: the
         strategy's choice (6, the text's, for ``"deform"``; 6, 10 or 14 for ``"auto"``).
     limits : Limits, optional
-        All bounds at once; or the keywords ``u_max`` (:math:`|u_j| \le u_{max}` for every input),
+        All bounds at once (``Limits()`` for none at all); without it and without limit keywords,
+        the system's own (:meth:`ControlAffineSystem.default_limits`: a URDF's joint ranges and
+        rates) hold. Or the keywords ``u_max`` (:math:`|u_j| \le u_{max}` for every input),
         ``state_bounds`` (``{"phi": (lo, hi)}``), ``input_bounds`` (``{"u": 15.0}``), ``NAME_min``,
         ``NAME_max``.
     verify : bool or {"exact", "ode"}

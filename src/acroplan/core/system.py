@@ -288,6 +288,11 @@ class ControlAffineSystem(abc.ABC):
         """
         return None
 
+    def default_limits(self):
+        """The limits a plan honours when the caller gives none (a URDF's joint ranges and rates):
+        a :class:`~acroplan.core.limits.Limits`, or ``None`` (the default: no limits)."""
+        return None
+
     def reference_lines(self, state: str, lo: float, hi: float) -> list[tuple[float, str]]:
         """Values of ``state`` worth marking on plots between ``lo`` and ``hi``, with labels (the
         acrobot's straight and folded body). None by default."""

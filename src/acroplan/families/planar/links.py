@@ -7,16 +7,20 @@ has its frame at any point fixed in it; every other link's frame has its origin 
 its parent. All vectors of a link are given in **its own** frame, except the position of its joint,
 which is given in its **parent's** frame (where the joint sits on the parent)::
 
-                                   y_c        x_c   child frame: origin at the joint,
-                                     \\       /      turned by q (the joint angle) from
-                                      \\  q  /       the parent's frame
-          y_p                          \\   /  . com (cx, cy), in the child frame
-           |                            \\ / .
-           |    parent link             (J)- - - - - - - - x_p (parallel)
-           |  . com (cx, cy)           /
-           |                          /  joint = (jx, jy): the joint's position
-        (O)+-------------------------+-----------------------> x_p
-        parent's frame origin (its joint, or any point of the root)
+                                   y_c         x_c      the child: frame at its joint J,
+                                     \\         /        turned by q from the parent's
+                                      \\       /  . com = (cx, cy) of the child, in the
+                                       \\     /           child's own frame
+                                        \\   /  q
+                                         \\ /   )
+                                         (J) - - - - - - ->  (parallel to x_p)
+            y_p                         _/
+             ^                        _/     joint = (jx, jy): J in the parent's frame
+             |   . com = (cx, cy)   _/
+             |     of the parent  _/
+             |                  _/
+            (O)--------------------------------------------> x_p
+            the parent's frame origin: its own joint (for the root: any point of the root)
 
 * ``joint = (jx, jy)``: the child's joint in the parent's frame;
 * ``com = (cx, cy)``: the link's centre of mass in its own frame;

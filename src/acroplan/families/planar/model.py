@@ -673,10 +673,14 @@ class PlanarBody(ControlAffineSystem):
         """
         return self._kinematics(state)[1]
 
+    def default_limits(self):
+        """The table's (or the URDF's) joint limits: :func:`acroplan.plan` honours them unless the
+        call gives limits of its own (``limits=Limits()`` switches them off)."""
+        return self.joint_limits()
+
     def joint_limits(self):
         """The table's joint limits as a :class:`~acroplan.core.limits.Limits` (position limits on
-        the joint states, rate limits on their inputs), or ``None`` when the table has none. Pass
-        it to ``plan(..., limits=body.joint_limits())`` to honour them."""
+        the joint states, rate limits on their inputs), or ``None`` when the table has none."""
         from ...core.limits import Limits
 
         states, inputs = {}, {}
@@ -739,21 +743,26 @@ class PlanarBody(ControlAffineSystem):
 
         acro, psi0, delta = self.as_acrobot()
         joint = self.links.joint_names[0]
-        alim = None
+        q0, qT, T = float(x0[1]), float(x1[1]), float(duration)
+        alim, lim = None, ""
         if limits is not None and limits.active:
             lo, hi = limits.bounds(joint)
+            U = limits.input_bound(f"u_{joint}")
+            lim = f" under {limits.describe()}"
+            for end, v in ((f"{joint}(0)", q0), (f"{joint}(T)", qT)):
+                if not lo <= v <= hi:
+                    return Infeasibility(f"no joint motion is possible{lim}: {end} = {v:.12g} is outside the joint "
+                                         f"limits [{lo:.12g}, {hi:.12g}]", joint, None)
+            if U is not None and abs(qT - q0) > U * T * (1 + 1e-15):
+                return Infeasibility(f"no joint motion is possible{lim}: {joint} must move {abs(qT - q0):.12g} rad in "
+                                     f"T = {T:.12g} s, but u_{joint} is limited to {U:.12g} rad/s", joint, None)
             sb = {}
             if lo > -math.inf or hi < math.inf:
                 sb["phi"] = (None if lo == -math.inf else lo + delta, None if hi == math.inf else hi + delta)
-            U = limits.input_bound(f"u_{joint}")
             alim = Limits(sb, {"u": U} if U is not None else None)
-        th0, ph0 = float(x0[0]) + psi0, float(x0[1]) + delta
-        thT, phT = float(x1[0]) + psi0, float(x1[1]) + delta
-        R = reachable_set(acro, theta0=th0, phi0=ph0, phiT=phT, T=float(duration), limits=alim)
-        lim = "" if alim is None else f" under {limits.describe()}"
-        if R.empty:
-            reason = R.reason.replace("phi", joint).replace("u_max", f"the rate limit of u_{joint}")
-            return Infeasibility(f"no joint motion is possible{lim}: {reason}", joint, None)
+        R = reachable_set(acro, theta0=float(x0[0]) + psi0, phi0=q0 + delta, phiT=qT + delta, T=T, limits=alim)
+        if R.empty:  # not reached: the ends and the distance were checked above
+            return Infeasibility(f"no joint motion is possible{lim}", joint, None)
         lo, hi = R.low - psi0, R.high - psi0
         target = float(x1[0])
         scale = max(1.0, abs(lo), abs(hi))

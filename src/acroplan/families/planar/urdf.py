@@ -73,8 +73,9 @@ def _limit(v: float) -> float | None:
 def _frame_link_name(model, joint_id: int, pin) -> str:
     """The URDF link a joint carries: the body frame attached right after the joint's frame."""
     for f in model.frames:
-        parent_joint = getattr(f, "parentJoint", getattr(f, "parent", None))
-        parent_frame = getattr(f, "parentFrame", getattr(f, "previousFrame", None))
+        # Pinocchio 3+ names; Pinocchio 2 called them parent and previousFrame
+        parent_joint = f.parentJoint if hasattr(f, "parentJoint") else f.parent
+        parent_frame = f.parentFrame if hasattr(f, "parentFrame") else f.previousFrame
         if f.type == pin.FrameType.BODY and parent_joint == joint_id and \
                 model.frames[parent_frame].type == pin.FrameType.JOINT:
             return f.name
