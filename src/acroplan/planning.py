@@ -106,7 +106,7 @@ class PlanRequest:
     sizes : tuple of int or None
         The user's ``n_coefficients``, or ``None`` (the strategy chooses).
     limits : Limits
-    verify : {"exact", "ode"} or None
+    verify : {"family", "ode"} or None
         How the plan is checked (``None``: not checked).
     tol : float
     max_evaluations : int
@@ -196,17 +196,18 @@ class PlanRequest:
         if not (isinstance(tol, (int, float)) and not isinstance(tol, bool) and math.isfinite(tol) and tol > 0):
             raise InvalidInputError("tol", f"must be a positive number, got {tol!r}", "give for example 1e-10")
         max_evaluations = _whole("max_evaluations", max_evaluations, 2000)
-        has_exact = type(system).exact_errors is not ControlAffineSystem.exact_errors
+        has_own = type(system).family_errors is not ControlAffineSystem.family_errors
         if verify is True:
-            verify = "exact" if has_exact else "ode"
+            verify = "family" if has_own else "ode"
         elif verify is False:
             verify = None
-        elif verify not in VERIFY_METHODS or not isinstance(verify, str):
-            raise InvalidInputError("verify", f"must be True or False, or \"exact\" or \"ode\", got {_short(verify)}",
-                                    "give True (the fastest independent check), \"ode\" or False")
-        elif verify == "exact" and not has_exact:
-            raise InvalidInputError("verify", f"\"exact\" needs an exact check, which {type(system).__name__} does "
-                                    "not provide", "use True or \"ode\" (the DOP853 re-simulation)")
+        elif not isinstance(verify, str) or verify not in VERIFY_METHODS:
+            raise InvalidInputError("verify", f"must be True or False, or \"family\" or \"ode\", got {_short(verify)}",
+                                    "give True (the family's own independent check), \"ode\" or False")
+        elif verify == "family" and not has_own:
+            raise InvalidInputError("verify", f"\"family\" needs a check of the family's own, which "
+                                    f"{type(system).__name__} does not provide", "use True or \"ode\" (the DOP853 "
+                                    "re-simulation)")
         if time_limit is not None and not (isinstance(time_limit, (int, float, np.floating, np.integer))
                                            and not isinstance(time_limit, bool) and 0 < time_limit < math.inf):
             raise InvalidInputError("time_limit", f"must be a positive number of seconds or None, got "
@@ -290,14 +291,15 @@ def plan(system: ControlAffineSystem, *, times, conditions: str = "spline", meth
         rates) hold. Or the keywords ``u_max`` (:math:`|u_j| \le u_{max}` for every input),
         ``state_bounds`` (``{"phi": (lo, hi)}``), ``input_bounds`` (``{"u": 15.0}``), ``NAME_min``,
         ``NAME_max``.
-    verify : bool or {"exact", "ode"}
+    verify : bool or {"family", "ode"}
         Check the plan independently of the planner's compiled integrator, and require every
         waypoint within :data:`VERIFY_TOL` (plus what the check can resolve on long chains,
         :func:`acroplan.core.verify.verify_plan`): ``"ode"`` re-simulates it with scipy DOP853
-        (rtol = atol = 3e-14, about 5-10 ms a segment); ``"exact"`` uses the family's exact
-        identity (the acrobot's flat output: no ODE solver, microseconds); ``True`` (default) the
-        exact check when the family has one, else the ODE; ``False`` skips the check (only for
-        speed in batch work).
+        (rtol = atol = 3e-14, about 5-10 ms a segment); ``"family"`` uses the family's own check
+        (the acrobot's flat-output identity: no ODE solver, a fraction of a millisecond;
+        Pinocchio's centroidal momentum for articulated bodies); ``True`` (default) the family's
+        check when it has one, else the ODE; ``False`` skips the check (only for speed in batch
+        work).
     tol : float
         Required endpoint error of each segment (compiled integrator).
     max_evaluations : int
@@ -410,7 +412,8 @@ def _solve(req: PlanRequest, progress) -> PlanResult:
                           **common)
 
     # ---------------------------------------------------------------- independent check
-    check = _CHECKS[req.verify]
+    check = (system.family_check or "the family's own check") if req.verify == "family" else \
+        "scipy DOP853 re-simulation"
     try:
         checked, bad, allowed = verify_plan(system, X[0], segments, req.verify)
     except BudgetExceeded as e:
@@ -426,8 +429,6 @@ def _solve(req: PlanRequest, progress) -> PlanResult:
                       f"{max(s.final_error for s in checked):.2e}, independently verified to {worst:.2e} ({check})",
                       segments=checked, verified=True, verification=req.verify, **common)
 
-
-_CHECKS = {"exact": "exact identity", "ode": "scipy DOP853 re-simulation"}
 
 
 def warm_up(system: ControlAffineSystem | type, *, basis: str = "legendre", sizes=(6, 10, 14)) -> None:

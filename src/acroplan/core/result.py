@@ -352,8 +352,9 @@ class PlanResult:
         Whether the plan was checked independently.
     limits : Limits or None
         The limits the plan honours.
-    verification : {"exact", "ode"} or None
-        How it was checked: the family's exact identity, or the DOP853 re-simulation.
+    verification : {"family", "ode"} or None
+        How it was checked: the family's own independent check (the acrobot's flat-output
+        identity, Pinocchio for articulated bodies), or the DOP853 re-simulation.
     """
 
     status: Status

@@ -270,10 +270,15 @@ class ControlAffineSystem(abc.ABC):
         d = self.diff(y0, x1)
         return lambda tau: self.retract(y0, tau * d)
 
-    def exact_errors(self, x0, segments):
-        """An exact check of planned segments that uses neither the compiled integrator nor an ODE
-        solver (a closed form or a conserved quantity of the family), or ``None`` when the family
-        has none (the default): then plans are checked by the DOP853 re-simulation.
+    #: the name of the family's own independent check (:meth:`family_errors`), for messages
+    family_check: ClassVar[str] = ""
+
+    def family_errors(self, x0, segments):
+        """The family's own independent check of planned segments, or ``None`` when it has none
+        (the default: then plans are checked by the DOP853 re-simulation of the same fields). It
+        must not use the compiled integrator nor the sympy fields the planner used: a closed form
+        or a conserved quantity (the acrobot's flat-output identity), or another library's model
+        of the body (Pinocchio's centroidal momentum for articulated bodies).
 
         Parameters
         ----------

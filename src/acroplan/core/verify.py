@@ -87,16 +87,17 @@ def _dop853(system, x0, T: float, u_local, t_eval, rtol: float, atol: float):
                      max_step=T / 16, t_eval=t_eval if t_eval is not None else [T])
 
 
-#: How plans are checked: ``"exact"`` (the family's exact identity, :meth:`ControlAffineSystem.exact_errors`)
-#: or ``"ode"`` (the DOP853 re-simulation); ``True`` means the exact check when the family has one.
-VERIFY_METHODS = ("exact", "ode")
+#: How plans are checked: ``"family"`` (the family's own independent check,
+#: :meth:`ControlAffineSystem.family_errors`) or ``"ode"`` (the DOP853 re-simulation); ``True``
+#: means the family's check when it has one.
+VERIFY_METHODS = ("family", "ode")
 
 
 def verify_plan(system: ControlAffineSystem, x0, segments, method: str = "ode"):
     """Check a plan's segments in a chain from ``x0`` (not segment by segment from each waypoint,
     so accumulated drift shows too) and record each segment's ``verified_error``: with
     ``method="ode"`` the DOP853 re-simulation's :math:`\\|\\mathrm{diff}(x(t_1), x_{target})\\|_2`,
-    with ``method="exact"`` the family's exact identity (:meth:`ControlAffineSystem.exact_errors`).
+    with ``method="family"`` the family's own check (:meth:`ControlAffineSystem.family_errors`).
 
     A segment may miss its target by :data:`VERIFY_TOL` plus :data:`VERIFY_RTOL` times the sum,
     over the chain up to it, of the largest magnitude of each segment's end states: DOP853 at
@@ -113,9 +114,9 @@ def verify_plan(system: ControlAffineSystem, x0, segments, method: str = "ode"):
     """
     checked, bad, allowed, scale = [], None, VERIFY_TOL, 0.0
     x = np.asarray(x0, dtype=float).copy()
-    exact = system.exact_errors(x, segments) if method == "exact" else None
-    if method == "exact" and exact is None:
-        raise ValueError(f"{type(system).__name__} has no exact check; use the ODE re-simulation")
+    exact = system.family_errors(x, segments) if method == "family" else None
+    if method == "family" and exact is None:
+        raise ValueError(f"{type(system).__name__} has no check of its own; use the ODE re-simulation")
     for k, seg in enumerate(segments):
         if exact is not None:
             err = float(exact[k])

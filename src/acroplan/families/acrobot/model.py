@@ -351,7 +351,9 @@ class Acrobot(ControlAffineSystem):
         ks = range(math.floor(lo / math.pi), math.ceil(hi / math.pi) + 1)
         return [(k * math.pi, "folded" if k % 2 == 0 else "straight") for k in ks]
 
-    def exact_errors(self, x0, segments):
+    family_check = "flat-output identity"
+
+    def family_errors(self, x0, segments):
         """The flat-output identity (:func:`acroplan.families.acrobot.verify.flat_output_errors`):
         exact up to rounding, with no ODE solver and no compiled code; microseconds per segment."""
         from .verify import chained_errors
