@@ -22,7 +22,9 @@ Two uses:
   that path deformation only polishes.
 
 Where it does not apply: ``P0 = 0`` (holonomic, refused before planning), and, with a rate bound,
-targets whose transitions would have to be faster than :math:`u_{max}` allows (it says so).
+targets whose transitions would have to be faster than :math:`u_{max}` allows (it says so). Under a
+rate bound both strategies then use :mod:`.ratelimited`: smoothed bang-dwell-bang motions (cubic
+ramps of the rate, cruises below :math:`u_{max}`, a dwell) that fill the exact limited interval.
 """
 
 from __future__ import annotations
@@ -42,6 +44,7 @@ from ...core.basis import from_power
 from ...core.limits import COMPLIANCE_TOL, Limits
 from ...core.strategies import (Interval, IntervalOutcome, Strategy, deform_attempt, make_segment,
                                 register_strategy, run_stages)
+from .ratelimited import rate_limited_attempt
 
 if TYPE_CHECKING:
     from .model import Acrobot
@@ -436,6 +439,11 @@ def _flat_attempt(interval: Interval) -> IntervalOutcome:
     return IntervalOutcome(False, (out[-1],), f"flat output: endpoint error {out[-1].final_error:.2e} > tol")
 
 
+def _rate_bound(interval: Interval) -> bool:
+    """Whether the interval's limits bound the joint rate (the rate-limited family then applies)."""
+    return interval.limits is not None and interval.limits.input_bound("u") is not None
+
+
 def _holonomic_attempt(interval: Interval) -> IntervalOutcome:
     """P0 = 0: theta + F(phi) is constant, so theta(T) follows from phi(T) whatever the joint does
     (the feasibility test has already checked that the target is that value). Plan the joint
@@ -473,7 +481,11 @@ def _holonomic_attempt(interval: Interval) -> IntervalOutcome:
 
 class FlatOutput(Strategy):
     """``method="flat"``: the three-piece flat-output planner (:func:`flat_pieces`): move, dwell,
-    move, exact up to a scalar root; reaches every target strictly inside the exact interval."""
+    move, exact up to a scalar root; reaches every target strictly inside the exact interval.
+
+    Under a rate bound, when the quintic transitions cannot reach the target within it, the
+    rate-limited family (:func:`.ratelimited.rate_limited_attempt`: up to seven pieces, method
+    ``"flat-rate"``), which reaches every target strictly inside the exact limited interval."""
 
     name = "flat"
 
@@ -485,7 +497,14 @@ class FlatOutput(Strategy):
     def solve(self, interval: Interval) -> IntervalOutcome:
         if interval.system.P0 == 0.0:
             return _holonomic_attempt(interval)
-        return _flat_attempt(interval)
+        out = _flat_attempt(interval)
+        if out.success or not _rate_bound(interval):
+            return out
+        # under a rate bound: the smoothed bang-dwell-bang family (acrobot.ratelimited)
+        alt = rate_limited_attempt(interval)
+        if alt.success:
+            return alt
+        return IntervalOutcome(False, alt.pieces or out.pieces, f"{out.reason}; {alt.reason}")
 
 
 class AcrobotAuto(Strategy):
@@ -497,6 +516,11 @@ class AcrobotAuto(Strategy):
     endpoint evaluations); then path deformation with the first size from the closest guess
     (budget :data:`AUTO_BUDGET` evaluations), the flat-output planner, and the remaining sizes
     (only the given size when ``n_coefficients`` is given).
+
+    Under a rate bound the rate-limited flat family (:func:`.ratelimited.rate_limited_attempt`)
+    comes right after the first path deformation, before the quintic flat planner: it reaches every
+    target strictly inside the exact limited interval, and trying it there was measured fastest
+    at equal success (``benchmarks/limits_rate.py``). Without a rate bound nothing changes.
     """
 
     name = "acrobot-auto"
@@ -527,6 +551,8 @@ class AcrobotAuto(Strategy):
         order = ([first] if first is not None else []) + [n for n in sizes if n != first]
         stages = [lambda: deform(order[0]), lambda: _flat_attempt(interval)]
         stages += [lambda n=n: deform(n) for n in order[1:]]
+        if _rate_bound(interval):  # before the quintic flat stage (measured: benchmarks/limits_rate.py)
+            stages.insert(1, lambda: rate_limited_attempt(interval))
         return run_stages(stages)
 
 
