@@ -97,13 +97,15 @@ class SegmentResult:
     Attributes
     ----------
     index : int
-        Position in the plan. A waypoint interval is one segment, or three pieces (move, dwell,
-        move) when the flat-output planner was used.
+        Position in the plan. A waypoint interval is one segment, or several pieces when a
+        family's piecewise planner was used (the acrobot's flat output: move, dwell, move; up to
+        seven pieces with a rate bound).
     interval : int
         The waypoint interval :math:`[t_k, t_{k+1}]` this segment belongs to.
     method : str
-        ``"deform"`` (path deformation), ``"deform+limits"`` (then the constrained solve) or
-        ``"flat"`` (flat-output pieces).
+        How it was planned: ``"deform"`` (path deformation), ``"deform+limits"`` (then the
+        constrained solve), or a family's own: the acrobot's ``"flat"`` (flat-output pieces),
+        ``"flat-rate"`` (rate-limited flat-output pieces), ``"holonomic"`` (P0 = 0).
     t0, t1 : float
     coefficients : numpy.ndarray, shape (m, k)
         Power-basis coefficients in local time: :math:`u_j(t) = \\sum_i p_{j,i}(t - t_0)^i`.
