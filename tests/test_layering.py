@@ -19,7 +19,7 @@ from click.testing import CliRunner
 SRC = pathlib.Path(__file__).parents[1] / "src" / "acroplan"
 BASELINE = pathlib.Path(__file__).parent / "data" / "baseline"
 
-FRONT_DOORS = {"acroplan.planning", "acroplan.batch", "acroplan.simulation", "acroplan.zoo"}
+FRONT_DOORS = {"acroplan.planning", "acroplan.batch", "acroplan.simulation", "acroplan.sweep", "acroplan.zoo"}
 
 
 def _module_name(path: pathlib.Path) -> str:

@@ -729,15 +729,23 @@ class PlanarBody(ControlAffineSystem):
         return acro, psi0, delta
 
     def check_segment(self, x0, x1, duration, limits=None):
-        """Exact feasibility test for two-link bodies (the acrobot's reachable set, through
-        :meth:`as_acrobot`); bodies of three or more links have none (``None``).
+        """Feasibility test of one segment: exact for two-link bodies (the acrobot's reachable set,
+        through :meth:`as_acrobot`); for three or more links what can be proven under the limits
+        (:meth:`turn_bound`).
+
+        With three or more links: the joint ends must lie inside the joint limits, a joint with a
+        rate limit :math:`\\bar u_j` cannot move more than :math:`\\bar u_j T`, and when every joint
+        has a rate limit the root's turn is bounded (:func:`~acroplan.families.planar.connection.turn_bound`):
+        a target beyond the bound is refused with it as the proof. Otherwise ``None`` (the segment
+        may be feasible; the planner says ``not_converged`` with its diagnostics when it finds no
+        motion).
 
         Returns
         -------
         Infeasibility or None
         """
         if self.n_links != 2:
-            return None
+            return self._check_bounded(x0, x1, duration, limits)
         from ...core.limits import Limits
         from ..acrobot.reach import reachable_set
 
@@ -780,6 +788,101 @@ class PlanarBody(ControlAffineSystem):
                                  f"{joint}(T) = {float(x1[1]):.12g}, T = {float(duration):.12g} (exact: a two-link "
                                  "body is an acrobot)", "theta", (lo, hi))
         return None
+
+    def _check_bounded(self, x0, x1, duration, limits):
+        if limits is None or not limits.active:
+            return None
+        names = self.links.joint_names
+        x0 = np.asarray(x0, dtype=float)
+        x1 = np.asarray(x1, dtype=float)
+        T = float(duration)
+        lim = f" under {limits.describe()}"
+        lo = np.array([limits.bounds(j)[0] for j in names])
+        hi = np.array([limits.bounds(j)[1] for j in names])
+        U = np.array([limits.input_bound(f"u_{j}") or math.inf for j in names])
+        for j, name in enumerate(names):
+            for end, v in ((f"{name}(0)", x0[1 + j]), (f"{name}(T)", x1[1 + j])):
+                if not lo[j] <= v <= hi[j]:
+                    return Infeasibility(f"no joint motion is possible{lim}: {end} = {v:.12g} is outside the joint "
+                                         f"limits [{lo[j]:.12g}, {hi[j]:.12g}]", name, None)
+            if abs(x1[1 + j] - x0[1 + j]) > U[j] * T * (1 + 1e-15):
+                return Infeasibility(f"no joint motion is possible{lim}: {name} must move "
+                                     f"{abs(x1[1 + j] - x0[1 + j]):.12g} rad in T = {T:.12g} s, but u_{name} is "
+                                     f"limited to {U[j]:.12g} rad/s", name, None)
+        if not np.all(np.isfinite(U)):
+            return None
+        B = self.turn_bound(x0, x1, T, limits)
+        turn = float(x1[0] - x0[0])
+        if abs(turn) > B:
+            return Infeasibility(
+                f"theta must turn by {turn:.12g} rad, but{lim} the root turns at most "
+                f"{B:.12g} rad in T = {T:.12g} s (|theta'| <= (|P0| + sum_j max|a_j| u_max_j) / min I over the "
+                f"shapes the joints can reach, by interval arithmetic): theta(T) lies in "
+                f"[{x0[0] - B:.12g}, {x0[0] + B:.12g}]", "theta", (float(x0[0] - B), float(x0[0] + B)))
+        return None
+
+    def turn_bound(self, x0, x1, duration, limits) -> float:
+        """A proven bound of :math:`|\\theta(T) - \\theta(0)|` on a segment from ``x0`` to ``x1`` under
+        ``limits`` (``inf`` unless every joint has a rate limit):
+        :func:`~acroplan.families.planar.connection.turn_bound`.
+
+        .. math::  |\\theta(T) - \\theta(0)| \\le \\int_0^T \\frac{|P_0| + \\sum_j \\max |a_j|\\,\\bar u_j}{\\min I}\\,dt ,
+
+        the extremes over the joint angles reachable at each time (rate and joint limits), enclosed
+        by interval arithmetic on the cosine sums of :math:`I` and :math:`a_j`.
+        """
+        from .connection import Connection, turn_bound
+
+        names = self.links.joint_names
+        U = np.array([limits.input_bound(f"u_{j}") or math.inf for j in names]) if limits is not None \
+            else np.full(len(names), math.inf)
+        lo = np.array([limits.bounds(j)[0] for j in names]) if limits is not None else None
+        hi = np.array([limits.bounds(j)[1] for j in names]) if limits is not None else None
+        return turn_bound(Connection(self), np.asarray(x0, dtype=float)[1:], np.asarray(x1, dtype=float)[1:],
+                          float(duration), U, lo, hi)
+
+    # ------------------------------------------------------------------ planning hooks
+    @property
+    def family_check(self) -> str:
+        """The name of :meth:`family_errors`' check (``plan(verify=True)`` reports it)."""
+        try:
+            import pinocchio  # noqa: F401
+        except ImportError:
+            return "scipy DOP853 re-simulation (Pinocchio is not installed)"
+        return "Pinocchio centroidal simulation"
+
+    def family_errors(self, x0, segments):
+        """The independent check by Pinocchio (:func:`~acroplan.families.planar.check.pinocchio_errors`):
+        the planned inputs chained from ``x0`` through a motion driven by Pinocchio's centroidal map
+        alone (joints by exact integration of the input, :math:`\\theta` by a quadrature of the
+        root rate that makes the momentum :math:`P_0`). Without Pinocchio installed, the core's DOP853
+        re-simulation of the model's own fields.
+
+        Returns
+        -------
+        numpy.ndarray, shape (len(segments),)
+            Each segment's :math:`\\max |x - x_{target}|` at its end.
+        """
+        try:
+            import pinocchio  # noqa: F401
+        except ImportError:
+            from ...core.verify import simulate_segment
+
+            x, out = np.asarray(x0, dtype=float), []
+            for seg in segments:
+                x = simulate_segment(self, x, seg.t0, seg.t1, seg.input).y[:, -1]
+                out.append(float(np.max(np.abs(x - seg.target))))
+            return np.array(out)
+        from .check import pinocchio_errors
+
+        return pinocchio_errors(self, x0, segments)
+
+    def auto_strategy(self):
+        """``method="auto"``: path deformation from a shape-loop guess that already meets the target
+        (:class:`~acroplan.families.planar.strategy.PlanarAuto`)."""
+        from .strategy import PlanarAuto
+
+        return PlanarAuto()
 
     # ------------------------------------------------------------------ construction and records
     @classmethod

@@ -3,12 +3,16 @@
 * :func:`three_rods`: three equal rods in a chain (the classic three-link swimmer);
 * :func:`diver_with_arms`: a human diver, legs in two links and arms, a branched tree;
 * :func:`planar_space_robot`: a spacecraft base with a two-joint arm;
-* :func:`random_body`: random physical chains.
+* :func:`random_body`: random physical chains;
+* :func:`random_segment`: a random single-segment problem reachable by construction (the end of a
+  simulated random smooth joint motion), with or without limits that motion keeps.
 
 All lengths in metres, masses in kilograms, inertias in kg m^2 (any consistent units work).
 """
 
 from __future__ import annotations
+
+import dataclasses
 
 import numpy as np
 
@@ -16,7 +20,7 @@ from ...core.errors import InvalidInputError
 from .links import Link
 from .model import PlanarBody
 
-__all__ = ["three_rods", "diver_with_arms", "planar_space_robot", "random_body"]
+__all__ = ["three_rods", "diver_with_arms", "planar_space_robot", "random_body", "random_segment", "PlanarSegment"]
 
 
 def three_rods(P0: float = 0.0, *, mass: float = 1.0, length: float = 1.0) -> PlanarBody:
@@ -135,3 +139,87 @@ def random_body(rng, n_links: int, P0: float = 0.0) -> PlanarBody:
                               joint_name=f"q{k}"))
         prev_len = length
     return PlanarBody(links, P0=P0)
+
+
+@dataclasses.dataclass(frozen=True)
+class PlanarSegment:
+    """One random single-segment problem of a planar body (:func:`random_segment`).
+
+    Attributes
+    ----------
+    body : PlanarBody
+    T : float
+    x0, x1 : numpy.ndarray, shape (n,)
+        Start and target; ``x1`` is where ``coefficients`` take ``x0`` in time ``T``.
+    coefficients : numpy.ndarray, shape (m, 6)
+        The joint rates that reach ``x1`` (Legendre basis on ``s = t / T``): the proof of
+        reachability.
+    limits : Limits or None
+        Joint and rate limits that motion keeps (``None``: unlimited).
+    """
+
+    body: PlanarBody
+    T: float
+    x0: np.ndarray
+    x1: np.ndarray
+    coefficients: np.ndarray
+    limits: object = None
+
+    def plan_kwargs(self) -> dict:
+        """Keywords of :func:`acroplan.plan` for this problem (``limits=Limits()`` when unlimited)."""
+        from ...core.limits import Limits
+
+        names = self.body.state_names
+        kw = {name: [float(a), float(b)] for name, a, b in zip(names, self.x0, self.x1)}
+        return dict(times=[0.0, self.T], limits=self.limits if self.limits is not None else Limits(), **kw)
+
+
+def random_segment(rng, n_links: int = 3, *, momentum: bool = False, limited: bool = False) -> PlanarSegment:
+    """A random single segment of a random body (:func:`random_body`), reachable by construction.
+
+    The body: :func:`random_body` with :math:`P_0 = 0`, or (``momentum``) :math:`P_0 = \\pm I(s_0)\\,
+    \\omega_0` with :math:`\\omega_0 \\in [0.3, 2]` rad/s (a drift of that size at the start).
+    The motion: :math:`T \\in [1, 3]` s, :math:`\\theta_0 \\in [-\\pi, \\pi]`, joints
+    :math:`q_0 \\in [-1.5, 1.5]`, joint rates a random smooth polynomial (6 Legendre coefficients,
+    standard deviations 1, 1, 0.6, 0.3 rad/s for the first four); the target is the end of the
+    simulated motion (compiled integrator). With ``limited`` the problem carries joint limits 0.25
+    rad outside the range the motion sweeps and rate limits 25% above its largest rates (so the
+    motion that proves reachability keeps them).
+
+    Returns
+    -------
+    PlanarSegment
+    """
+    from ...core import backend
+    from ...core.basis import Legendre
+    from ...core.limits import Limits, violation
+
+    rng = np.random.default_rng(rng)
+    body = random_body(rng, n_links)
+    m = body.n_inputs
+    q0 = rng.uniform(-1.5, 1.5, m)
+    if momentum:
+        w0 = rng.uniform(0.3, 2.0) * rng.choice([-1.0, 1.0])
+        body = PlanarBody(body.links, P0=float(body.locked_inertia(q0) * w0))
+    T = float(rng.uniform(1.0, 3.0))
+    c = np.zeros((m, 6))
+    c[:, :4] = rng.normal(scale=[1.0, 1.0, 0.6, 0.3], size=(m, 4))
+    x0 = np.concatenate([[rng.uniform(-np.pi, np.pi)], q0])
+    basis = Legendre(6)
+    x1, _ = backend.endpoint(body, basis, x0, T, c)
+    limits = None
+    if limited:
+        names = body.links.joint_names
+        probe = Limits({n: (-1e6, 1e6) for n in names}, {f"u_{n}": 1e6 for n in names})
+        v = violation(body, basis, x0, T, c, probe)
+        ranges = v["state_ranges"]
+        tops = [max(abs(x) for x in _extremes(basis, c[j])) for j in range(m)]
+        limits = Limits({n: (ranges[n][0] - 0.25, ranges[n][1] + 0.25) for n in names},
+                        {f"u_{n}": 1.25 * t for n, t in zip(names, tops)})
+    return PlanarSegment(body, T, x0, np.asarray(x1, dtype=float), c, limits)
+
+
+def _extremes(basis, c):
+    from ...core.limits import input_extremes
+
+    return input_extremes(basis, c)

@@ -1,0 +1,172 @@
+"""Drawings of planar bodies: a strobe of a planned motion (:func:`strobe`, saved by :func:`save_strobe`),
+and the link table's conventions (:func:`conventions_figure`).
+
+The figures in ``docs/images/planar-*.png`` are made by ``python tests/test_planar_planning.py
+docs/images`` (it plans the bundled examples; a family module may not call the front door).
+
+Figures are built on an explicit :class:`matplotlib.figure.Figure` with the Agg canvas, so no global
+backend or pyplot state is touched.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["strobe", "save_strobe", "link_segments", "conventions_figure"]
+
+
+def link_segments(body, state) -> list[tuple[np.ndarray, np.ndarray, int]]:
+    """The line segments that draw each link at ``state`` (centre-of-mass frame).
+
+    A link is drawn from its joint (the root: its frame origin) to each child's joint, and to its
+    centre of mass and on as far again when it is a leaf (a uniform rod's far end).
+
+    Returns
+    -------
+    list of (start, end, link index)
+    """
+    L = body.links
+    J = body.joint_positions(state)
+    F = body.link_frames(state)
+    out = []
+    for i in range(len(L)):
+        kids = L.children(i)
+        for k in kids:
+            out.append((J[i], J[k], i))
+        if not kids or i == L.root:
+            out.append((J[i], J[i] + 2.0 * (F[i, :2] - J[i]), i))
+    return out
+
+
+def strobe(result, *, poses: int = 7, ax=None, spacing: float | None = None, title: str | None = None):
+    """A strobe of a planned motion: the body at ``poses`` equally spaced times, side by side.
+
+    The root link is drawn thicker, its frame origin marked with a square; joints are circles; a
+    short arrow on the root shows :math:`\\theta` (the root frame's x axis). Poses are shifted to the
+    right in time order and darken with time.
+
+    Parameters
+    ----------
+    result : PlanResult
+        A plan of a :class:`~acroplan.families.planar.model.PlanarBody`.
+    poses : int
+    ax : matplotlib.axes.Axes, optional
+        Drawn into when given; otherwise a new figure (Agg canvas) is made.
+    spacing : float, optional
+        Horizontal shift between poses (default: 1.1 times the body's largest extent).
+    title : str, optional
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    body = result.system
+    t = np.linspace(result.times[0], result.times[-1], poses)
+    S = result.evaluate(t).states
+    segs = [link_segments(body, S[:, k]) for k in range(poses)]
+    ext = max(float(np.max(np.abs(np.array([p for s in sg for p in s[:2]])))) for sg in segs)
+    spacing = 2.3 * ext if spacing is None else spacing
+    if ax is None:
+        fig = Figure(figsize=(min(2.0 + 1.6 * poses, 16), 3.4), dpi=110)
+        FigureCanvasAgg(fig)
+        ax = fig.add_subplot(1, 1, 1)
+    else:
+        fig = ax.figure
+    root = body.links.root
+    for k in range(poses):
+        shade = 0.75 - 0.65 * k / max(poses - 1, 1)
+        colour = (shade, shade, min(1.0, shade + 0.25))
+        dx = np.array([k * spacing, 0.0])
+        for a, b, i in segs[k]:
+            ax.plot([a[0] + dx[0], b[0] + dx[0]], [a[1], b[1]], "-", color=colour, lw=5 if i == root else 3,
+                    solid_capstyle="round")
+        J = body.joint_positions(S[:, k]) + dx
+        joints = [i for i in range(len(body.links)) if i != root]
+        ax.plot(J[joints, 0], J[joints, 1], "o", ms=5, mfc="white", mec=colour, mew=1.5)
+        ax.plot(J[root, 0], J[root, 1], "s", ms=6, color=colour)
+        th = S[0, k]
+        ax.annotate("", xy=(J[root, 0] + 0.35 * ext * np.cos(th), J[root, 1] + 0.35 * ext * np.sin(th)),
+                    xytext=(J[root, 0], J[root, 1]), arrowprops=dict(arrowstyle="->", color="tab:red", lw=1.2))
+        ax.text(k * spacing, -1.1 * ext, f"t = {t[k]:.3g} s\ntheta = {th:.2f}", ha="center", va="top", fontsize=8)
+    ax.set_aspect("equal")
+    ax.set_xlim(-1.2 * ext, (poses - 1) * spacing + 1.2 * ext)
+    ax.set_ylim(-1.55 * ext, 1.1 * ext)
+    ax.set_xticks([])
+    ax.set_yticks([])
+    for side in ax.spines.values():
+        side.set_visible(False)
+    if title:
+        ax.set_title(title, fontsize=10)
+    fig.tight_layout()
+    return fig
+
+
+def save_strobe(result, path, **kwargs) -> None:
+    """:func:`strobe` saved as an image (format from the file name)."""
+    fig = strobe(result, **kwargs)
+    fig.savefig(str(path))
+
+
+def conventions_figure():
+    """The link table's conventions: a parent and a child link, their frames, the child's joint
+    position in the parent's frame, the centres of mass in each link's own frame, the joint angle.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(7.0, 4.2), dpi=110)
+    FigureCanvasAgg(fig)
+    ax = fig.add_subplot(1, 1, 1)
+    arrow = dict(arrowstyle="->", lw=1.3)
+    # the parent: frame at O, x_p along the link
+    O = np.array([0.0, 0.0])
+    J = np.array([3.0, 0.6])  # the child's joint, (jx, jy) in the parent's frame (parent frame = world here)
+    ax.plot([O[0], J[0] + 0.3], [O[1], 0.0], "-", color="0.6", lw=9, solid_capstyle="round", alpha=0.5)
+    ax.annotate("", xy=(4.2, 0), xytext=O, arrowprops=dict(arrow, color="k"))
+    ax.annotate("", xy=(0, 2.2), xytext=O, arrowprops=dict(arrow, color="k"))
+    ax.text(4.25, -0.05, "$x_p$", va="center")
+    ax.text(0.05, 2.25, "$y_p$")
+    ax.plot(*O, "s", color="k", ms=7)
+    ax.text(-0.15, -0.35, "O: the parent's frame origin\n(its own joint; the root: any point)", fontsize=8,
+            va="top")
+    cp = np.array([1.3, 0.15])
+    ax.plot(*cp, "o", color="tab:blue", ms=6)
+    ax.text(cp[0], cp[1] + 0.2, "com = (cx, cy)\nin the parent's frame", fontsize=8, color="tab:blue", ha="center")
+    ax.annotate("", xy=J, xytext=O, arrowprops=dict(arrow, color="tab:green", ls="--"))
+    ax.text(1.7, 0.65, "joint = (jx, jy): J in the\nparent's frame", fontsize=8, color="tab:green", rotation=11)
+    # the child: frame at J turned by q
+    q = 0.75
+    e = np.array([np.cos(q), np.sin(q)])
+    f = np.array([-np.sin(q), np.cos(q)])
+    tip = J + 2.6 * e
+    ax.plot([J[0], tip[0]], [J[1], tip[1]], "-", color="0.3", lw=9, solid_capstyle="round", alpha=0.5)
+    ax.annotate("", xy=J + 3.0 * e, xytext=J, arrowprops=dict(arrow, color="k"))
+    ax.annotate("", xy=J + 1.3 * f, xytext=J, arrowprops=dict(arrow, color="k"))
+    ax.text(*(J + 3.05 * e), "$x_c$")
+    ax.text(*(J + 1.35 * f), "$y_c$")
+    ax.plot(*J, "o", ms=8, mfc="white", mec="k", mew=1.5)
+    ax.plot([J[0], J[0] + 1.6], [J[1], J[1]], ":", color="k", lw=1)
+    th = np.linspace(0, q, 30)
+    ax.plot(J[0] + 1.0 * np.cos(th), J[1] + 1.0 * np.sin(th), "-", color="tab:red")
+    ax.text(J[0] + 1.1, J[1] + 0.3, "q (joint angle,\ncounter-clockwise)", color="tab:red", fontsize=8)
+    cc = J + 1.2 * e + 0.12 * f
+    ax.plot(*cc, "o", color="tab:blue", ms=6)
+    ax.text(cc[0] - 0.2, cc[1] + 0.15, "com = (cx, cy)\nin the child's frame", fontsize=8, color="tab:blue",
+            ha="right")
+    ax.text(J[0] + 0.15, J[1] - 0.45, "J: the child's frame origin", fontsize=8)
+    ax.text(-0.2, 3.3, "absolute angle of link i:  alpha_i = theta + sum of the joint angles from the root to i;\n"
+            "theta = the root's angle to the inertial x axis; u_<joint> = d(joint angle)/dt", fontsize=8)
+    ax.set_aspect("equal")
+    ax.set_xlim(-0.6, 6.2)
+    ax.set_ylim(-1.2, 3.9)
+    ax.axis("off")
+    fig.tight_layout()
+    return fig
+
