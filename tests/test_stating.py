@@ -49,3 +49,18 @@ def test_free_conditions_can_start_and_end_at_rest(pike_robot):
         acroplan.plan(problem.robot, start_rate=0.0, **problem.plan_kwargs())
     with pytest.raises(acroplan.InvalidInputError, match="end_rate.w: is not an input"):
         acroplan.plan(problem.robot, end_rate={"w": 0.0}, **kw)
+
+
+def test_free_intermediate_states_are_chosen_and_planned(pike_robot):
+    kw = dict(times=[0, 2, 4, 6], phi=[-PI, -2 * PI, -2 * PI, -PI])
+    # theta free at two interior waypoints: chosen where both neighbours stay reachable
+    res = acroplan.plan(pike_robot, theta=[-0.5 * PI, None, None, 3.5 * PI], **kw)
+    assert res.success, res.message
+    assert res.waypoints[0, 0] == -0.5 * PI and res.waypoints[-1, 0] == 3.5 * PI
+    assert np.all(np.isfinite(res.waypoints))
+    # phi free: the interpolation of its neighbours
+    res = acroplan.plan(pike_robot, times=[0, 2, 4], theta=[-0.5 * PI, 3.0, 2.0 * PI], phi=[-PI, None, -PI],
+                        conditions="free")
+    assert res.success and res.waypoints[1, 1] == -PI
+    with pytest.raises(acroplan.InvalidInputError, match="theta: is free .None. at the first or the last"):
+        acroplan.plan(pike_robot, times=[0, 2], theta=[None, 1.0], phi=[-PI, -PI])

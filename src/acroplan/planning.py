@@ -53,6 +53,23 @@ _OPTIONS = ("times", "conditions", "method", "basis", "n_coefficients", "limits"
             "progress")
 
 
+def _waypoints(field, value, length) -> np.ndarray:
+    """A state's waypoint values; ``None`` (free: any value will do) allowed at interior waypoints,
+    returned as NaN."""
+    if isinstance(value, (list, tuple)) and any(v is None for v in value):
+        if len(value) != length:
+            raise InvalidInputError(field, f"has {len(value)} value(s) but times has {length}",
+                                    "give one value per waypoint time")
+        if value[0] is None or value[-1] is None:
+            raise InvalidInputError(field, "is free (None) at the first or the last waypoint",
+                                    "give the start and the end; only interior waypoints may be free")
+        given = _vector(field, [v for v in value if v is not None])
+        out = np.full(length, np.nan)
+        out[[i for i, v in enumerate(value) if v is not None]] = given
+        return out
+    return _vector(field, value, length)
+
+
 def _vector(field, value, length=None) -> np.ndarray:
     try:
         a = np.asarray(value, dtype=float)
@@ -99,6 +116,9 @@ class PlanRequest:
     system : ControlAffineSystem
     times : numpy.ndarray, shape (K+1,)
     waypoints : numpy.ndarray, shape (K+1, n)
+        NaN where a state is free.
+    free : numpy.ndarray of bool, shape (K+1, n)
+        Which waypoint states are free (``None`` in the call).
     conditions : str
     strategy : Strategy
     basis : InputBasis
@@ -119,6 +139,7 @@ class PlanRequest:
     system: ControlAffineSystem
     times: np.ndarray
     waypoints: np.ndarray
+    free: np.ndarray
     conditions: str
     strategy: Strategy
     basis: InputBasis
@@ -176,7 +197,12 @@ class PlanRequest:
                                     f"{list(states)}")
         if not isinstance(degrees, bool):
             raise InvalidInputError("degrees", f"must be True or False, got {_short(degrees)}", "give a boolean")
-        X = np.stack([_vector(name, waypoints[name], t.size) for name in states], axis=1)
+        X = np.stack([_waypoints(name, waypoints[name], t.size) for name in states], axis=1)
+        free = np.isnan(X)
+        if free.any() and system.ndx != system.n_states:
+            raise InvalidInputError(states[int(np.argwhere(free)[0][1])], "free waypoint states need a Euclidean "
+                                    f"state space, which {type(system).__name__} does not have",
+                                    "give every state at every waypoint")
         angles = [i for i, name in enumerate(states) if name in system.angle_states]
         if degrees:  # every angle given in degrees: waypoints, bounds and rate limits
             X[:, angles] = np.radians(X[:, angles])
@@ -228,7 +254,7 @@ class PlanRequest:
             i = states.index(state)
             lo, hi = limits.bounds(state)
             for k, v in enumerate(X[:, i]):
-                if not lo <= v <= hi:
+                if not np.isnan(v) and not lo <= v <= hi:
                     raise InvalidInputError(state, f"waypoint {k} (t = {t[k]:g}) has {state} = {v:.12g}, outside "
                                             f"the joint limits [{lo:.12g}, {hi:.12g}]",
                                             "move the waypoint inside the limits or widen them")
@@ -251,7 +277,7 @@ class PlanRequest:
                 v = np.array([np.radians(x) if system.rate_inputs.get(n) in system.angle_states else x
                               for n, x in zip(system.input_names, v)])
             rates[field] = v
-        return cls(system=system, times=t, waypoints=X, conditions=conditions, strategy=strategy, basis=b,
+        return cls(system=system, times=t, waypoints=X, free=free, conditions=conditions, strategy=strategy, basis=b,
                    sizes=sizes, limits=limits, verify=verify, tol=float(tol), max_evaluations=max_evaluations,
                    time_limit=None if time_limit is None else float(time_limit), start_rate=rates.get("start_rate"),
                    end_rate=rates.get("end_rate"), degrees=degrees)
@@ -272,7 +298,9 @@ def plan(system: ControlAffineSystem, *, times, conditions: str = "spline", meth
         Strictly increasing waypoint times.
     **waypoints : array_like, shape (K+1,)
         One keyword per state, by the system's state names (``theta=..., phi=...`` for the
-        acrobot). Every state must be given. ``NAME_min=``, ``NAME_max=`` bound a state whose rate
+        acrobot). Every state must be given; ``None`` at an interior waypoint leaves that state
+        free there (the system chooses it: :meth:`~ControlAffineSystem.fill_free`; the result's
+        waypoints hold the values chosen). ``NAME_min=``, ``NAME_max=`` bound a state whose rate
         is an input (``phi_min``, ``phi_max`` for the acrobot's joint).
     conditions : {"spline", "free"}
         Input conditions (:mod:`acroplan.core.conditions`). ``"spline"`` needs every input to be
@@ -353,6 +381,8 @@ def solve(req: PlanRequest, *, progress=None) -> PlanResult:
 def _solve(req: PlanRequest, progress) -> PlanResult:
     system, t, X = req.system, req.times, req.waypoints
     limits = req.limits if req.limits.active else None
+    if req.free.any():
+        X = _fill_free(system, t, X, req.free, limits)
     common = dict(system=system, times=t, waypoints=X, conditions=req.conditions, basis=req.basis, limits=limits)
     K = t.size - 1
 
@@ -429,6 +459,23 @@ def _solve(req: PlanRequest, progress) -> PlanResult:
                       f"{max(s.final_error for s in checked):.2e}, independently verified to {worst:.2e} ({check})",
                       segments=checked, verified=True, verification=req.verify, **common)
 
+
+
+def _fill_free(system, t, X, free, limits):
+    """Choose the free waypoint states, waypoint by waypoint (the system's
+    :meth:`~ControlAffineSystem.fill_free`, from the linear interpolation of the given values)."""
+    X = X.copy()
+    for k in range(1, len(t) - 1):
+        if not free[k].any():
+            continue
+        guess = X[k].copy()
+        for i in np.flatnonzero(free[k]):
+            nxt = next(j for j in range(k + 1, len(t)) if not free[j, i])
+            w = (t[k] - t[k - 1]) / (t[nxt] - t[k - 1])
+            guess[i] = X[k - 1, i] + w * (X[nxt, i] - X[k - 1, i])
+        after = (X[k + 1], float(t[k + 1] - t[k])) if not free[k + 1].any() else None
+        X[k] = system.fill_free(X[k - 1], X[k], guess, float(t[k] - t[k - 1]), limits, after=after)
+    return X
 
 
 def warm_up(system: ControlAffineSystem | type, *, basis: str = "legendre", sizes=(6, 10, 14)) -> None:

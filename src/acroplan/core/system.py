@@ -293,6 +293,21 @@ class ControlAffineSystem(abc.ABC):
         """
         return None
 
+    def fill_free(self, x0, x1, guess, duration: float, limits=None, after=None) -> np.ndarray:
+        """Choose the free states (NaN) of the waypoint ``x1`` reached from ``x0`` in ``duration``.
+
+        ``guess`` holds the linear interpolation of the neighbouring waypoints' values; the default
+        takes it. ``after`` is ``(x2, duration2)``, the next waypoint when it is fully given. A
+        family may choose better (the acrobot puts a free ``theta`` in the middle of the values
+        that are both reachable from ``x0`` and reach ``x2``).
+
+        Returns
+        -------
+        numpy.ndarray, shape (n,)
+        """
+        x1 = np.asarray(x1, dtype=float)
+        return np.where(np.isnan(x1), guess, x1)
+
     def default_limits(self):
         """The limits a plan honours when the caller gives none (a URDF's joint ranges and rates):
         a :class:`~acroplan.core.limits.Limits`, or ``None`` (the default: no limits)."""

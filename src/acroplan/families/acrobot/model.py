@@ -344,6 +344,28 @@ class Acrobot(ControlAffineSystem):
 
         return AcrobotAuto()
 
+    def fill_free(self, x0, x1, guess, duration, limits=None, after=None):
+        """A free ``phi`` takes the interpolated value (inside the joint limits); a free ``theta``
+        the middle of the values that are reachable from ``x0`` and from which the next waypoint
+        is reachable (theta enters additively, so that is an intersection of two exact intervals),
+        or of the first alone when they do not meet or there is no next waypoint."""
+        x1 = np.array(x1, dtype=float)
+        if np.isnan(x1[1]):
+            lo, hi = limits.bounds("phi") if limits is not None else (-math.inf, math.inf)
+            x1[1] = min(max(float(guess[1]), lo), hi)
+        if np.isnan(x1[0]):
+            R = reachable_set(self, theta0=float(x0[0]), phi0=float(x0[1]), phiT=float(x1[1]), T=duration,
+                              limits=limits)
+            lo, hi = (float(guess[0]),) * 2 if R.empty else (R.low, R.high)
+            if after is not None and not R.empty:
+                x2, T2 = after
+                # theta_2 - theta_1 must lie in the reachable offsets of the next segment
+                N = reachable_set(self, theta0=0.0, phi0=float(x1[1]), phiT=float(x2[1]), T=T2, limits=limits)
+                if not N.empty and max(lo, x2[0] - N.high) < min(hi, x2[0] - N.low):
+                    lo, hi = max(lo, x2[0] - N.high), min(hi, x2[0] - N.low)
+            x1[0] = 0.5 * (lo + hi)
+        return x1
+
     def reference_lines(self, state, lo, hi):
         """The straight body (phi = pi mod 2 pi) and the folded body (phi = 0 mod 2 pi) on plots of phi."""
         if state != "phi" or not (np.isfinite(lo) and np.isfinite(hi)) or hi - lo > 40 * math.pi:
