@@ -22,7 +22,7 @@ import numpy as np
 
 from ..core.errors import EXIT_INFEASIBLE, EXIT_INVALID, EXIT_NOT_CONVERGED, EXIT_SUCCESS, InvalidInputError
 from . import examples as _examples
-from .output import OutputFolder, atomic_dir, check_entry_name, check_out_dir
+from .output import OutputFolder, check_entry_name, check_out_dir
 from .problem import load_problem
 
 EXIT_BY_STATUS = {"success": EXIT_SUCCESS, "infeasible": EXIT_INFEASIBLE, "not_converged": EXIT_NOT_CONVERGED}

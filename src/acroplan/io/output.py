@@ -104,10 +104,13 @@ def _unreplaceable(out: Path) -> str | None:
     r = _resolved(out)
     if r == r.parent or r.name == "":
         return "is a filesystem root"
-    cwd = Path.cwd().resolve()
-    if r == cwd:
+    try:
+        cwd = Path.cwd().resolve()
+    except OSError:  # the current folder was removed
+        cwd = None
+    if cwd is not None and r == cwd:
         return "is the current folder"
-    if cwd.is_relative_to(r):
+    if cwd is not None and cwd.is_relative_to(r):
         return "is a parent of the current folder"
     try:
         if r == Path.home().resolve():
@@ -284,39 +287,46 @@ def _swap_in(tmp: Path, out: Path) -> Path | None:
 def sweep(parent: Path, held: str | None = None) -> None:
     """Repair what killed runs left in ``parent``; ``held`` is the name whose lock we hold.
 
+    Every repair of a name is done while holding that name's lock (taken without waiting; a name
+    whose lock is held by a live run is left alone, which also protects a writer whose PID means
+    nothing here, in another PID namespace):
+
     * ``.NAME.acroplan-PID-*.tmp`` of a dead PID: removed (a live process's never is);
-    * ``.NAME.acroplan-PID.old`` of a dead PID, under NAME's lock: renamed back to NAME when
-      NAME is missing (a crash between the two renames of a swap), else removed;
+    * ``.NAME.acroplan-PID.old`` of a dead PID: renamed back to NAME when NAME is missing (a
+      crash between the two renames of a swap), else removed;
     * ``.NAME.acroplan.lock`` that nobody holds: removed.
     """
     parent = Path(parent)
     try:
-        names = sorted(os.listdir(parent))
+        entries = sorted(os.listdir(parent))
     except OSError:
         return
-    me = os.getpid()
-    for entry in names:
-        m = _TMP_RE.match(entry)
-        if m:
-            pid = int(m["pid"])
-            if not _pid_alive(pid):
-                shutil.rmtree(parent / entry, ignore_errors=True)
-            continue
-        m = _OLD_RE.match(entry)
-        if m:
-            if not _pid_alive(int(m["pid"])):
-                with _locked_or_skip(parent, m["name"], held) as ok:
-                    if ok:
-                        _restore_old(parent / entry, parent / m["name"])
-            continue
-        m = _LOCK_RE.match(entry)
-        if m and m["name"] != held:
-            with _locked_or_skip(parent, m["name"], held, attempts=1):
-                pass  # taking and releasing it removes it
+    stale: dict[str, list[tuple[str, str]]] = {}
+    for entry in entries:
+        for kind, regex in (("tmp", _TMP_RE), ("old", _OLD_RE)):
+            m = regex.match(entry)
+            if m and not _pid_alive(int(m["pid"])):
+                stale.setdefault(m["name"], []).append((kind, entry))
+                break
+        else:
+            m = _LOCK_RE.match(entry)
+            if m and m["name"] != held:
+                stale.setdefault(m["name"], [])
+    for name, items in stale.items():
+        with _locked_or_skip(parent, name, held) as ok:
+            if not ok:
+                continue
+            for kind, entry in items:
+                if kind == "tmp":
+                    shutil.rmtree(parent / entry, ignore_errors=True)
+                else:
+                    _restore_old(parent / entry, parent / name)
 
 
 @contextmanager
 def _locked_or_skip(parent: Path, name: str, held: str | None, attempts: int = 1):
+    """Hold ``name``'s lock for a moment (True), or yield False when another run holds it; the
+    lock file is removed on leaving."""
     if name == held:
         yield True
         return

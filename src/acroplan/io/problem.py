@@ -45,7 +45,7 @@ from typing import Any
 
 from ..core.errors import InvalidInputError
 from ..core.limits import Limits
-from ..families.acrobot.model import Acrobot
+from ..families.acrobot.model import MAX_MAGNITUDE, Acrobot
 from ..families.acrobot.reach import reachable_set
 from ..planning import PlanRequest
 
@@ -118,7 +118,7 @@ MAX_TEXT, MAX_DEPTH, MAX_EXPONENT = 200, 32, 1024
 #: the body's masses, inertias, lengths and momentum, its lumped parameters M1, A1, M2, A2, P0
 #: and u_max (their squares and products must stay finite in double precision); times; angles
 #: (beyond 1e6 rad a double no longer resolves the 1e-9 rad that verification asks for).
-MAX_BODY, MAX_TIME, MAX_ANGLE = 1e150, 1e12, 1e6
+MAX_BODY, MAX_TIME, MAX_ANGLE = MAX_MAGNITUDE, 1e12, 1e6  # one limit for body values: the model's
 #: the smallest M1 (and physical mass or inertia) the arithmetic carries: its square must not vanish
 MIN_BODY = 1e-150
 #: tolerances the planner can meet; evaluation budgets it can spend
