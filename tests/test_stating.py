@@ -64,3 +64,45 @@ def test_free_intermediate_states_are_chosen_and_planned(pike_robot):
     assert res.success and res.waypoints[1, 1] == -PI
     with pytest.raises(acroplan.InvalidInputError, match="theta: is free .None. at the first or the last"):
         acroplan.plan(pike_robot, times=[0, 2], theta=[None, 1.0], phi=[-PI, -PI])
+
+
+def test_files_state_problems_the_same_ways(tmp_path):
+    """Aliases that say what the distances are, "free" waypoints, degrees, rest at the ends, a
+    time budget, and suggestions for unknown tables and keys."""
+    from click.testing import CliRunner
+
+    from acroplan.io.cli import main
+    from acroplan.io.problem import load_problem
+
+    text = """[robot]
+torso_mass = 40.0
+leg_mass = 20.0
+torso_inertia = 1.8
+leg_inertia = 1.2
+torso_com_to_joint = 0.35
+leg_com_to_joint = 0.45
+angular_momentum = 10.0
+[plan]
+times = [0, 1, 2]
+theta = [0, "free", 120]
+phi = [-180, -90, -180]
+conditions = "free"
+[options]
+degrees = true
+start_rate = 0
+end_rate = 0
+time_limit = 20
+"""
+    (tmp_path / "p.toml").write_text(text)
+    prob = load_problem(tmp_path / "p.toml")
+    assert prob.theta[1] is None and prob.options["degrees"] is True
+    res = prob.solve()
+    assert res.success, res.message
+    assert res.waypoints[-1, 0] == pytest.approx(np.radians(120.0)) and abs(res.segments[0].input(0.0)[0]) < 1e-9
+    runner = CliRunner()
+    (tmp_path / "q.toml").write_text(text.replace("[plan]", "[plans]"))
+    out = runner.invoke(main, ["plan", str(tmp_path / "q.toml"), "--out", str(tmp_path / "o")])
+    assert out.exit_code == 2 and "[plans]: is not a known table; did you mean [plan]?" in out.output
+    (tmp_path / "r.toml").write_text(text.replace("time_limit", "time_limt"))
+    out = runner.invoke(main, ["plan", str(tmp_path / "r.toml"), "--out", str(tmp_path / "o")])
+    assert out.exit_code == 2 and "did you mean 'time_limit'?" in out.output

@@ -156,7 +156,8 @@ def common(f):
 @click.version_option(package_name="acroplan")
 @click.option("--debug", is_flag=True, help="Show the traceback of an unexpected error.")
 def main(debug):
-    """Motion planning for the free-flying two-link acrobot (and other control-affine systems).
+    """Motion planning for free-flying bodies: the two-link acrobot, planar bodies, and other
+    control-affine systems.
 
     \b
     Examples:
@@ -171,6 +172,9 @@ def main(debug):
 
 def run():
     """Console entry point: one readable line for an unexpected error, unless --debug."""
+    import matplotlib
+
+    matplotlib.use("Agg")  # the command line draws to files; library code never chooses a backend
     try:
         main(standalone_mode=False)
     except click.exceptions.Exit as e:
@@ -191,13 +195,21 @@ def run():
 
 
 @main.command("examples")
-def examples_cmd():
-    """List the bundled example problems.
+@click.option("--show", metavar="NAME", help="Print the example's problem file.")
+def examples_cmd(show):
+    """List the bundled example problems, or print one's problem file.
 
     \b
-    Example:
+    Examples:
       acroplan examples
+      acroplan examples --show pike-dive > my-dive.toml
     """
+    if show is not None:
+        try:
+            click.echo(_examples.text(show), nl=False)
+        except InvalidInputError as e:
+            _fail(str(e))
+        return
     for name, desc in _examples.names().items():
         click.echo(f"{click.style(f'{name:18s}', bold=True)} {desc}")
 
@@ -236,19 +248,26 @@ conditions = "free"            # "free" (u continuous) or "spline" (the text's s
 
 @main.command("init")
 @click.argument("name")
+@click.option("--example", metavar="EXAMPLE", help="Start from a bundled example (acroplan examples lists them).")
 @click.option("--force", is_flag=True, help="Overwrite an existing file.")
-def init_cmd(name, force):
-    """Write a commented starter problem file NAME.toml.
+def init_cmd(name, example, force):
+    """Write a commented starter problem file NAME.toml (or a copy of a bundled example).
 
     \b
-    Example:
+    Examples:
       acroplan init my-dive && acroplan plan my-dive.toml --out my-dive-out
+      acroplan init my-ch4 --example chapter4 && acroplan nilpotent my-ch4.toml --out ch4
     """
     path = Path(name if name.endswith(".toml") else f"{name}.toml")
     if path.exists() and not force:
         _fail(f"{path}: exists; choose another name or add --force")
-    path.write_text(STARTER.format(name=path.stem), encoding="utf-8")
-    click.echo(f"wrote {path}; run: acroplan plan {path} --out {path.stem}-out")
+    try:
+        text = STARTER.format(name=path.stem) if example is None else _examples.text(example)
+    except InvalidInputError as e:
+        _fail(str(e))
+    path.write_text(text, encoding="utf-8")
+    cmd = "nilpotent" if example is not None and "[nilpotent]" in text else "plan"
+    click.echo(f"wrote {path}; run: acroplan {cmd} {path} --out {path.stem}-out")
 
 
 @main.command("plan")
@@ -258,7 +277,9 @@ def init_cmd(name, force):
 @click.option("--no-plots", is_flag=True, help="Skip the figures.")
 @click.option("--format", "fmt", default="png", show_default=True, help="Figure formats: png, pdf or png,pdf.")
 @click.option("--animate", "do_animate", is_flag=True, help="Also write motion.gif and strobe.png.")
-def plan_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do_animate):
+@click.option("--time-limit", type=click.FloatRange(min=0, min_open=True), default=None,
+              help="Wall-clock budget of each plan in seconds (default: the file's [options] time_limit, else 60).")
+def plan_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do_animate, time_limit):
     """Plan a motion through the waypoints of PROBLEM (a TOML file) and write the results.
 
     \b
@@ -294,11 +315,16 @@ def plan_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do_ani
         return _plan_batch(problem, out, force, quiet, as_json, no_plots, fmt)
     try:
         prob = _load(problem, example)
+        if time_limit is not None:
+            import dataclasses
+
+            prob = dataclasses.replace(prob, options={**prob.options, "time_limit": time_limit})
         fmts = _check_outputs(out, force, fmt, "plan-out", [problem])
         with OutputFolder(out, force) as folder:
             update, close = _progress(len(prob.times) - 1, "segments")
             try:
-                result = prob.solve(verify=True, progress=update)
+                # the command line re-simulates with DOP853 (verify="ode"): 10 ms do not matter here
+                result = prob.solve(verify="ode", progress=update)
             finally:
                 close()
             with folder.write() as tmp:
@@ -313,8 +339,8 @@ def plan_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do_ani
         _fail(str(e))
     code = EXIT_BY_STATUS[result.status]
     d = result.to_dict()
-    summary = {"command": "plan", "status": result.status, "message": result.message, "out": str(out),
-               "segments": len(result.segments), **d["diagnostics"]}
+    summary = {"command": "plan", "status": result.status.value, "message": result.message, "out": str(out),
+               "segments": len(result.segments), **d["diagnostics"], "infeasible": d["infeasible"]}
     lines = [result.message, f"wrote {out}/"] if code == EXIT_SUCCESS else [
         result.message, f"diagnostics written to {out / 'solution.json'}"]
     _report(summary, as_json, quiet, lines, code)

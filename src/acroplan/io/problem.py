@@ -55,7 +55,10 @@ PHYSICAL_KEYS = ("torso_mass", "leg_mass", "torso_inertia", "leg_inertia", "tors
                  "angular_momentum")
 LUMPED_KEYS = ("M1", "A1", "M2", "A2", "P0")
 PLAN_KEYS = ("times", "theta", "phi", "conditions")
-OPTION_KEYS = ("method", "basis", "n_coefficients", "tol", "max_evaluations")
+OPTION_KEYS = ("method", "basis", "n_coefficients", "tol", "max_evaluations", "time_limit", "degrees", "start_rate",
+               "end_rate")
+#: the physical keys' clearer names (what they are: centre of mass to the joint)
+ALIASES = {"torso_com_to_joint": "torso_length", "leg_com_to_joint": "leg_length"}
 LIMIT_KEYS = ("phi_min", "phi_max", "u_max")
 
 
@@ -233,13 +236,29 @@ def _numbers(field: str, value, most: float | None = None, what: str = "",
     return tuple(out)
 
 
+def _states(field: str, value) -> tuple:
+    """Waypoint values of a state: numbers, or ``"free"`` at interior waypoints (``None``)."""
+    if isinstance(value, list) and any(v == "free" for v in value):
+        kept = _numbers(field, [0.0 if v == "free" else v for v in value], MAX_ANGLE, "angles")
+        return tuple(None if v == "free" else k for v, k in zip(value, kept))
+    return _numbers(field, value, MAX_ANGLE, "angles")
+
+
 def _check_keys(table: str, data: dict, allowed) -> None:
+    import difflib
+
     if not isinstance(data, dict):
         raise InvalidInputError(table, f"must be a table, got {_short(data)}", f"write [{table}] with its keys")
     for key in data:
         if key not in allowed:
             name = key if (isinstance(key, str) and len(key) <= 60 and key.isprintable()) else _short(key, 60)
-            raise InvalidInputError(f"{table}.{name}", "is not a known key", f"known keys are {list(allowed)}")
+            close = difflib.get_close_matches(name, list(allowed), n=1, cutoff=0.6) if isinstance(key, str) else []
+            if table == "<file>":  # a table name at the top of the file
+                raise InvalidInputError(f"[{name}]", "is not a known table",
+                                        (f"did you mean [{close[0]}]? " if close else "") +
+                                        f"known tables are {['[' + a + ']' for a in allowed]}")
+            raise InvalidInputError(f"{table}.{name}", "is not a known key",
+                                    (f"did you mean {close[0]!r}? " if close else "") + f"known keys are {list(allowed)}")
 
 
 _BODY = "the body's numbers"
@@ -247,7 +266,14 @@ _BODY = "the body's numbers"
 
 def parse_robot(data: dict) -> Acrobot:
     """An :class:`Acrobot` from a ``[robot]`` table (physical or lumped keys)."""
-    _check_keys("robot", data, PHYSICAL_KEYS + LUMPED_KEYS)
+    if isinstance(data, dict):
+        for alias, key in ALIASES.items():
+            if alias in data:
+                if key in data:
+                    raise InvalidInputError(f"robot.{alias}", f"is the same distance as robot.{key}; give one of them",
+                                            f"keep {alias} (the clearer name) and drop {key}")
+                data = {**{k: v for k, v in data.items() if k != alias}, key: data[alias]}
+    _check_keys("robot", data, PHYSICAL_KEYS + LUMPED_KEYS + tuple(ALIASES))
     phys = [k for k in PHYSICAL_KEYS if k in data]
     lump = [k for k in LUMPED_KEYS if k in data]
     if phys and lump:
@@ -320,7 +346,7 @@ def parse_problem(data: dict, name: str = "") -> Problem:
         if key not in p:
             raise InvalidInputError(f"plan.{key}", "is missing", "give one value per waypoint")
     times = _numbers("plan.times", p["times"], MAX_TIME, "times")
-    theta, phi = (_numbers(f"plan.{k}", p[k], MAX_ANGLE, "angles") for k in ("theta", "phi"))
+    theta, phi = (_states(f"plan.{k}", p[k]) for k in ("theta", "phi"))
     conditions = p.get("conditions", "spline")
     if not isinstance(conditions, str) or conditions not in ("spline", "free"):
         raise InvalidInputError("plan.conditions", f"must be \"spline\" or \"free\", got {_short(conditions)}",
@@ -349,6 +375,16 @@ def parse_problem(data: dict, name: str = "") -> Problem:
                                         f"{_short(v) if not isinstance(v, int) or abs(v) < 10**30 else 'a huge integer'}",
                                         "write for example 6" if key == "n_coefficients" else "write for example 2000")
             options[key] = v
+    if "time_limit" in opts:
+        options["time_limit"] = _number("options.time_limit", opts["time_limit"], 1e7, "seconds")
+    if "degrees" in opts:
+        if not isinstance(opts["degrees"], bool):
+            raise InvalidInputError("options.degrees", f"must be true or false, got {_short(opts['degrees'])}",
+                                    "write degrees = true")
+        options["degrees"] = opts["degrees"]
+    for key in ("start_rate", "end_rate"):
+        if key in opts:
+            options[key] = _number(f"options.{key}", opts[key], MAX_BODY, "rates")
     if "tol" in opts:
         tol = _number("options.tol", opts["tol"])
         if not TOL_RANGE[0] <= tol <= TOL_RANGE[1]:
@@ -385,6 +421,11 @@ def parse_nilpotent(data: dict, name: str = ""):
     ``[robot]`` and ``[nilpotent]`` (``P``, ``Q`` as (phi, t, theta), ``degree``, ``method``)."""
     from ..families.acrobot.nilpotent import NilpotentProblem
 
+    if isinstance(data, dict) and "plan" in data and "nilpotent" not in data:
+        raise InvalidInputError("[nilpotent]", "is missing: this is a plan file ([plan] table), and `acroplan "
+                                "nilpotent` needs a [nilpotent] table with P, Q and degree",
+                                "start one with: acroplan init NAME --example chapter4, or plan this file with "
+                                "acroplan plan")
     _check_keys("<file>", data, ("robot", "nilpotent"))
     for table in ("robot", "nilpotent"):
         if table not in data:
