@@ -5,6 +5,7 @@ Run:  python docs/make_api.py          (tests/test_docs.py checks that docs/api.
 
 from __future__ import annotations
 
+import importlib
 import inspect
 import sys
 from pathlib import Path
@@ -31,6 +32,9 @@ SECTIONS = [
                                                  "resimulate"]),
     ("Lie algebra tools", lie, ["bracket", "hall_basis", "hall_count", "evaluate", "derived_distributions",
                                 "growth_vector", "larc", "is_nilpotent", "is_exact", "frobenius"]),
+    ("Sweeps", importlib.import_module("acroplan.sweep"), ["sweep", "Sweep", "least_momentum",
+                                                           "acrobot_joint_torque"]),
+    ("Sweeps", acroplan, ["run_sweep", "open_sweep", "load_sweep", "draw_map", "SweepSummary"]),
     ("Errors", acroplan, ["InvalidInputError"]),
 ]
 

@@ -7,7 +7,7 @@ The package is layered, imports pointing one way (``docs/design.md``)::
                         strategies, verification, results; knows no body
     acroplan.families   acrobot (the dissertation's body), planar (bodies of any number of links),
                         small (unicycle, chained form)
-    acroplan.planning, .batch, .simulation   the front doors: plan, plan_many, simulate
+    acroplan.planning, .batch, .simulation, .sweep   the front doors: plan, plan_many, simulate, sweep
     acroplan.io         problem files, examples, output folders, the command line
 
 The public API, grouped (names load on first use, so ``import acroplan.core`` loads the core alone):
@@ -26,6 +26,9 @@ Input bases
     :class:`Legendre`, :class:`Monomial`.
 Problems and results
     :func:`load_problem`, :class:`Problem`, :mod:`acroplan.examples`, :func:`load_result`.
+Sweeps
+    :func:`sweep` (``acroplan.sweep(...)``), :class:`Sweep`, :func:`run_sweep`, :func:`open_sweep`,
+    :func:`load_sweep`, :func:`draw_map`, :class:`SweepSummary`.
 Errors
     :class:`InvalidInputError`.
 """
@@ -51,8 +54,10 @@ _PUBLIC = {
     "plan": "acroplan.planning", "warm_up": "acroplan.planning",
     "plan_many": "acroplan.batch", "simulate": "acroplan.simulation",
     "Problem": "acroplan.io.problem", "load_problem": "acroplan.io.problem", "load_result": "acroplan.io.results",
+    "Sweep": "acroplan.sweep", "run_sweep": "acroplan.io.store", "open_sweep": "acroplan.io.store",
+    "load_sweep": "acroplan.io.store", "draw_map": "acroplan.io.store", "SweepSummary": "acroplan.io.store",
 }
-_MODULES = {"examples": "acroplan.io.examples", "zoo": "acroplan.zoo"}
+_MODULES = {"examples": "acroplan.io.examples", "zoo": "acroplan.zoo", "sweep": "acroplan.sweep"}
 
 __all__ = sorted(_PUBLIC) + sorted(_MODULES)
 

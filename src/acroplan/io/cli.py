@@ -703,5 +703,11 @@ def _load(problem, example):
     return _examples.load(example) if example is not None else load_problem(problem)
 
 
+from .store import map_cmd, sweep_cmd  # noqa: E402  (the sweep commands live with their store)
+
+main.add_command(sweep_cmd)
+main.add_command(map_cmd)
+
+
 if __name__ == "__main__":  # pragma: no cover
     run()
