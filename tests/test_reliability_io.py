@@ -618,3 +618,30 @@ def test_fuzz_problem_files_through_the_cli(mutations):
         for f in out.rglob("*.json") if out.exists() else ():
             strict_json(f)
         assert sorted(p.name for p in d.iterdir()) in (["p.toml"], ["out", "p.toml"])
+
+
+def test_output_folders_follow_the_umask(tmp_path):
+    """Output folders were created with mode 0700 whatever the user's umask."""
+    import os
+    import stat
+
+    old = os.umask(0o022)
+    try:
+        res = run(["plan", "--example", "pike-dive", "--out", str(tmp_path / "o"), "--no-plots", "--quiet"])
+    finally:
+        os.umask(old)
+    assert res.exit_code == 0
+    assert stat.S_IMODE((tmp_path / "o").stat().st_mode) == 0o755
+
+
+def test_batch_json_gives_every_problem(tmp_path):
+    import json
+
+    many = tmp_path / "many"
+    many.mkdir()
+    (many / "a.toml").write_text(GOOD)
+    (many / "b.toml").write_text(INFEASIBLE)
+    res = run(["plan", str(many), "--out", str(tmp_path / "o"), "--no-plots", "--json"])
+    doc = json.loads(res.output)
+    assert [p["name"] for p in doc["problems"]] == ["a", "b"]
+    assert [p["status"] for p in doc["problems"]] == ["success", "infeasible"]

@@ -466,8 +466,8 @@ def _plan_batch(path, out, force, quiet, as_json, no_plots, fmt):
     lines += [f"{len(rows)} problems: " + ", ".join(f"{v} {k}" for k, v in counts.items()),
               f"wrote {out}/summary.csv"]
     _report({"command": "plan", "batch": True, "counts": counts, "out": str(out),
-             "invalid": [row["message"] for row in rows if row["status"] == "invalid"]}, as_json, quiet,
-            lines, code)
+             "invalid": [row["message"] for row in rows if row["status"] == "invalid"],
+             "problems": rows}, as_json, quiet, lines, code)
 
 
 def _write_csv(result, path: Path, per_segment: int = 200) -> None:

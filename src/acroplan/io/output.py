@@ -449,6 +449,7 @@ class OutputFolder:
         out = self._target
         tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.acroplan-{os.getpid()}-", suffix=".tmp", dir=out.parent))
         try:
+            tmp.chmod(0o777 & ~_umask())  # mkdtemp makes it 0700; the output follows the user's umask
             yield tmp
             if out.exists() and not out.is_dir() or out.is_symlink():
                 raise InvalidInputError("--out", f"{self.out} was replaced by a file or link while planning",
@@ -479,3 +480,10 @@ def atomic_dir(out: Path, force: bool):
         return
     with OutputFolder(out, force) as folder, folder.write() as tmp:
         yield tmp
+
+
+def _umask() -> int:
+    """The process's umask (read by setting and restoring it: there is no other portable way)."""
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
