@@ -13,13 +13,16 @@ Conditions are **linear** in the input coefficients, :math:`B c = d`
 
 from __future__ import annotations
 
+import functools
+import math
+
 import numpy as np
 from scipy.interpolate import CubicSpline
 
 from .basis import InputBasis
 from .errors import InvalidInputError
 
-__all__ = ["CONDITIONS", "Conditions", "check_conditions", "linear_conditions"]
+__all__ = ["CONDITIONS", "Conditions", "check_conditions", "linear_conditions", "hermite_inverse"]
 
 #: The names ``conditions=`` accepts.
 CONDITIONS = ("spline", "free")
@@ -151,3 +154,19 @@ def linear_conditions(basis: InputBasis, m: int, T: float, ends: dict):
     if not rows:
         return None, None
     return np.array(rows), np.array(rhs)
+
+
+@functools.lru_cache(maxsize=64)
+def hermite_inverse(keys: tuple, deg: int) -> np.ndarray:
+    """The inverse of the conditions matrix on the power coefficients in s of a joint motion
+    q(s) of degree ``deg``: rows are q(0), q(1), then the keyed derivatives (``"u0"``: q'(0),
+    ``"du0"``: q''(0), ``"uT"``: q'(1), ``"duT"``: q''(1)); shape ``(deg+1, deg+1)``, read-only."""
+    k = np.arange(deg + 1)
+    rows = [(k == 0).astype(float), np.ones(deg + 1)]
+    for key in keys:
+        s0, order = {"u0": (0.0, 1), "du0": (0.0, 2), "uT": (1.0, 1), "duT": (1.0, 2)}[key]
+        fall = np.array([math.perm(int(i), order) for i in k], dtype=float)
+        rows.append(fall * np.where(k >= order, s0 ** np.maximum(k - order, 0), 0.0))
+    out = np.linalg.inv(np.array(rows))
+    out.flags.writeable = False
+    return out

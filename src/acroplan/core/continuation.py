@@ -24,7 +24,6 @@ the exact reachable set for the acrobot), and we pull it back
 from __future__ import annotations
 
 import dataclasses
-import math
 
 import numpy as np
 

@@ -8,7 +8,8 @@ non-converged plans are *not* exceptions: they are a status in the result (see
 
 from __future__ import annotations
 
-__all__ = ["InvalidInputError", "EXIT_SUCCESS", "EXIT_INVALID", "EXIT_INFEASIBLE", "EXIT_NOT_CONVERGED"]
+__all__ = ["InvalidInputError", "finite_number", "EXIT_SUCCESS", "EXIT_INVALID", "EXIT_INFEASIBLE",
+           "EXIT_NOT_CONVERGED"]
 
 #: Exit codes of the command line, one per outcome.
 EXIT_SUCCESS = 0
@@ -38,3 +39,20 @@ class InvalidInputError(ValueError):
         if fix:
             msg += f"; {fix}"
         super().__init__(msg)
+
+
+def finite_number(field: str, value) -> float:
+    """``value`` as a finite float, or :class:`InvalidInputError` naming ``field`` (booleans refused)."""
+    import math
+
+    if isinstance(value, bool):
+        raise InvalidInputError(field, f"must be a real number, got {value!r}", "give a finite number")
+    try:
+        v = float(value)
+    except (TypeError, ValueError, OverflowError):
+        r = repr(value)
+        raise InvalidInputError(field, f"must be a real number, got {r if len(r) <= 80 else r[:77] + '...'}",
+                                "give a finite number") from None
+    if not math.isfinite(v):
+        raise InvalidInputError(field, f"must be finite, got {v}", "give a finite number")
+    return v

@@ -39,6 +39,7 @@ from scipy.optimize import brentq
 
 from typing import TYPE_CHECKING
 
+from ...core.conditions import hermite_inverse
 from ...core import backend
 from ...core.basis import from_power
 from ...core.limits import COMPLIANCE_TOL, Limits
@@ -193,16 +194,7 @@ class FlatGuess:
     family: str
 
 
-@functools.lru_cache(maxsize=64)
-def _hermite(keys: tuple, deg: int) -> np.ndarray:
-    """Inverse of the Hermite conditions matrix: value at 0 and 1, then the keyed derivatives."""
-    k = np.arange(deg + 1)
-    rows = [(k == 0).astype(float), np.ones(deg + 1)]
-    for key in keys:
-        s0, order = {"u0": (0.0, 1), "du0": (0.0, 2), "uT": (1.0, 1), "duT": (1.0, 2)}[key]
-        fall = np.array([math.perm(int(i), order) for i in k], dtype=float)
-        rows.append(fall * np.where(k >= order, s0 ** np.maximum(k - order, 0), 0.0))
-    return np.linalg.inv(np.array(rows))
+_hermite = hermite_inverse  # the conditions on a joint motion's power coefficients
 
 
 @functools.lru_cache(maxsize=64)

@@ -65,7 +65,7 @@ def _alias(name: str, value, alias: str, alias_value):
         raise InvalidInputError(alias, f"is the same distance as {name}; give one of them",
                                 f"keep {alias} (the clearer name) and drop {name}")
     if value is None and alias_value is None:
-        raise InvalidInputError(alias, "is missing", f"give the distance from the centre of mass to the joint "
+        raise InvalidInputError(alias, "is missing", "give the distance from the centre of mass to the joint "
                                 "(m), not the segment's length")
     return value if value is not None else alias_value
 

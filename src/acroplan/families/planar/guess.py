@@ -55,6 +55,7 @@ import math
 import numpy as np
 from scipy.optimize import brentq
 
+from ...core.conditions import hermite_inverse
 from ...core.limits import Limits
 from .connection import Connection, curvature
 
@@ -115,17 +116,7 @@ class ShapeGuess:
         return "base motion"
 
 
-@functools.lru_cache(maxsize=64)
-def _hermite(keys: tuple, deg: int) -> np.ndarray:
-    """Inverse of the conditions matrix on power coefficients in s: values at 0 and 1, then the keyed
-    derivatives (u0: q'(0), du0: q''(0), uT: q'(1), duT: q''(1))."""
-    k = np.arange(deg + 1)
-    rows = [(k == 0).astype(float), np.ones(deg + 1)]
-    for key in keys:
-        s0, order = {"u0": (0.0, 1), "du0": (0.0, 2), "uT": (1.0, 1), "duT": (1.0, 2)}[key]
-        fall = np.array([math.perm(int(i), order) for i in k], dtype=float)
-        rows.append(fall * np.where(k >= order, s0 ** np.maximum(k - order, 0), 0.0))
-    return np.linalg.inv(np.array(rows))
+_hermite = hermite_inverse  # the conditions on a joint motion's power coefficients
 
 
 def base_motion(q0, qT, T: float, ends: dict):

@@ -99,6 +99,7 @@ from typing import Any, Hashable, Mapping
 import numpy as np
 import sympy as sp
 
+from ...core.errors import finite_number
 from ...core.errors import InvalidInputError
 from ...core.system import ControlAffineSystem, Infeasibility
 from .links import Link, LinkTable
@@ -346,16 +347,7 @@ def momentum_from_definition(body: "PlanarBody"):
 
 
 # ---------------------------------------------------------------------- the body
-def _finite(field, value) -> float:
-    if isinstance(value, bool):
-        raise InvalidInputError(field, f"must be a real number, got {value!r}", "give a finite number")
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise InvalidInputError(field, f"must be a real number, got {value!r}", "give a finite number") from None
-    if not math.isfinite(v):
-        raise InvalidInputError(field, f"must be finite, got {v}", "give a finite number")
-    return v
+_finite = finite_number
 
 
 @dataclasses.dataclass(frozen=True)

@@ -1,0 +1,480 @@
+"""Effort of a planned motion of the free-flying two-link body: the joint torque, its power and work.
+
+The planner works in kinematics (the input is the joint rate :math:`u = \\dot\\varphi`); the joint
+torque :math:`\\tau` that produces a planned motion follows from the Lagrangian of the two links.
+
+Derivation (:func:`torque_expression`, in sympy)
+------------------------------------------------
+No external force acts, so the centre of mass moves uniformly and, in its frame, the kinetic
+energy of the two links (torso: mass :math:`M`, inertia :math:`J`, centre of mass at
+:math:`L e(\\theta+\\varphi)` from the joint; leg: :math:`m, j`, at :math:`l e(\\theta)`;
+:math:`e(\\alpha) = (\\cos\\alpha, \\sin\\alpha)`, :math:`\\mu = mM/(m+M)`) is
+
+.. math::  T = \\tfrac12 \\mu\\,\\big|\\tfrac{d}{dt}(L e(\\theta+\\varphi) - l e(\\theta))\\big|^2
+           + \\tfrac12 J(\\dot\\theta+\\dot\\varphi)^2 + \\tfrac12 j\\dot\\theta^2
+           = \\tfrac12 h(\\varphi)\\dot\\theta^2 + k(\\varphi)\\dot\\theta\\dot\\varphi
+           + \\tfrac12 M_2\\dot\\varphi^2 ,
+
+with :math:`h = M_1 + A_1\\cos\\varphi`, :math:`k = M_2 + A_2\\cos\\varphi` (text eq. 2). The
+angle :math:`\\theta` is cyclic: its momentum :math:`P_0 = \\partial T/\\partial\\dot\\theta =
+h\\dot\\theta + k\\dot\\varphi` is conserved. Routh's procedure eliminates :math:`\\dot\\theta`:
+
+.. math::  R(\\varphi, \\dot\\varphi) = T - P_0\\dot\\theta\\big|_{\\dot\\theta = (P_0 - k\\dot\\varphi)/h}
+           = \\tfrac12 a(\\varphi)\\dot\\varphi^2 + P_0\\frac{k}{h}\\dot\\varphi - \\frac{P_0^2}{2h},
+           \\qquad a = M_2 - \\frac{k^2}{h} > 0 ,
+
+and the joint's equation :math:`\\frac{d}{dt}\\partial_{\\dot\\varphi}R - \\partial_\\varphi R = \\tau`
+(the gyroscopic terms :math:`\\pm P_0 (k/h)'\\dot\\varphi` cancel) gives, exactly,
+
+.. math::  \\tau = a(\\varphi)\\,\\ddot\\varphi + b(\\varphi)\\,\\dot\\varphi^2 + c(\\varphi)\\,P_0^2,
+           \\qquad b = \\tfrac12 a'(\\varphi) = -\\frac{k k'}{h} + \\frac{k^2 h'}{2h^2},
+           \\qquad c = -\\frac{h'}{2h^2} = \\frac{A_1\\sin\\varphi}{2h^2},
+
+with :math:`h' = -A_1\\sin\\varphi`, :math:`k' = -A_2\\sin\\varphi`. :math:`\\tau` is the torque
+the joint's motor applies to the torso (the leg receives :math:`-\\tau`), positive in the sense of
+increasing :math:`\\varphi`; the mechanical power is :math:`\\tau\\dot\\varphi`, and it changes the
+kinetic energy :math:`E = P_0^2/(2h) + a\\dot\\varphi^2/2` (:func:`kinetic_energy`):
+:math:`\\dot E = \\tau\\dot\\varphi`. ``tests/test_effort.py`` checks the derivation against the
+Euler-Lagrange equations of the full free body (centre of mass and :math:`\\theta` free), and a
+forward simulation of those equations driven by these torques alone against planned motions.
+
+Units: the lumped coefficients are those of the physical body (kg m^2 with SI inputs), so the
+torque is in N m; a lumped-only :class:`~.model.Acrobot` (no ``physical``) is refused, since its
+coefficients may be any common multiple of the body's (the state equation fixes only their ratios).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import math
+
+import numpy as np
+import sympy as sp
+from scipy.optimize import brentq, minimize_scalar
+
+from ...core.errors import InvalidInputError
+from .model import Acrobot
+
+__all__ = ["TorqueDerivation", "torque_expression", "torque_coefficients", "joint_torque", "kinetic_energy",
+           "torques", "effort_summary", "EffortSummary", "AcrobotTorque", "torque_optimal"]
+
+
+# ------------------------------------------------------------------------------------ derivation
+@dataclasses.dataclass(frozen=True)
+class TorqueDerivation:
+    """The symbolic derivation of the joint torque (:func:`torque_expression`).
+
+    Attributes
+    ----------
+    tau : sympy.Expr
+        :math:`\\tau` in ``phi``, ``u`` (:math:`\\dot\\varphi`), ``du`` (:math:`\\ddot\\varphi`),
+        ``P0`` and the physical parameters ``M, m, J, j, L, l``.
+    a, b, c : sympy.Expr
+        :math:`\\tau = a\\,du + b\\,u^2 + c\\,P_0^2`, in ``phi`` and the lumped ``M1, A1, M2, A2``.
+    kinetic : sympy.Expr
+        The kinetic energy about the centre of mass in ``theta_dot``, ``u`` and ``phi``
+        (physical parameters).
+    momentum : sympy.Expr
+        :math:`\\partial T/\\partial\\dot\\theta` (physical parameters).
+    routhian : sympy.Expr
+        :math:`R(\\varphi, \\dot\\varphi)` (physical parameters).
+    lumped : dict of str to sympy.Expr
+        ``M1, A1, M2, A2`` in the physical parameters.
+    symbols : dict of str to sympy.Symbol
+        Every symbol by name: ``phi, u, du, theta_dot, P0, M, m, J, j, L, l, M1, A1, M2, A2``.
+    """
+
+    tau: sp.Expr
+    a: sp.Expr
+    b: sp.Expr
+    c: sp.Expr
+    kinetic: sp.Expr
+    momentum: sp.Expr
+    routhian: sp.Expr
+    lumped: dict
+    symbols: dict
+
+
+@functools.cache
+def torque_expression() -> TorqueDerivation:
+    """Derive the joint torque of the free-flying two-link body with sympy (module docstring).
+
+    The kinetic energy of the two links about the centre of mass is built from their positions;
+    :math:`\\theta` is cyclic and :math:`\\dot\\theta` is eliminated by the conserved momentum
+    :math:`P_0` (Routh); the joint's Euler-Lagrange equation of the Routhian is the torque.
+
+    Returns
+    -------
+    TorqueDerivation
+        Cached: the derivation runs once per process (about a second).
+    """
+    t = sp.Symbol("t", real=True)
+    M, m, J, j, L, l = sp.symbols("M m J j L l", positive=True)
+    P0 = sp.Symbol("P0", real=True)
+    phi, u, du, theta_dot = sp.symbols("phi u du theta_dot", real=True)
+    th, ph = sp.Function("theta", real=True)(t), sp.Function("phi", real=True)(t)
+
+    def e(angle):
+        return sp.Matrix([sp.cos(angle), sp.sin(angle)])
+
+    # positions of the two centres of mass relative to the system's centre of mass
+    d = L * e(th + ph) - l * e(th)  # torso's centre of mass relative to the leg's
+    torso = m / (M + m) * d
+    leg = -M / (M + m) * d
+    kin = (M * torso.diff(t).dot(torso.diff(t)) + m * leg.diff(t).dot(leg.diff(t))
+           + J * (th.diff(t) + ph.diff(t)) ** 2 + j * th.diff(t) ** 2) / 2
+    rates = {th.diff(t): theta_dot, ph.diff(t): u}
+    kin = sp.simplify(sp.expand(kin).subs(rates).subs(ph, phi))
+    momentum = sp.simplify(sp.diff(kin, theta_dot))
+    # Routh: eliminate theta_dot by the conserved momentum P0 = dT/d(theta_dot) (linear in theta_dot)
+    theta_dot_of = sp.solve(sp.Eq(momentum, P0), theta_dot)[0]
+    routh = sp.simplify((kin - P0 * theta_dot).subs(theta_dot, theta_dot_of))
+    # the joint's Euler-Lagrange equation: tau = d/dt dR/du - dR/dphi along phi(t)
+    R_t = routh.subs({u: ph.diff(t), phi: ph})
+    tau_t = sp.diff(sp.diff(R_t, ph.diff(t)), t) - sp.diff(R_t, ph)
+    tau = tau_t.subs({ph.diff(t, 2): du}).subs({ph.diff(t): u}).subs({ph: phi})
+    tau = sp.simplify(tau)
+    # the lumped form
+    mu = M * m / (M + m)
+    lumped = {"M1": j + J + mu * (L**2 + l**2), "A1": -2 * mu * L * l, "M2": J + mu * L**2, "A2": -mu * L * l}
+    M1, A1, M2, A2 = sp.symbols("M1 A1 M2 A2", real=True)
+    h = M1 + A1 * sp.cos(phi)
+    k = M2 + A2 * sp.cos(phi)
+    a = M2 - k**2 / h
+    b = sp.diff(a, phi) / 2
+    c = -sp.diff(h, phi) / (2 * h**2)
+    symbols = dict(phi=phi, u=u, du=du, theta_dot=theta_dot, P0=P0, M=M, m=m, J=J, j=j, L=L, l=l, M1=M1, A1=A1,
+                   M2=M2, A2=A2)
+    return TorqueDerivation(tau=tau, a=a, b=b, c=c, kinetic=kin, momentum=momentum, routhian=routh, lumped=lumped,
+                            symbols=symbols)
+
+
+# ------------------------------------------------------------------------------------ numerics
+def _require_physical(robot) -> Acrobot:
+    if not isinstance(robot, Acrobot):
+        raise InvalidInputError("robot", f"must be an acroplan.Acrobot, got {type(robot).__name__}",
+                                "build one with acroplan.Acrobot.from_physical(...)")
+    if robot.physical is None:
+        raise InvalidInputError("robot.physical", "is missing: a lumped-only Acrobot has no torque (its M1, A1, M2, "
+                                "A2, P0 fix the motion only up to a common factor, the torque's scale)",
+                                "build the robot with Acrobot.from_physical(torso_mass=..., leg_mass=..., ...)")
+    return robot
+
+
+def torque_coefficients(robot: Acrobot, phi, derivatives: bool = False):
+    """:math:`a, b, c` of :math:`\\tau = a\\ddot\\varphi + b\\dot\\varphi^2 + cP_0^2` at ``phi``.
+
+    Parameters
+    ----------
+    robot : Acrobot
+        Its lumped coefficients are used (no check of ``physical`` here).
+    phi : array_like, shape (N,)
+    derivatives : bool
+        Also return :math:`a', b', c'` (for Jacobians).
+
+    Returns
+    -------
+    tuple of numpy.ndarray, each shape (N,)
+        ``(a, b, c)``, or ``(a, b, c, a', b', c')``.
+    """
+    phi = np.asarray(phi, dtype=float)
+    M1, A1, M2, A2 = robot.M1, robot.A1, robot.M2, robot.A2
+    cs, sn = np.cos(phi), np.sin(phi)
+    h, k = M1 + A1 * cs, M2 + A2 * cs
+    hp, kp = -A1 * sn, -A2 * sn  # h', k'
+    a = M2 - k * k / h
+    b = -k * kp / h + 0.5 * k * k * hp / (h * h)
+    c = -0.5 * hp / (h * h)
+    if not derivatives:
+        return a, b, c
+    hpp, kpp = -A1 * cs, -A2 * cs
+    # a' = 2 b; b' = a''/2 with a'' = -2(k'^2 + k k'')/h + 4 k k' h'/h^2 + k^2 h''/h^2 - 2 k^2 h'^2/h^3
+    app = -2.0 * (kp * kp + k * kpp) / h + 4.0 * k * kp * hp / h**2 + k * k * hpp / h**2 - 2.0 * k * k * hp * hp / h**3
+    cp = -0.5 * hpp / (h * h) + hp * hp / h**3
+    return a, b, c, 2.0 * b, 0.5 * app, cp
+
+
+def joint_torque(robot: Acrobot, phi, u, du):
+    """The joint torque :math:`\\tau = a(\\varphi)\\dot u + b(\\varphi)u^2 + c(\\varphi)P_0^2`.
+
+    Parameters
+    ----------
+    robot : Acrobot
+        Built from the physical body (:meth:`Acrobot.from_physical`); a lumped-only robot raises.
+    phi, u, du : array_like, broadcastable
+        Joint angle :math:`\\varphi`, rate :math:`u = \\dot\\varphi` and acceleration
+        :math:`\\dot u = \\ddot\\varphi`.
+
+    Returns
+    -------
+    numpy.ndarray
+        :math:`\\tau` (N m with SI parameters), the broadcast shape.
+
+    Raises
+    ------
+    InvalidInputError
+        ``robot.physical`` is missing.
+    """
+    robot = _require_physical(robot)
+    a, b, c = torque_coefficients(robot, phi)
+    u = np.asarray(u, dtype=float)
+    return a * np.asarray(du, dtype=float) + b * u * u + c * robot.P0**2
+
+
+def kinetic_energy(robot: Acrobot, phi, u):
+    """Kinetic energy about the centre of mass, :math:`E = P_0^2/(2h(\\varphi)) + a(\\varphi)u^2/2`
+    (:math:`\\dot E = \\tau u`).
+
+    Parameters
+    ----------
+    robot : Acrobot
+        From the physical body.
+    phi, u : array_like, broadcastable
+
+    Returns
+    -------
+    numpy.ndarray
+    """
+    robot = _require_physical(robot)
+    a, _, _ = torque_coefficients(robot, phi)
+    u = np.asarray(u, dtype=float)
+    return 0.5 * robot.P0**2 / robot.h(phi) + 0.5 * a * u * u
+
+
+def _segment_motion(result, seg, t):
+    """``(phi, u, du)`` on ``seg`` at absolute times ``t`` (inside it), from its basis: exact."""
+    basis = result.basis_for(seg)
+    T = seg.t1 - seg.t0
+    s = (np.asarray(t, dtype=float) - seg.t0) / T
+    c = seg.basis_coefficients[0]
+    phi = float(seg.start[1]) + T * (basis.integral(s) @ c)
+    return phi, basis.matrix(s) @ c, (basis.matrix(s, 1) @ c) / T
+
+
+def _check_result(result):
+    if not result.segments:
+        raise InvalidInputError("result", "has no planned segments", "plan a motion first")
+    return _require_physical(result.system)
+
+
+def torques(result, t):
+    """Joint torque and mechanical power of a planned acrobot motion at times ``t``.
+
+    :math:`\\varphi` is the integral of the segment's input (exact in its basis), :math:`u` the
+    input (:meth:`SegmentResult.input`'s series) and :math:`\\dot u` its derivative in the basis
+    (``basis.matrix(s, 1) / T``). At a time shared by two segments the earlier segment's values are
+    used (:math:`\\dot u`, hence :math:`\\tau`, may jump there under ``conditions="free"``).
+
+    Parameters
+    ----------
+    result : PlanResult
+        A plan of an :class:`Acrobot` built from the physical body.
+    t : float or array_like, shape (N,)
+        Times within the planned span.
+
+    Returns
+    -------
+    tau, power : numpy.ndarray, shape (N,) (floats for a scalar ``t``)
+        :math:`\\tau(t)` and :math:`\\tau(t)\\,u(t)`.
+    """
+    robot = _check_result(result)
+    scalar = np.ndim(t) == 0
+    t = np.atleast_1d(np.asarray(t, dtype=float))
+    lo, hi = result.segments[0].t0, result.segments[-1].t1
+    if not np.all(np.isfinite(t)) or np.any(t < lo) or np.any(t > hi):
+        raise InvalidInputError("t", f"every time must lie in the planned span [{lo}, {hi}]", "give times inside it")
+    bounds = np.array([s.t1 for s in result.segments])
+    which = np.minimum(np.searchsorted(bounds, t, side="left"), len(result.segments) - 1)
+    tau, power = np.empty(t.size), np.empty(t.size)
+    for k, seg in enumerate(result.segments):
+        idx = np.flatnonzero(which == k)
+        if idx.size:
+            phi, u, du = _segment_motion(result, seg, t[idx])
+            tau[idx] = joint_torque(robot, phi, u, du)
+            power[idx] = tau[idx] * u
+    return (float(tau[0]), float(power[0])) if scalar else (tau, power)
+
+
+@dataclasses.dataclass(frozen=True)
+class EffortSummary:
+    """The effort of a planned motion at its joint (:func:`effort_summary`).
+
+    Attributes
+    ----------
+    joint : str
+        The joint's state (``"phi"``).
+    duration : float
+    peak_torque : float
+        :math:`\\max_t |\\tau|` (N m).
+    peak_power : float
+        :math:`\\max_t |\\tau u|` (W).
+    positive_work : float
+        :math:`\\int \\max(\\tau u, 0)\\,dt` (J): what a motor that cannot recover energy spends.
+    net_work : float
+        :math:`\\int \\tau u\\,dt`, equal to the change of kinetic energy (J).
+    torque_squared : float
+        :math:`\\int \\tau^2 dt` (N^2 m^2 s).
+    input_squared : float
+        :math:`\\int u^2 dt` (rad^2/s), exact in the basis.
+    """
+
+    joint: str
+    duration: float
+    peak_torque: float
+    peak_power: float
+    positive_work: float
+    net_work: float
+    torque_squared: float
+    input_squared: float
+
+    def to_dict(self) -> dict:
+        """Per joint, plain JSON types: ``{"phi": {"peak_torque": ..., ...}}``."""
+        d = dataclasses.asdict(self)
+        return {d.pop("joint"): d}
+
+
+def _panels(result, seg) -> int:
+    """Panels of 32 Gauss nodes for a segment: at least 8, and one per radian of joint travel."""
+    T = seg.t1 - seg.t0
+    return int(min(4096, max(8, math.ceil(seg.max_abs_u * T))))
+
+
+def _peak(f, t, values):
+    """:math:`\\max |f|` on [t[0], t[-1]]: the largest of ``|values|`` on the grid ``t``, refined by a
+    bounded scalar search around it."""
+    i = int(np.argmax(np.abs(values)))
+    best = float(abs(values[i]))
+    a, b = t[max(i - 1, 0)], t[min(i + 1, t.size - 1)]
+    if b > a:
+        r = minimize_scalar(lambda x: -abs(float(f(x))), bounds=(a, b), method="bounded",
+                            options={"xatol": 1e-12 * max(1.0, abs(b))})
+        best = max(best, -float(r.fun))
+    return best
+
+
+def effort_summary(result) -> EffortSummary:
+    """Peak torque and power, positive and net work, :math:`\\int\\tau^2` and :math:`\\int u^2` of a
+    planned acrobot motion.
+
+    Integrals by composite Gauss-Legendre quadrature on each segment (32 nodes per panel, at least 8
+    panels and one per radian of joint travel); the positive work integrates :math:`\\tau u` between
+    its sign changes (found on a grid of 64 points per panel and refined by Brent's method); the
+    peaks are the grid maxima refined by a bounded scalar search. :math:`\\int u^2` is exact
+    (:math:`T c^\\top G c`).
+
+    Parameters
+    ----------
+    result : PlanResult
+        A plan of an :class:`Acrobot` built from the physical body.
+
+    Returns
+    -------
+    EffortSummary
+    """
+    from ...core.optimal import energy
+
+    robot = _check_result(result)
+    xg, wg = np.polynomial.legendre.leggauss(32)
+    peak_tau = peak_pow = pos = net = tau2 = u2 = 0.0
+    for seg in result.segments:
+        T = seg.t1 - seg.t0
+        basis = result.basis_for(seg)
+        u2 += energy(basis, T, seg.basis_coefficients)
+        P = _panels(result, seg)
+
+        def motion(t, seg=seg):
+            phi, u, du = _segment_motion(result, seg, t)
+            tau = joint_torque(robot, phi, u, du)
+            return tau, tau * u
+
+        # quadrature of tau^2 and tau u
+        edges = np.linspace(seg.t0, seg.t1, P + 1)
+        tq = ((edges[:-1, None] + edges[1:, None]) / 2 + (edges[1:, None] - edges[:-1, None]) / 2 * xg).ravel()
+        wq = np.tile(wg, P) * (T / P) / 2
+        tau_q, pow_q = motion(tq)
+        tau2 += float(np.sum(wq * tau_q**2))
+        net += float(np.sum(wq * pow_q))
+        # positive work: integrate tau u between its sign changes
+        grid = np.linspace(seg.t0, seg.t1, 64 * P + 1)
+        tau_g, pow_g = motion(grid)
+        roots = []
+        for i in np.flatnonzero(np.sign(pow_g[:-1]) * np.sign(pow_g[1:]) < 0):
+            roots.append(brentq(lambda x: float(motion(np.array([x]))[1][0]), grid[i], grid[i + 1], xtol=1e-14))
+        cuts = np.concatenate([[seg.t0], roots, [seg.t1]])
+        for a, b in zip(cuts[:-1], cuts[1:]):
+            if b <= a:
+                continue
+            n_sub = max(1, math.ceil(P * (b - a) / T))
+            e = np.linspace(a, b, n_sub + 1)
+            ts = ((e[:-1, None] + e[1:, None]) / 2 + (e[1:, None] - e[:-1, None]) / 2 * xg).ravel()
+            ws = np.tile(wg, n_sub) * ((b - a) / n_sub) / 2
+            w = float(np.sum(ws * motion(ts)[1]))
+            pos += max(w, 0.0)
+        peak_tau = max(peak_tau, _peak(lambda x: motion(np.array([x]))[0][0], grid, tau_g))
+        peak_pow = max(peak_pow, _peak(lambda x: motion(np.array([x]))[1][0], grid, pow_g))
+    return EffortSummary(joint="phi", duration=float(result.segments[-1].t1 - result.segments[0].t0),
+                         peak_torque=peak_tau, peak_power=peak_pow, positive_work=pos, net_work=net,
+                         torque_squared=tau2, input_squared=u2)
+
+
+# ------------------------------------------------------------------------------------ torque model
+@functools.lru_cache(maxsize=64)
+def _basis_tables(basis, s_bytes: bytes):
+    s = np.frombuffer(s_bytes)
+    out = (basis.matrix(s), basis.matrix(s, 1), basis.integral(s))
+    for a in out:
+        a.setflags(write=False)
+    return out
+
+
+class AcrobotTorque:
+    """The acrobot's torque model for :class:`acroplan.core.optimal.TorqueOptimal` (and for torque
+    limits, ``tau_max``): :math:`\\tau(s)` at normalised times ``s`` and its exact Jacobian in the
+    input coefficients.
+
+    With :math:`\\varphi(s) = \\varphi_0 + T\\,I(s)^\\top c`, :math:`u = V(s)^\\top c` and
+    :math:`\\dot u = V'(s)^\\top c/T` (:math:`V, V', I`: the basis, its derivative and integral),
+
+    .. math::  \\frac{\\partial\\tau}{\\partial c} = (a'\\dot u + b'u^2 + c'P_0^2)\\,T I(s)
+               + 2bu\\,V(s) + a\\,V'(s)/T .
+
+    Call signature: ``model(system, basis, x0, T, c, s) -> (tau (1, K), jacobian (1, K, n))``.
+    """
+
+    joint_names = ("phi",)
+
+    def unsupported(self, system) -> str | None:
+        """Why the model cannot give the torques of ``system`` (``None`` when it can)."""
+        if not isinstance(system, Acrobot):
+            return f"AcrobotTorque models the acrobot, not {type(system).__name__}"
+        if system.physical is None:
+            return ("robot.physical is missing: a lumped-only Acrobot has no torque; build it with "
+                    "Acrobot.from_physical(...)")
+        return None
+
+    def __call__(self, system, basis, x0, T, c, s):
+        robot = _require_physical(system)
+        s = np.ascontiguousarray(s, dtype=float)
+        V, V1, I = _basis_tables(basis, s.tobytes())
+        c = np.asarray(c, dtype=float).reshape(-1)
+        phi = float(x0[1]) + T * (I @ c)
+        u = V @ c
+        du = (V1 @ c) / T
+        a, b, cc, ap, bp, cp = torque_coefficients(robot, phi, derivatives=True)
+        P2 = robot.P0**2
+        tau = a * du + b * u * u + cc * P2
+        jac = ((ap * du + bp * u * u + cp * P2) * T)[:, None] * I + (2.0 * b * u)[:, None] * V + (a / T)[:, None] * V1
+        return tau[None, :], jac[None, :, :]
+
+    def __repr__(self):
+        return "AcrobotTorque()"
+
+
+def torque_optimal(**kwargs):
+    """:class:`acroplan.core.optimal.TorqueOptimal` with the acrobot's torque model
+    (:class:`AcrobotTorque`); ``kwargs`` as for it (``sizes``, ``rtol``, ``starts``, ``tau_max``,
+    ``kkt_tol``)."""
+    from ...core.optimal import TorqueOptimal
+
+    return TorqueOptimal(torque=AcrobotTorque(), **kwargs)
