@@ -114,7 +114,7 @@ def plot_continuation(result):
     """
     plt = _plt()
     segs = [s for s in result.segments if s.history]
-    fig, axes = plt.subplots(1, 2, figsize=(10, 3.8), constrained_layout=True)
+    fig, axes = plt.subplots(1, 2, figsize=(10, 5.0), constrained_layout=True)
     names = result.system.state_names
     for k, seg in enumerate(segs):
         tau = np.array([h[0] for h in seg.history])
@@ -136,5 +136,5 @@ def plot_continuation(result):
     for ax in axes:
         ax.grid(alpha=0.3)
         if len(segs) <= 6 and segs:
-            ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.0, 1.0), borderaxespad=0.0)
+            ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncols=3, frameon=False)
     return fig
