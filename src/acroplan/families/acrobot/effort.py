@@ -107,7 +107,7 @@ def torque_expression() -> TorqueDerivation:
     Returns
     -------
     TorqueDerivation
-        Cached: the derivation runs once per process (about a second).
+        Cached: the derivation runs once per process (a few seconds).
     """
     t = sp.Symbol("t", real=True)
     M, m, J, j, L, l = sp.symbols("M m J j L l", positive=True)
@@ -125,16 +125,15 @@ def torque_expression() -> TorqueDerivation:
     kin = (M * torso.diff(t).dot(torso.diff(t)) + m * leg.diff(t).dot(leg.diff(t))
            + J * (th.diff(t) + ph.diff(t)) ** 2 + j * th.diff(t) ** 2) / 2
     rates = {th.diff(t): theta_dot, ph.diff(t): u}
-    kin = sp.simplify(sp.expand(kin).subs(rates).subs(ph, phi))
-    momentum = sp.simplify(sp.diff(kin, theta_dot))
+    kin = sp.factor_terms(sp.trigsimp(sp.expand(kin.subs(rates).subs(ph, phi))))
+    momentum = sp.factor_terms(sp.diff(kin, theta_dot))
     # Routh: eliminate theta_dot by the conserved momentum P0 = dT/d(theta_dot) (linear in theta_dot)
     theta_dot_of = sp.solve(sp.Eq(momentum, P0), theta_dot)[0]
-    routh = sp.simplify((kin - P0 * theta_dot).subs(theta_dot, theta_dot_of))
+    routh = sp.cancel(sp.together((kin - P0 * theta_dot).subs(theta_dot, theta_dot_of)))
     # the joint's Euler-Lagrange equation: tau = d/dt dR/du - dR/dphi along phi(t)
     R_t = routh.subs({u: ph.diff(t), phi: ph})
     tau_t = sp.diff(sp.diff(R_t, ph.diff(t)), t) - sp.diff(R_t, ph)
-    tau = tau_t.subs({ph.diff(t, 2): du}).subs({ph.diff(t): u}).subs({ph: phi})
-    tau = sp.simplify(tau)
+    tau = sp.together(tau_t.subs({ph.diff(t, 2): du}).subs({ph.diff(t): u}).subs({ph: phi}))
     # the lumped form
     mu = M * m / (M + m)
     lumped = {"M1": j + J + mu * (L**2 + l**2), "A1": -2 * mu * L * l, "M2": J + mu * L**2, "A2": -mu * L * l}

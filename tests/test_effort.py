@@ -1,0 +1,491 @@
+"""Effort: joint torques of the two-link body, and energy- and torque-optimal plans.
+
+* the torque's derivation (Routh, cyclic theta) against the Euler-Lagrange equations of the full
+  free body (centre of mass and theta free);
+* a forward simulation of the full equations of motion, driven by the computed torques alone,
+  reproduces a planned motion, conserves the momentum and keeps the centre of mass still;
+* power, work and the effort summary against brute force;
+* optimal plans: closed-form optima (double integrator; the chained form's isoperimetric optimum),
+  KKT residuals, improvement on the feasible plan, limits and torque limits respected.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+import re
+
+import numpy as np
+import pytest
+import sympy as sp
+from scipy.integrate import solve_ivp
+
+import acroplan
+from acroplan.core.basis import Legendre
+from acroplan.core.errors import InvalidInputError
+from acroplan.core.optimal import EnergyOptimal, TorqueOptimal, energy, objective_strategy, optimize_segment
+from acroplan.core.strategies import STRATEGIES
+from acroplan.core.system import ControlAffineSystem
+from acroplan.families.acrobot.effort import (AcrobotTorque, effort_summary, joint_torque, kinetic_energy,
+                                              torque_coefficients, torque_expression, torque_optimal, torques)
+from acroplan.zoo import random_segment
+
+
+# ----------------------------------------------------------------------------------------- helpers
+def kkt_of(message: str) -> float:
+    return float(re.search(r"relative KKT residual ([0-9.eE+-]+)", message).group(1))
+
+
+def segment_energy(seg) -> float:
+    return energy(seg.basis, seg.t1 - seg.t0, seg.basis_coefficients)
+
+
+def plan_energy(result) -> float:
+    return sum(segment_energy(s) for s in result.segments)
+
+
+def theta_at(robot, theta0, phi0, phiT, T, w):
+    lo, hi = robot.reachable_interval(theta0=theta0, phi0=phi0, phiT=phiT, T=T)
+    return lo + w * (hi - lo)
+
+
+@pytest.fixture(scope="module")
+def body():
+    return acroplan.Acrobot.from_physical(torso_mass=40.0, leg_mass=20.0, torso_inertia=1.8, leg_inertia=1.2,
+                                          torso_length=0.35, leg_length=0.45, angular_momentum=10.0)
+
+
+@pytest.fixture(scope="module")
+def two_segment_plan(body):
+    """A two-segment plan (free conditions: u continuous, u' jumps at the waypoint)."""
+    t = [0.0, 1.2, 2.5]
+    phi = [-1.0, -2.4, -0.6]
+    th1 = theta_at(body, -0.3, phi[0], phi[1], t[1] - t[0], 0.35)
+    th2 = theta_at(body, th1, phi[1], phi[2], t[2] - t[1], 0.6)
+    r = acroplan.plan(body, times=t, theta=[-0.3, th1, th2], phi=phi, conditions="free")
+    assert r.success, r.message
+    return r
+
+
+# ----------------------------------------------------------------------------------------- the full body
+def full_body():
+    """Lagrangian of the planar two-body system with the joint position (x, y), theta and phi all
+    free: q = (x, y, theta, phi); no reduction, no centre-of-mass frame."""
+    t = sp.Symbol("t", real=True)
+    M, m, J, j, L, l = sp.symbols("M m J j L l", positive=True)
+    x, y, th, ph = (sp.Function(n, real=True)(t) for n in ("x", "y", "theta", "phi"))
+
+    def e(a):
+        return sp.Matrix([sp.cos(a), sp.sin(a)])
+
+    joint = sp.Matrix([x, y])
+    torso, leg = joint + L * e(th + ph), joint + l * e(th)
+    vt, vl = torso.diff(t), leg.diff(t)
+    kin = (M * vt.dot(vt) + m * vl.dot(vl) + J * (th.diff(t) + ph.diff(t)) ** 2 + j * th.diff(t) ** 2) / 2
+    q = [x, y, th, ph]
+    EL = [sp.diff(sp.diff(kin, qi.diff(t)), t) - sp.diff(kin, qi) for qi in q]
+    return dict(t=t, q=q, EL=EL, kin=kin, params=(M, m, J, j, L, l), torso=torso, leg=leg)
+
+
+def test_torque_matches_euler_lagrange_of_the_full_free_body():
+    """tau from the Routhian (cyclic theta, centre-of-mass frame) equals the joint's generalised
+    force in the Euler-Lagrange equations of the full body, whose other three equations (x, y,
+    theta) have zero force; theta' eliminated by P0 = h theta' + k phi'."""
+    fb = full_body()
+    t, (x, y, th, ph), EL = fb["t"], fb["q"], fb["EL"]
+    d = torque_expression()
+    S = d.symbols
+    acc = [sp.Symbol(f"{n}_dd") for n in ("x", "y", "th", "ph")]
+    vel = [sp.Symbol(f"{n}_d") for n in ("x", "y", "th", "ph")]
+    subs = {}
+    for qi, a, v in zip((x, y, th, ph), acc, vel):
+        subs[qi.diff(t, 2)] = a
+        subs[qi.diff(t)] = v
+    EL = [sp.expand(E.subs(subs)) for E in EL]
+    # free joint position and theta: their equations have no force; solve them for x'', y'', theta''
+    sol = sp.solve(EL[:3], acc[:3], dict=True)[0]
+    tau_full = EL[3].subs(sol)
+    # in the reduced variables: phi, u = phi', du = phi'', theta' from the momentum
+    tau_full = tau_full.subs({ph: S["phi"], vel[3]: S["u"], acc[3]: S["du"]})
+    M, m, J, j, L, l = fb["params"]
+    ren = dict(zip((M, m, J, j, L, l), (S["M"], S["m"], S["J"], S["j"], S["L"], S["l"])))
+    tau_full = tau_full.subs(ren)
+    lumped = {S[k]: v for k, v in d.lumped.items()}
+    h = (S["M1"] + S["A1"] * sp.cos(S["phi"])).subs(lumped)
+    k = (S["M2"] + S["A2"] * sp.cos(S["phi"])).subs(lumped)
+    tau_full = tau_full.subs(vel[2], (S["P0"] - k * S["u"]) / h)
+    # exact comparison: the difference vanishes identically, whatever theta (checked at random
+    # rational points with 60 significant digits: a non-zero expression would not vanish there)
+    diff = tau_full - d.tau
+    rng = np.random.default_rng(3)
+    names = ["M", "m", "J", "j", "L", "l", "P0", "phi", "u", "du"]
+    for _ in range(6):
+        point = {S[n]: sp.Rational(int(rng.integers(1, 400)), int(rng.integers(1, 97))) * (-1 if n in ("P0", "u",
+                 "du", "phi") and rng.random() < 0.5 else 1) for n in names}
+        value = sp.N(diff.subs(th, sp.Rational(int(rng.integers(-700, 700)), 100)).subs(point), 60)
+        scale = sp.N(sp.Abs(d.tau.subs(point)), 60) + 1
+        assert abs(value) < 1e-45 * scale
+    # and symbolically, with the lumped coefficients
+    a, b, c = d.a.subs(lumped), d.b.subs(lumped), d.c.subs(lumped)
+    assert sp.simplify(a * S["du"] + b * S["u"] ** 2 + c * S["P0"] ** 2 - d.tau) == 0
+
+
+def test_momentum_and_energy_of_the_derivation():
+    """dT/d(theta') is the text's P0 = h theta' + k phi' (eq. 2), and the kinetic energy in the
+    reduced variables is P0^2/(2h) + a u^2/2."""
+    d = torque_expression()
+    S = d.symbols
+    lumped = {S[k]: v for k, v in d.lumped.items()}
+    h = (S["M1"] + S["A1"] * sp.cos(S["phi"])).subs(lumped)
+    k = (S["M2"] + S["A2"] * sp.cos(S["phi"])).subs(lumped)
+    assert sp.simplify(d.momentum - (h * S["theta_dot"] + k * S["u"])) == 0
+    E = d.kinetic.subs(S["theta_dot"], (S["P0"] - k * S["u"]) / h)
+    assert sp.simplify(E - (S["P0"] ** 2 / (2 * h) + d.a.subs(lumped) * S["u"] ** 2 / 2)) == 0
+
+
+def test_numeric_torque_and_its_derivatives_match_the_derivation(body):
+    d = torque_expression()
+    S = d.symbols
+    P = body.physical
+    phys = {S["M"]: P.torso_mass, S["m"]: P.leg_mass, S["J"]: P.torso_inertia, S["j"]: P.leg_inertia,
+            S["L"]: P.torso_length, S["l"]: P.leg_length, S["P0"]: P.angular_momentum}
+    f_tau = sp.lambdify((S["phi"], S["u"], S["du"]), d.tau.subs(phys), "numpy")
+    lum = {S["M1"]: body.M1, S["A1"]: body.A1, S["M2"]: body.M2, S["A2"]: body.A2}
+    fns = [sp.lambdify(S["phi"], e.subs(lum), "numpy") for e in
+           (d.a, d.b, d.c, sp.diff(d.a, S["phi"]), sp.diff(d.b, S["phi"]), sp.diff(d.c, S["phi"]))]
+    rng = np.random.default_rng(0)
+    phi, u, du = rng.uniform(-7, 7, 50), rng.uniform(-6, 6, 50), rng.uniform(-30, 30, 50)
+    np.testing.assert_allclose(joint_torque(body, phi, u, du), f_tau(phi, u, du), rtol=1e-12, atol=1e-12)
+    for got, fn in zip(torque_coefficients(body, phi, derivatives=True), fns):
+        np.testing.assert_allclose(got, fn(phi), rtol=1e-11, atol=1e-13)
+
+
+def test_lumped_only_acrobot_has_no_torque(body, two_segment_plan):
+    lumped = acroplan.Acrobot(**body.lumped())
+    with pytest.raises(InvalidInputError) as e:
+        joint_torque(lumped, 0.3, 1.0, 0.0)
+    assert e.value.field == "robot.physical"
+    r = acroplan.plan(lumped, times=[0, 1], theta=[0.0, theta_at(lumped, 0.0, -1.0, -2.0, 1.0, 0.5)],
+                      phi=[-1.0, -2.0], conditions="free")
+    for fn in (lambda: torques(r, 0.5), lambda: effort_summary(r), lambda: kinetic_energy(lumped, 0.1, 0.2)):
+        with pytest.raises(InvalidInputError) as e:
+            fn()
+        assert e.value.field == "robot.physical"
+    with pytest.raises(InvalidInputError, match="robot.physical"):
+        acroplan.plan(lumped, times=[0, 1], theta=[0.0, 0.1], phi=[-1.0, -2.0], conditions="free",
+                      method=torque_optimal())
+
+
+def test_forward_simulation_of_the_full_body_reproduces_the_plan(body, two_segment_plan):
+    """The full equations of motion (joint position, theta, phi all free; no momentum, no centre of
+    mass used), driven by the computed joint torque alone, integrated by DOP853 at rtol = atol =
+    1e-12 segment by segment, reproduce the planned theta(t) and phi(t) to 1e-8; the angular
+    momentum stays P0 and the centre of mass stays at rest."""
+    r = two_segment_plan
+    fb = full_body()
+    t, q, EL = fb["t"], fb["q"], fb["EL"]
+    P = body.physical
+    M, m, J, j, L, l = fb["params"]
+    vals = {M: P.torso_mass, m: P.leg_mass, J: P.torso_inertia, j: P.leg_inertia, L: P.torso_length,
+            l: P.leg_length}
+    qs = sp.symbols("x y th ph")
+    vs = sp.symbols("xd yd thd phd")
+    acc = sp.symbols("xdd ydd thdd phdd")
+    subs = {}
+    for qi, a, v, s in zip(q, acc, vs, qs):
+        subs[qi.diff(t, 2)] = a
+        subs[qi.diff(t)] = v
+    EL = [E.subs(subs).subs(dict(zip(q, qs))).subs(vals) for E in EL]
+    Mq = sp.Matrix([[sp.diff(E, a) for a in acc] for E in EL])
+    bias = sp.Matrix([E.subs({a: 0 for a in acc}) for E in EL])
+    f_M = sp.lambdify((qs, vs), Mq, "numpy")
+    f_b = sp.lambdify((qs, vs), bias, "numpy")
+    torso = fb["torso"].subs(subs).subs(dict(zip(q, qs))).subs(vals)
+    leg = fb["leg"].subs(subs).subs(dict(zip(q, qs))).subs(vals)
+    vtorso = sp.Matrix([sum(sp.diff(c, s) * v for s, v in zip(qs, vs)) for c in torso])
+    vleg = sp.Matrix([sum(sp.diff(c, s) * v for s, v in zip(qs, vs)) for c in leg])
+    Mt, ml = P.torso_mass, P.leg_mass
+    com = (Mt * torso + ml * leg) / (Mt + ml)
+    vcom = (Mt * vtorso + ml * vleg) / (Mt + ml)
+    ang = (Mt * (torso[0] * vtorso[1] - torso[1] * vtorso[0]) + ml * (leg[0] * vleg[1] - leg[1] * vleg[0])
+           + P.torso_inertia * (vs[2] + vs[3]) + P.leg_inertia * vs[2])
+    f_com = sp.lambdify((qs, vs), list(com) + list(vcom), "numpy")
+    f_ang = sp.lambdify((qs, vs), ang, "numpy")
+
+    def rhs(time, s):
+        qq, vv = s[:4], s[4:]
+        tau, _ = torques(r, time)
+        Q = np.array([0.0, 0.0, 0.0, tau]) - np.array(f_b(qq, vv), dtype=float).ravel()
+        return np.concatenate([vv, np.linalg.solve(np.array(f_M(qq, vv), dtype=float), Q)])
+
+    # initial state: the plan's theta, phi, u(0); theta' from the momentum; the centre of mass at rest at 0
+    th0, ph0 = r.waypoints[0]
+    u0 = float(r.segments[0].input(0.0)[0])
+    thd0 = (body.P0 - body.k(ph0) * u0) / body.h(ph0)
+    et, el = np.array([math.cos(th0 + ph0), math.sin(th0 + ph0)]), np.array([math.cos(th0), math.sin(th0)])
+    nt, nl = np.array([-et[1], et[0]]), np.array([-el[1], el[0]])
+    joint = -(Mt * P.torso_length * et + ml * P.leg_length * el) / (Mt + ml)
+    jointd = -(Mt * P.torso_length * nt * (thd0 + u0) + ml * P.leg_length * nl * thd0) / (Mt + ml)
+    s = np.concatenate([joint, [th0, ph0], jointd, [thd0, u0]])
+    worst = 0.0
+    for seg in r.segments:
+        te = np.linspace(seg.t0, seg.t1, 41)
+        # the torque is evaluated at the segment's own coefficients: integrate inside each segment
+        sol = solve_ivp(lambda tt, ss, seg=seg: rhs(min(max(tt, seg.t0 + 1e-15), seg.t1), ss), (seg.t0, seg.t1), s,
+                        method="DOP853", rtol=1e-12, atol=1e-12, t_eval=te)
+        assert sol.success
+        planned = r.evaluate(te)
+        worst = max(worst, float(np.max(np.abs(sol.y[2] - planned.theta))), float(np.max(np.abs(sol.y[3] -
+                                                                                                   planned.phi))))
+        for k in range(te.size):
+            qq, vv = sol.y[:4, k], sol.y[4:, k]
+            assert abs(f_ang(qq, vv) - body.P0) < 1e-9
+            assert np.max(np.abs(np.array(f_com(qq, vv), dtype=float))) < 1e-9
+        s = sol.y[:, -1]
+    assert worst < 1e-8
+
+
+def test_power_integrates_to_the_change_of_kinetic_energy(body, two_segment_plan):
+    r = two_segment_plan
+    es = effort_summary(r)
+    first, last = r.segments[0], r.segments[-1]
+    E0 = kinetic_energy(body, r.waypoints[0, 1], first.input(first.t0)[0])
+    E1 = kinetic_energy(body, r.waypoints[-1, 1], last.input(last.t1)[0])
+    assert es.net_work == pytest.approx(float(E1 - E0), rel=1e-10, abs=1e-10)
+
+
+def _motion(seg, t):
+    """phi, u, u' of a segment at times t, straight from its Legendre coefficients."""
+    T = seg.t1 - seg.t0
+    s = (t - seg.t0) / T
+    c = seg.basis_coefficients[0]
+    leg = np.polynomial.legendre.Legendre(c, domain=[0, 1])
+    return seg.start[1] + T * (leg.integ(lbnd=0)(s)), leg(s), leg.deriv()(s) / T
+
+
+def test_effort_summary_against_brute_force(body, two_segment_plan):
+    r = two_segment_plan
+    es = effort_summary(r)
+    tau2 = u2 = pos = net = peak = peak_pow = 0.0
+    for seg in r.segments:  # 200,001 points per segment, trapezoid, each segment with its own values
+        t = np.linspace(seg.t0, seg.t1, 200_001)
+        phi, u, du = _motion(seg, t)
+        tau = joint_torque(body, phi, u, du)
+        pw = tau * u
+        trap = lambda y: float(np.sum((y[1:] + y[:-1]) * np.diff(t)) / 2)  # noqa: E731
+        tau2 += trap(tau**2)
+        u2 += trap(u**2)
+        pos += trap(np.maximum(pw, 0.0))
+        net += trap(pw)
+        peak = max(peak, float(np.max(np.abs(tau))))
+        peak_pow = max(peak_pow, float(np.max(np.abs(pw))))
+        inner = t[1:-1]
+        np.testing.assert_allclose(torques(r, inner)[0], tau[1:-1], rtol=1e-12, atol=1e-9)
+    assert es.torque_squared == pytest.approx(tau2, rel=1e-8)
+    assert es.input_squared == pytest.approx(u2, rel=1e-8)
+    assert es.positive_work == pytest.approx(pos, rel=1e-6)
+    assert es.net_work == pytest.approx(net, rel=1e-8, abs=1e-9)
+    assert peak <= es.peak_torque <= peak * (1 + 1e-8)
+    assert peak_pow <= es.peak_power <= peak_pow * (1 + 1e-8)
+    assert es.positive_work >= max(es.net_work, 0.0)
+    assert set(es.to_dict()) == {"phi"}
+
+
+def test_acrobot_torque_model_jacobian_matches_finite_differences(body):
+    model = AcrobotTorque()
+    basis = Legendre(8)
+    rng = np.random.default_rng(4)
+    c = rng.standard_normal((1, 8))
+    s = np.linspace(0, 1, 33)
+    x0 = np.array([0.2, -1.3])
+    tau, jac = model(body, basis, x0, 1.7, c, s)
+    fd = np.empty_like(jac)
+    for k in range(8):
+        e = np.zeros((1, 8))
+        e[0, k] = 1e-6
+        fd[:, :, k] = (model(body, basis, x0, 1.7, c + e, s)[0] - model(body, basis, x0, 1.7, c - e, s)[0]) / 2e-6
+    np.testing.assert_allclose(jac, fd, rtol=1e-6, atol=1e-6 * np.abs(jac).max())
+    # and tau itself is joint_torque of the motion the coefficients make
+    phi = x0[1] + 1.7 * basis.integral(s) @ c[0]
+    np.testing.assert_allclose(tau[0], joint_torque(body, phi, basis.matrix(s) @ c[0],
+                                                    basis.matrix(s, 1) @ c[0] / 1.7), rtol=1e-13)
+
+
+# ----------------------------------------------------------------------------------------- optimal plans
+@dataclasses.dataclass(frozen=True)
+class EffortTestDoubleIntegrator(ControlAffineSystem):
+    """q' = v, v' = a: the minimum-energy input between two states is linear in time."""
+
+    state_names = ("q", "v")
+    input_names = ("a",)
+    param_names = ()
+
+    @classmethod
+    def symbolic_fields(cls, x, p):
+        return sp.Matrix([x[1], 0]), sp.Matrix([0, 1])
+
+
+def test_energy_optimal_reaches_the_closed_form_optimum_of_the_double_integrator():
+    """min int a^2 from (q0, v0) to (q1, v1) in T: a(t) = alpha + beta t with the controllability
+    Gramian: E = d^T W^-1 d, d = (q1 - q0 - v0 T, v1 - v0), W = [[T^3/3, T^2/2], [T^2/2, T]]."""
+    T, (q0, v0), (q1, v1) = 1.7, (0.3, -0.4), (1.9, 0.8)
+    r = acroplan.plan(EffortTestDoubleIntegrator(), times=[0, T], q=[q0, q1], v=[v0, v1], conditions="free",
+                      method=EnergyOptimal())
+    assert r.success, r.message
+    d = np.array([q1 - q0 - v0 * T, v1 - v0])
+    W = np.array([[T**3 / 3, T**2 / 2], [T**2 / 2, T]])
+    E = float(d @ np.linalg.solve(W, d))
+    seg = r.segments[0]
+    assert segment_energy(seg) == pytest.approx(E, rel=1e-12)
+    lam = np.linalg.solve(W, d)  # a(t) = lam_1 (T - t) + lam_2
+    t = np.linspace(0, T, 11)
+    np.testing.assert_allclose(seg.input(t)[0], lam[0] * (T - t) + lam[1], atol=1e-10)
+    assert kkt_of(seg.message) < 1e-8
+    assert seg.method == "energy-optimal"
+
+
+def test_energy_optimal_reaches_the_isoperimetric_optimum_of_the_chained_form():
+    """x1' = u1, x2' = u2, x3' = x2 u1 from 0 to (0, 0, a): x3 is the area the closed curve (x1, x2)
+    encloses, so the least length^2/T, hence the least energy, is the circle's: 4 pi |a| / T,
+    with u a sinusoid of period T (the polynomial basis converges to it)."""
+    a, T = 0.3, 1.5
+    strategy = EnergyOptimal(rtol=1e-10)
+    r = acroplan.plan(acroplan.ChainedForm(3), times=[0, T], x1=[0, 0], x2=[0, 0], x3=[0, a], conditions="free",
+                      method=strategy)
+    assert r.success, r.message
+    seg = r.segments[0]
+    assert segment_energy(seg) == pytest.approx(4 * math.pi * a / T, rel=1e-10)
+    assert "converged in the basis" in seg.message and "NOT" not in seg.message
+    assert kkt_of(seg.message) < 1e-6
+    # constant speed on the circle
+    t = np.linspace(0, T, 50)
+    speed = np.hypot(*seg.input(t))
+    np.testing.assert_allclose(speed, speed.mean(), rtol=1e-5)
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_energy_optimal_improves_on_the_feasible_plan(seed):
+    p = random_segment(np.random.default_rng(seed))
+    auto = acroplan.plan(p.robot, conditions="free", **p.plan_kwargs())
+    opt = acroplan.plan(p.robot, conditions="free", method="energy-optimal", **p.plan_kwargs())
+    assert auto.success and opt.success, opt.message
+    assert opt.verified
+    assert plan_energy(opt) <= plan_energy(auto) * (1 + 1e-12)
+    assert kkt_of(opt.segments[0].message) < 1e-6
+    assert "converged in the basis" in opt.segments[0].message
+
+
+def test_the_predicted_change_of_the_ladder_matches_the_solved_one():
+    """The ladder stops when one Newton step at the next size predicts a change < rtol: the
+    prediction agrees with the optimum solved at that size."""
+    checked = 0
+    for seed in range(5, 30):
+        p = random_segment(np.random.default_rng(seed))
+        x0, x1 = np.array([p.theta0, p.phi0]), np.array([p.thetaT, p.phiT])
+        interval = acroplan.core.Interval(p.robot, Legendre(6), None, x0, x1, p.T, {}, None, 1e-10, 2000)
+        res, _ = EnergyOptimal().optimize(interval)
+        assert res.success and res.converged_in_basis
+        assert json.loads(json.dumps(res.to_dict()))["ladder"][-1][0] == res.sizes[-1][0]
+        if "predicted by one Newton step" not in res.message:
+            continue
+        (n1, e1), (n2, e2_pred) = res.sizes[-2], res.sizes[-1]
+        assert res.basis.n == n1
+        solved = optimize_segment(p.robot, Legendre(n2), x0, x1, p.T,
+                                  np.pad(res.coefficients, ((0, 0), (0, n2 - n1))))
+        change_pred, change = (e1 - e2_pred) / e1, (e1 - solved.objective) / e1
+        assert change < 1e-4
+        assert change_pred == pytest.approx(change, rel=0.3, abs=1e-9)
+        checked += 1
+        if checked == 4:
+            break
+    assert checked == 4
+
+
+def test_energy_optimal_respects_rate_and_joint_limits():
+    p = random_segment(np.random.default_rng(8))
+    free = acroplan.plan(p.robot, conditions="free", method="energy-optimal", **p.plan_kwargs())
+    assert free.success
+    u_max = 0.9 * free.max_abs_u
+    lo, hi = min(p.phi0, p.phiT) - 0.05, max(p.phi0, p.phiT) + 0.4
+    kw = dict(conditions="free", u_max=u_max, phi_min=lo, phi_max=hi, **p.plan_kwargs())
+    auto = acroplan.plan(p.robot, **kw)
+    opt = acroplan.plan(p.robot, method="energy-optimal", **kw)
+    assert auto.success, auto.message
+    assert opt.success, opt.message
+    seg = opt.segments[0]
+    assert seg.max_abs_u <= u_max + 1e-9
+    a, b = seg.state_range
+    assert lo - 1e-9 <= a and b <= hi + 1e-9
+    assert plan_energy(free) <= plan_energy(opt) <= plan_energy(auto) * (1 + 1e-12)
+    assert kkt_of(seg.message) < 1e-5
+
+
+def test_a_multi_segment_plan_is_optimal_interval_by_interval(body, two_segment_plan):
+    r0 = two_segment_plan
+    kw = dict(times=list(r0.times), theta=list(r0.waypoints[:, 0]), phi=list(r0.waypoints[:, 1]),
+              conditions="free")
+    r = acroplan.plan(body, method=EnergyOptimal(), **kw)
+    assert r.success and r.verified, r.message
+    # u continuous at the waypoint (the free conditions)
+    assert r.segments[0].input(r.segments[0].t1)[0] == pytest.approx(r.segments[1].input(r.segments[1].t0)[0],
+                                                                        abs=1e-9)
+    assert plan_energy(r) <= plan_energy(r0) * (1 + 1e-9)
+
+
+def test_torque_optimal_minimises_the_torque(body):
+    T, phi0, phiT = 1.4, -1.2, -2.6
+    th = theta_at(body, 0.1, phi0, phiT, T, 0.7)
+    kw = dict(times=[0, T], theta=[0.1, th], phi=[phi0, phiT], conditions="free")
+    auto = acroplan.plan(body, **kw)
+    e_opt = acroplan.plan(body, method=EnergyOptimal(), **kw)
+    t_opt = acroplan.plan(body, method=torque_optimal(), **kw)
+    assert auto.success and e_opt.success and t_opt.success, t_opt.message
+    assert t_opt.segments[0].method == "torque-optimal"
+    tau2 = {k: effort_summary(r).torque_squared for k, r in (("auto", auto), ("energy", e_opt), ("torque", t_opt))}
+    assert tau2["torque"] <= tau2["energy"] * (1 + 1e-6)
+    assert tau2["torque"] <= tau2["auto"] * (1 + 1e-6)
+    assert plan_energy(e_opt) <= plan_energy(t_opt) * (1 + 1e-9)
+    assert kkt_of(t_opt.segments[0].message) < 1e-5
+
+
+def test_torque_limits_are_respected(body):
+    T, phi0, phiT = 1.4, -1.2, -2.6
+    th = theta_at(body, 0.1, phi0, phiT, T, 0.7)
+    kw = dict(times=[0, T], theta=[0.1, th], phi=[phi0, phiT], conditions="free")
+    for free_strategy, make in ((EnergyOptimal(), lambda tm: EnergyOptimal(torque=AcrobotTorque(), tau_max=tm)),
+                                (torque_optimal(), lambda tm: torque_optimal(tau_max={"phi": tm}))):
+        free = acroplan.plan(body, method=free_strategy, **kw)
+        tau_max = 0.85 * effort_summary(free).peak_torque  # binding: 15% below the unlimited optimum's peak
+        r = acroplan.plan(body, method=make(tau_max), **kw)
+        assert r.success, r.message
+        assert effort_summary(r).peak_torque <= tau_max * (1 + 1e-9)
+        assert kkt_of(r.segments[0].message) < 1e-5
+        if isinstance(free_strategy, TorqueOptimal):
+            assert effort_summary(r).torque_squared >= effort_summary(free).torque_squared * (1 - 1e-9)
+        else:
+            assert plan_energy(r) >= plan_energy(free) * (1 - 1e-9)  # the limit costs something
+    with pytest.raises(InvalidInputError, match="tau_max"):
+        acroplan.plan(acroplan.ChainedForm(3), times=[0, 1], x1=[0, 0], x2=[0, 0], x3=[0, 0.1], conditions="free",
+                      method=EnergyOptimal(tau_max=1.0))
+
+
+def test_strategies_are_registered_and_validate_their_arguments():
+    assert isinstance(STRATEGIES["energy-optimal"], EnergyOptimal)
+    assert isinstance(STRATEGIES["torque-optimal"], TorqueOptimal)
+    for bad in (dict(sizes=()), dict(sizes=(10, 6)), dict(rtol=0), dict(starts=("nope",)), dict(kkt_tol=-1),
+                dict(tau_max=-3.0), dict(torque=3)):
+        with pytest.raises(InvalidInputError):
+            EnergyOptimal(**bad)
+    assert type(objective_strategy("energy")) is EnergyOptimal
+    assert objective_strategy("torque", tau_max=5.0).tau_max == 5.0
+    with pytest.raises(InvalidInputError, match="objective"):
+        objective_strategy("time")
+
+
+def test_one_basis_size_when_n_coefficients_is_given():
+    p = random_segment(np.random.default_rng(9))
+    r = acroplan.plan(p.robot, conditions="free", method="energy-optimal", n_coefficients=10, **p.plan_kwargs())
+    assert r.success, r.message
+    assert r.segments[0].basis_coefficients.shape == (1, 10)
+    assert "one basis size" in r.segments[0].message
