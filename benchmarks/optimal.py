@@ -67,7 +67,7 @@ def parse(message: str) -> dict:
     out["n"] = int(m.group(1)) if m else None
     m = re.search(r"relative KKT residual ([0-9.eE+-]+)", message)
     out["kkt"] = float(m.group(1)) if m else float("nan")
-    m = re.search(r"; start: (\w+)", message)
+    m = re.search(r"; start: ([\w+-]+)", message)
     out["start"] = m.group(1) if m else "?"
     out["converged"] = "converged in the basis" in message and "NOT converged" not in message
     return out
