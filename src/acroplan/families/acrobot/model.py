@@ -31,7 +31,7 @@ import math
 import numpy as np
 import sympy as sp
 
-from ...core.errors import InvalidInputError
+from ...core.errors import InvalidInputError, finite_number
 from ...core.system import ControlAffineSystem, Infeasibility
 from .reach import reachable_set
 
@@ -44,16 +44,7 @@ MAX_MAGNITUDE = 1e100
 
 
 def _finite(field: str, value) -> float:
-    if isinstance(value, bool):
-        raise InvalidInputError(field, f"must be a real number, got {value!r}", "give a finite number")
-    try:
-        v = float(value)
-    except (TypeError, ValueError, OverflowError):
-        r = repr(value)
-        raise InvalidInputError(field, f"must be a real number, got {r if len(r) <= 80 else r[:77] + '...'}",
-                                "give a finite number") from None
-    if not math.isfinite(v):
-        raise InvalidInputError(field, f"must be finite, got {v}", "give a finite number")
+    v = finite_number(field, value)
     if abs(v) > MAX_MAGNITUDE:
         raise InvalidInputError(field, f"is {v:.3g}, beyond {MAX_MAGNITUDE:g}: more than the arithmetic carries "
                                 "(its squares overflow)", "change the units")
