@@ -77,7 +77,7 @@ from .core.basis import InputBasis
 from .core.errors import InvalidInputError
 from .core.limits import Limits
 from .core.system import ControlAffineSystem
-from .families.acrobot import reachable_interval
+from .families.acrobot.momentum import least_momentum as _least
 from .families.acrobot.model import Acrobot
 from .families.acrobot.reach import reachable_set
 from .planning import PlanRequest
@@ -465,14 +465,8 @@ class Derived:
 def least_momentum(req: PlanRequest, end: str = "least") -> tuple[float, str | None]:
     """The least (or, ``end="most"``, the largest) angular momentum P0 for which the acrobot reaches
     the last waypoint's theta from the first one's over the whole flight, interior waypoints aside,
-    under the request's limits; signed: negative when theta must decrease.
-
-    theta(T) reachable from theta(0) fills an interval whose ends move monotonically with P0
-    (``base + P0 J`` with ``J`` the extremes of the time integral of ``1/h``: module
-    :mod:`acroplan.families.acrobot.reach`), so the momentum is found by bisection on P0 with
-    :func:`acroplan.reachable_interval`, safeguarded false-position steps, to the last bit: the
-    returned P0 puts the target on the end of the interval (an infimum without rate limits, where
-    the interval is open; attained with them). No planning is involved.
+    under the request's limits; signed: negative when theta must decrease. Exact, by the reachable
+    set, with no planning: :func:`acroplan.families.acrobot.momentum.least_momentum`.
 
     Returns ``(P0, None)``, or ``(nan, reason)`` when no momentum works (the limits allow no joint
     motion) or the system is not the acrobot.
@@ -480,70 +474,10 @@ def least_momentum(req: PlanRequest, end: str = "least") -> tuple[float, str | N
     system = req.system
     if not isinstance(system, Acrobot):
         return math.nan, f"least_P0 applies to the acrobot, not to {type(system).__name__}"
-    t, X, limits = req.times, req.waypoints, req.limits
-    theta0, phi0 = float(X[0, 0]), float(X[0, 1])
-    thetaT, phiT = float(X[-1, 0]), float(X[-1, 1])
-    T = float(t[-1] - t[0])
-    U = limits.input_bound("u")
-    lo_l, hi_l = limits.bounds("phi")
-    kw = dict(theta0=theta0, phi0=phi0, phiT=phiT, T=T, u_max=U, phi_min=lo_l if math.isfinite(lo_l) else None,
-              phi_max=hi_l if math.isfinite(hi_l) else None)
-
-    def ends(P0):
-        return reachable_interval(Acrobot(system.M1, system.A1, system.M2, system.A2, P0), **kw)
-
-    try:
-        base = ends(0.0)[0]
-    except InvalidInputError as e:
-        return math.nan, f"no joint motion is possible: {e.problem}"
-    gap = thetaT - base
-    if gap == 0.0:
-        return 0.0, None
-    sign = 1.0 if gap > 0 else -1.0
-    if end == "least":  # the interval's far end must reach the target
-        def f(p):
-            lo, hi = ends(sign * p)
-            return (hi - thetaT) if sign > 0 else (thetaT - lo)
-    else:  # the near end must not pass it
-        def f(p):
-            lo, hi = ends(sign * p)
-            return (lo - thetaT) if sign > 0 else (thetaT - hi)
-        if f(0.0) >= 0:  # pragma: no cover - the near end starts at the base, short of the target
-            return 0.0, None
-    a, fa = 0.0, f(0.0)
-    b = max(abs(gap) / max(T, 1e-300), 1e-300)
-    fb = f(b)
-    while fb < 0:
-        a, fa = b, fb
-        b *= 2.0
-        if not math.isfinite(b) or b > 1e300:
-            return math.nan, "no finite angular momentum reaches the target"
-        fb = f(b)
-    # safeguarded false position: exact in one step for an affine end; a bisection step whenever a
-    # step fails to halve the bracket
-    for _ in range(400):
-        if fb == 0.0 or b - a <= 2.0 * math.ulp(b):
-            break
-        width = b - a
-        p = a - fa * (b - a) / (fb - fa)
-        if not a < p < b:
-            p = 0.5 * (a + b)
-        fp = f(p)
-        if fp >= 0:
-            b, fb = p, fp
-        else:
-            a, fa = p, fp
-        if b - a > 0.5 * width:
-            m = 0.5 * (a + b)
-            if a < m < b:
-                fm = f(m)
-                if fm >= 0:
-                    b, fb = m, fm
-                else:
-                    a, fa = m, fm
-    if end == "most":  # the largest P0 with the target not short of the near end
-        return sign * (b if fb == 0.0 else a), None
-    return sign * b, None
+    t, X = req.times, req.waypoints
+    b = _least(system, theta0=float(X[0, 0]), thetaT=float(X[-1, 0]), phi0=float(X[0, 1]), phiT=float(X[-1, 1]),
+               T=float(t[-1] - t[0]), limits=req.limits, end=end)
+    return (b.P0, None) if b.success else (math.nan, b.message)
 
 
 DERIVED: dict[str, Derived] = {
