@@ -192,3 +192,23 @@ def test_flat_output_check_resolves_a_fast_joint(pike_robot):
 def test_workers_must_be_positive():
     with pytest.raises(acroplan.InvalidInputError, match="workers: must be a whole number >= 1"):
         acroplan.plan_many([], workers=-1)
+
+
+def test_absurd_inputs_stop_the_integrator_quickly_with_a_reason():
+    """A solver's line search can stray to coefficients of 1e7 and more; integrating them would take
+    minutes that no time limit interrupts (one heyoka call). The back end stops at MAX_STEPS."""
+    import time
+
+    from acroplan.core import backend
+    from acroplan.core.basis import make_basis
+
+    robot = acroplan.examples.robot("pike-dive")
+    basis = make_basis("legendre", 6)
+    c = np.array([[6e7, 1e7, 0.0, 0.0, 0.0, 0.0]])
+    t0 = time.perf_counter()
+    with pytest.raises(backend.IntegrationError, match="too large to integrate"):
+        backend.endpoint(robot, basis, np.array([0.0, -3.0]), 1.5, c)
+    assert time.perf_counter() - t0 < 5.0
+    # an input of 1,000 rad/s still integrates (about 4,000 steps) to the same end as before
+    xT, _ = backend.endpoint(robot, basis, np.array([0.0, -3.0]), 1.5, np.array([[1e3, 0, 0, 0, 0, 0]]))
+    assert abs(xT[1] - (-3.0 + 1.5e3)) < 1e-9

@@ -135,6 +135,12 @@ def _integrator(system, basis):
 
 
 _TIME_LIMIT = hy.taylor_outcome.time_limit
+#: The most Taylor steps one segment's integration may take. A step covers roughly a quarter
+#: radian of the fastest angle, so this is some 25,000 rad of travel in one segment (an input of
+#: 10,000 rad/s for 2.5 s): far beyond any motion a body makes, and at most about 0.6 s of
+#: integration. Solvers that stray to absurd coefficients (a line search) get an
+#: :class:`IntegrationError` instead of minutes of stepping that no time limit could interrupt.
+MAX_STEPS = 100_000
 
 
 def _load(system, basis, x0, T, c):
@@ -149,6 +155,13 @@ def _load(system, basis, x0, T, c):
     pars[n_p] = T
     pars[n_p + 1:] = np.ravel(c)
     return ta, state, n_x
+
+
+def _why(outcome, s: float) -> str:
+    if outcome == hy.taylor_outcome.step_limit:
+        return (f"the input is too large to integrate: more than {MAX_STEPS} steps on one segment "
+                f"(stopped at s = {s:.3g})")
+    return f"integration stopped with outcome {outcome} at s = {s}"
 
 
 def endpoint(system: ControlAffineSystem, basis: InputBasis, x0, T: float, c) -> tuple[np.ndarray, np.ndarray]:
@@ -173,10 +186,10 @@ def endpoint(system: ControlAffineSystem, basis: InputBasis, x0, T: float, c) ->
     """
     budget.check()
     ta, state, n_x = _load(system, basis, x0, T, c)
-    res = ta.propagate_until(1.0)
+    res = ta.propagate_until(1.0, max_steps=MAX_STEPS)
     out = state.copy()
     if res[0] != _TIME_LIMIT or not np.isfinite(out).all():
-        raise IntegrationError(f"integration stopped with outcome {res[0]} at s = {ta.time}")
+        raise IntegrationError(_why(res[0], ta.time))
     return out[:n_x], out[n_x:].reshape(n_x, -1)
 
 
@@ -189,8 +202,8 @@ def sample(system: ControlAffineSystem, basis: InputBasis, x0, T: float, c, s) -
     """
     s = np.asarray(s, dtype=float)
     ta, _, n_x = _load(system, basis, x0, T, c)
-    res = ta.propagate_grid(s)
+    res = ta.propagate_grid(s, max_steps=MAX_STEPS)
     out = res[-1]
     if res[0] != _TIME_LIMIT or not np.isfinite(out).all():
-        raise IntegrationError(f"integration stopped with outcome {res[0]}")
+        raise IntegrationError(_why(res[0], ta.time))
     return out[:, :n_x].T.copy()
