@@ -869,6 +869,14 @@ class PlanarBody(ControlAffineSystem):
 
         return pinocchio_errors(self, x0, segments)
 
+    def torque_model(self):
+        """The joint torques of a planned motion: Pinocchio's inverse dynamics of the free body,
+        the root's motion from the momentum (:class:`~acroplan.families.planar.effort.PlanarTorque`,
+        with this body's joint names)."""
+        from .effort import PlanarTorque
+
+        return PlanarTorque(self.links.joint_names)
+
     def auto_strategy(self):
         """``method="auto"``: path deformation from a shape-loop guess that already meets the target
         (:class:`~acroplan.families.planar.strategy.PlanarAuto`)."""

@@ -1,0 +1,349 @@
+"""Joint torques of a planned motion of a free-flying planar body, by Pinocchio's inverse dynamics.
+
+The planner works in kinematics (the inputs are the joint rates :math:`u = \\dot q`); the joint
+torques :math:`\\tau` that produce a planned motion follow from the multibody dynamics of the free
+body: :class:`PlanarTorque` (the torque model of :meth:`PlanarBody.torque_model
+<acroplan.families.planar.model.PlanarBody.torque_model>`) and :func:`inverse_dynamics`.
+
+The root's motion
+-----------------
+The Pinocchio model of the link table (:mod:`~acroplan.families.planar.pin`: a planar root joint,
+velocity :math:`\\nu = (v_x, v_y, \\omega)` in the root's frame, or a free flyer restricted to the
+plane; one revolute-:math:`z` joint per other link; no gravity) has the generalised velocity
+:math:`v = (\\nu, u)` and acceleration :math:`a = (\\dot\\nu, \\dot u)`. The planned motion fixes
+the joints only; the root's twist and its rate follow from the momentum, with Pinocchio's
+centroidal momentum map :math:`A_G(q)` (``computeCentroidalMap``) and its time variation
+:math:`\\dot A_G(q, v)` (``computeCentroidalMapTimeVariation``), restricted to the three rows of
+planar motion (linear :math:`x, y`, angular :math:`z`; :math:`A_{G,r}`, :math:`A_{G,j}` their
+root and joint columns):
+
+* no external force, so the centre of mass is at rest (its frame) and the angular momentum about it
+  is :math:`P_0`:
+
+  .. math::  h_G = A_G(q)\\,v = (0, 0, P_0)
+             \\quad\\Longrightarrow\\quad
+             \\nu = A_{G,r}^{-1}\\big((0, 0, P_0) - A_{G,j}\\,u\\big) ,           \\qquad (1)
+
+  so :math:`\\dot\\theta = \\omega` (text eq. 1: :math:`(P_0 - a(s)\\cdot u)/I(s)`);
+* the momentum is constant:
+
+  .. math::  \\dot h_G = A_G(q)\\,a + \\dot A_G(q, v)\\,v = 0
+             \\quad\\Longrightarrow\\quad
+             \\dot\\nu = -A_{G,r}^{-1}\\big(A_{G,j}\\,\\dot u + (\\dot A_G v)_{xy\\omega}\\big) ,   \\qquad (2)
+
+  so :math:`\\ddot\\theta = \\dot\\omega`.
+
+The torques
+-----------
+Pinocchio's recursive Newton-Euler algorithm (``rnea``) on the free-floating model gives the
+generalised forces :math:`F = M(q)\\,a + C(q, v)\\,v` that produce :math:`(q, v, a)`:
+
+.. math::  F = \\mathrm{RNEA}(q, v, a) = (F_{root}, \\tau) .
+
+:math:`\\tau` (shape ``(m,)``) are the joint torques: :math:`\\tau_j` is the torque the motor of
+joint :math:`j` applies to its child link (its parent receives :math:`-\\tau_j`), positive in the
+sense of increasing :math:`q_j`. :math:`F_{root}` is the wrench the root would need from outside; a
+free body gets none, and since (1)-(2) make the momentum constant, it vanishes:
+:math:`F_{root} = 0` (3 rows for the planar root, 6 for the free flyer) is a check of the whole
+computation, reported as :attr:`InverseDynamics.root_residual` (rounding level, tested to 1e-9).
+The torques do not depend on :math:`\\theta` (turning the whole body changes no torque) nor on the
+root's position; they are computed at :math:`\\theta = 0` with the root at the origin.
+
+Along a segment with input coefficients :math:`c` (shape ``(m, n)``) in a basis :math:`b_i(s)`
+on :math:`s = (t - t_0)/T \\in [0, 1]` (:class:`~acroplan.core.basis.InputBasis`):
+
+.. math::  q(s) = q_0 + T\\,c\\,I(s) ,\\qquad u(s) = c\\,V(s) ,\\qquad \\dot u(s) = c\\,V'(s)/T ,
+
+:math:`V = (b_i(s))`, :math:`V' = (b_i'(s))` and :math:`I = (\\int_0^s b_i)`.
+
+The Jacobian in the coefficients is exact: per node, the partial derivatives of :math:`\\tau` in
+:math:`(q, u, \\dot u)` by the implicit-function theorem on (1) and (2) with Pinocchio's analytic
+derivatives (``computeCentroidalDynamicsDerivatives``: :math:`\\partial h_G/\\partial q`,
+:math:`\\partial\\dot h_G/\\partial(q, v, a)`; ``computeRNEADerivatives``:
+:math:`\\partial F/\\partial(q, v, a)`):
+
+.. math::  d\\nu = -A_{G,r}^{-1}\\big(\\partial_q h_G\\,dq + A_{G,j}\\,du\\big) ,\\qquad
+           d\\dot\\nu = -A_{G,r}^{-1}\\big(\\partial_q\\dot h_G\\,dq + \\partial_v\\dot h_G\\,dv
+           + A_{G,j}\\,d\\dot u\\big) ,
+
+.. math::  d\\tau = \\partial_q\\tau\\,dq + \\partial_v\\tau\\,dv + M_{j\\cdot}\\,da ,
+
+then :math:`\\partial\\tau/\\partial c_{ji} = \\partial_{q_j}\\tau\\,T I_i(s) + \\partial_{u_j}\\tau\\,
+V_i(s) + \\partial_{\\dot u_j}\\tau\\,V'_i(s)/T`. ``tests/test_planar_effort.py`` checks it against
+central finite differences, the torques against the acrobot's closed form
+(:func:`acroplan.families.acrobot.effort.joint_torque`) on the two-link body, and a forward
+simulation of the full equations of motion (root free, Pinocchio's ``aba``) driven by these torques
+alone against planned motions.
+
+Units: those of the link table (kg, m, s give N m). Pinocchio is optional (``pip install
+acroplan[bodies]``) and imported on first use.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import threading
+
+import numpy as np
+
+from ...core.errors import InvalidInputError
+from .links import LinkTable
+from .pin import INSTALL_HINT, PinocchioBody, build_model, require_pinocchio
+
+__all__ = ["InverseDynamics", "inverse_dynamics", "PlanarTorque", "ROOTS"]
+
+#: The root joints of the Pinocchio model: ``"planar"`` (3 degrees of freedom) or
+#: ``"freeflyer"`` (6, held in the plane).
+ROOTS = ("planar", "freeflyer")
+_ROWS = [0, 1, 5]  # the planar rows of the centroidal momentum: linear x, y, angular z
+
+
+@functools.lru_cache(maxsize=64)
+def _model(table: LinkTable, root: str) -> PinocchioBody:
+    """The Pinocchio model of ``table`` without gravity (cached per table and root; read only)."""
+    pin = require_pinocchio()
+    pb = build_model(table, root)
+    pb.model.gravity = pin.Motion.Zero()
+    return pb
+
+
+_LOCAL = threading.local()
+
+
+def _data(pb: PinocchioBody):
+    """One ``pinocchio.Data`` per model and thread (Pinocchio's algorithms write into it)."""
+    cache = getattr(_LOCAL, "data", None)
+    if cache is None:
+        cache = _LOCAL.data = {}
+    d = cache.get(id(pb))
+    if d is None or d[0] is not pb:
+        d = cache[id(pb)] = (pb, pb.model.createData())
+    return d[1]
+
+
+@dataclasses.dataclass(frozen=True)
+class InverseDynamics:
+    """The joint torques of a motion and the root's motion they imply (:func:`inverse_dynamics`).
+
+    Attributes
+    ----------
+    tau : numpy.ndarray, shape (m, K)
+        Joint torques, in state order of the joints (N m with SI link tables).
+    root_residual : numpy.ndarray, shape (r, K)
+        RNEA's root rows :math:`F_{root}` (``r`` = 3 for the planar root, 6 for the free flyer):
+        the external wrench the motion would need; zero up to rounding for a free body.
+    theta_dot, theta_ddot : numpy.ndarray, shape (K,)
+        :math:`\\dot\\theta = \\omega` and :math:`\\ddot\\theta = \\dot\\omega` from (1) and (2).
+    root_velocity, root_acceleration : numpy.ndarray, shape (3, K)
+        :math:`\\nu = (v_x, v_y, \\omega)` and :math:`\\dot\\nu` of the root frame, in the root
+        frame (at :math:`\\theta = 0`, the root frame at the origin).
+    partials : numpy.ndarray, shape (m, K, 3 m) or None
+        :math:`\\partial\\tau/\\partial(q, u, \\dot u)` per node (columns: the joint angles, the
+        rates, the accelerations), when asked for.
+    """
+
+    tau: np.ndarray
+    root_residual: np.ndarray
+    theta_dot: np.ndarray
+    theta_ddot: np.ndarray
+    root_velocity: np.ndarray
+    root_acceleration: np.ndarray
+    partials: np.ndarray | None = None
+
+
+def _is_planar(system) -> bool:
+    """A planar body: a system with a link table and a momentum (no import of ``.model``, which
+    imports this module for :meth:`PlanarBody.torque_model`)."""
+    return isinstance(getattr(system, "links", None), LinkTable) and hasattr(system, "P0")
+
+
+def _table(body) -> LinkTable:
+    if not _is_planar(body):
+        raise InvalidInputError("body", f"must be a PlanarBody, got {type(body).__name__}",
+                                "build one with acroplan.PlanarBody(links, P0=...)")
+    return body.links
+
+
+def _rows(name: str, value, m: int) -> np.ndarray:
+    a = np.asarray(value, dtype=float)
+    if a.ndim == 1:
+        a = a[:, None]
+    if a.ndim != 2 or a.shape[0] != m:
+        raise InvalidInputError(name, f"must have shape ({m},) or ({m}, K), one row per joint, got shape "
+                                f"{np.shape(value)}", "give the joint values in state order")
+    if not np.all(np.isfinite(a)):
+        raise InvalidInputError(name, "has a value that is not finite", "give finite numbers")
+    return a
+
+
+def inverse_dynamics(body, q, u, du, *, root: str = "planar", derivatives: bool = False) -> InverseDynamics:
+    """Joint torques of a free-flying planar body from its joint motion (module docstring).
+
+    Parameters
+    ----------
+    body : PlanarBody
+        Its link table and :math:`P_0`.
+    q, u, du : array_like, shape (m,) or (m, K)
+        Joint angles, rates :math:`\\dot q` and accelerations :math:`\\ddot q` at ``K`` instants,
+        one row per joint in state order (``body.links.joint_names``).
+    root : {"planar", "freeflyer"}
+        The root joint of the Pinocchio model; both give the same torques (tested), the free
+        flyer's residual has 6 rows.
+    derivatives : bool
+        Also compute :attr:`InverseDynamics.partials`, exactly (Pinocchio's analytic derivatives).
+
+    Returns
+    -------
+    InverseDynamics
+
+    Raises
+    ------
+    InvalidInputError
+        ``body`` is not a :class:`PlanarBody`, the shapes disagree, or Pinocchio is missing.
+    """
+    table = _table(body)
+    if root not in ROOTS:
+        raise InvalidInputError("root", f"must be one of {list(ROOTS)}, got {root!r}", "give root=\"planar\"")
+    pin = require_pinocchio()
+    m = len(table) - 1
+    Q, U, DU = _rows("q", q, m), _rows("u", u, m), _rows("du", du, m)
+    K = Q.shape[1]
+    if U.shape[1] != K or DU.shape[1] != K:
+        raise InvalidInputError("u", f"q, u and du must have the same number of instants, got {Q.shape[1]}, "
+                                f"{U.shape[1]}, {DU.shape[1]}", "give one column per instant in each")
+    pb = _model(table, root)
+    model, data = pb.model, _data(pb)
+    rc, jc = pb.root_columns, pb.joint_columns
+    nv = model.nv
+    nr = nv - m
+    h0 = np.array([0.0, 0.0, float(body.P0)])
+    cfg = pb.configuration(np.zeros(m + 1))
+    iq = [model.joints[pb.joint_ids[i]].idx_q for i in table.joints]
+    tau = np.empty((m, K))
+    resid = np.empty((nr, K))
+    nu, dnu = np.empty((3, K)), np.empty((3, K))
+    partials = np.empty((m, K, 3 * m)) if derivatives else None
+    v, a = np.zeros(nv), np.zeros(nv)
+    eye = np.eye(m)
+    for k in range(K):
+        cfg[iq] = Q[:, k]
+        v[jc], a[jc] = U[:, k], DU[:, k]
+        Ag = pin.computeCentroidalMap(model, data, cfg)[_ROWS]
+        Arr, Arj = Ag[:, rc], Ag[:, jc]
+        v[rc] = np.linalg.solve(Arr, h0 - Arj @ U[:, k])  # (1)
+        dAg = pin.computeCentroidalMapTimeVariation(model, data, cfg, v)[_ROWS]
+        a[rc] = -np.linalg.solve(Arr, Arj @ DU[:, k] + dAg @ v)  # (2)
+        F = pin.rnea(model, data, cfg, v, a)
+        tau[:, k] = F[jc]
+        resid[:, k] = np.delete(F, jc)
+        nu[:, k], dnu[:, k] = v[rc], a[rc]
+        if derivatives:
+            dh_dq, dhd_dq, dhd_dv, _ = pin.computeCentroidalDynamicsDerivatives(model, data, cfg, v, a)
+            dF_dq, dF_dv, M = pin.computeRNEADerivatives(model, data, cfg, v, a)
+            M = np.triu(M) + np.triu(M, 1).T  # Pinocchio fills the upper triangle
+            # d(q, v, a) / d(q_joints, u, du): shapes (nv, 3m)
+            dq = np.zeros((nv, 3 * m))
+            dq[jc, :m] = eye
+            dv = np.zeros((nv, 3 * m))
+            dv[jc, m:2 * m] = eye
+            dv[rc, :m] = -np.linalg.solve(Arr, dh_dq[_ROWS][:, jc])
+            dv[rc, m:2 * m] = -np.linalg.solve(Arr, Arj)
+            da = np.zeros((nv, 3 * m))
+            da[jc, 2 * m:] = eye
+            da[rc] = -np.linalg.solve(Arr, dhd_dq[_ROWS] @ dq + dhd_dv[_ROWS] @ dv + Arj @ da[jc])
+            partials[:, k, :] = (dF_dq @ dq + dF_dv @ dv + M @ da)[jc]
+    theta_col = 2  # omega among (vx, vy, omega)
+    return InverseDynamics(tau, resid, nu[theta_col].copy(), dnu[theta_col].copy(), nu, dnu, partials)
+
+
+@functools.lru_cache(maxsize=64)
+def _basis_tables(basis, s_bytes: bytes):
+    s = np.frombuffer(s_bytes)
+    out = (basis.matrix(s), basis.matrix(s, 1), basis.integral(s))
+    for t in out:
+        t.setflags(write=False)
+    return out
+
+
+@dataclasses.dataclass(frozen=True)
+class PlanarTorque:
+    """The torque model of a :class:`~acroplan.families.planar.model.PlanarBody`: its joint
+    torques along a segment and their exact Jacobian in the input coefficients (module docstring),
+    for :class:`acroplan.core.optimal.TorqueOptimal`, torque limits (``tau_max``) and the torques of
+    a plan.
+
+    Parameters
+    ----------
+    joint_names : tuple of str, optional
+        One per torque row (the body's joints, in state order); :meth:`PlanarBody.torque_model
+        <acroplan.families.planar.model.PlanarBody.torque_model>` fills them in. ``None``: a model
+        for any planar body.
+    root : {"planar", "freeflyer"}
+        The root joint of the Pinocchio model.
+
+    Notes
+    -----
+    Call signature: ``model(system, basis, x0, T, c, s) -> (tau, jacobian)`` with ``c`` of shape
+    ``(m, basis.n)``, ``s`` of shape ``(K,)`` (normalised times in [0, 1]), ``x0`` the segment's
+    start state :math:`(\\theta_0, q_0)`; ``tau`` of shape ``(m, K)`` and ``jacobian`` of shape
+    ``(m, K, m * basis.n)``, :math:`\\partial\\tau/\\partial c` with ``c`` flattened row by row.
+    """
+
+    joint_names: tuple | None = None
+    root: str = "planar"
+
+    def __post_init__(self):
+        if self.joint_names is not None:
+            object.__setattr__(self, "joint_names", tuple(self.joint_names))
+        if self.root not in ROOTS:
+            raise InvalidInputError("root", f"must be one of {list(ROOTS)}, got {self.root!r}",
+                                    "give root=\"planar\"")
+
+    def unsupported(self, system) -> str | None:
+        """Why the model cannot give the torques of ``system`` (``None`` when it can)."""
+        if not _is_planar(system):
+            return f"PlanarTorque models planar bodies, not {type(system).__name__}"
+        if self.joint_names is not None and self.joint_names != system.links.joint_names:
+            return (f"this PlanarTorque is for the joints {list(self.joint_names)}, the body has "
+                    f"{list(system.links.joint_names)}: use the body's torque_model()")
+        try:
+            require_pinocchio()
+        except InvalidInputError:
+            return f"the torques of planar bodies need Pinocchio: {INSTALL_HINT}"
+        return None
+
+    def motion(self, system, basis, x0, T, c, s):
+        """The joint motion of the segment at ``s``: :math:`q, u, \\dot u`, each shape (m, K)."""
+        m = system.n_inputs
+        c = np.asarray(c, dtype=float)
+        if c.shape != (m, basis.n):
+            raise InvalidInputError("c", f"must have shape ({m}, {basis.n}), got {c.shape}",
+                                    "give one row of basis coefficients per joint")
+        T = float(T)
+        if not (np.isfinite(T) and T > 0):
+            raise InvalidInputError("T", f"must be a positive duration, got {T}", "give the segment's length")
+        s = np.ascontiguousarray(np.atleast_1d(np.asarray(s, dtype=float)))
+        V, V1, Int = _basis_tables(basis, s.tobytes())
+        q0 = np.asarray(x0, dtype=float).reshape(-1)[1:]
+        return q0[:, None] + T * (c @ Int.T), c @ V.T, (c @ V1.T) / T
+
+    def __call__(self, system, basis, x0, T, c, s):
+        why = self.unsupported(system)
+        if why is not None:
+            raise InvalidInputError("system", why, "plan a PlanarBody (with Pinocchio installed)")
+        q, u, du = self.motion(system, basis, x0, T, c, s)
+        out = inverse_dynamics(system, q, u, du, root=self.root, derivatives=True)
+        s = np.ascontiguousarray(np.atleast_1d(np.asarray(s, dtype=float)))
+        V, V1, Int = _basis_tables(basis, s.tobytes())
+        m, T = system.n_inputs, float(T)
+        P = out.partials  # (m, K, 3m): d tau / d(q, u, du)
+        jac = (np.einsum("pkj,ki->pkji", P[:, :, :m], T * Int)
+               + np.einsum("pkj,ki->pkji", P[:, :, m:2 * m], V)
+               + np.einsum("pkj,ki->pkji", P[:, :, 2 * m:], V1 / T))
+        return out.tau, jac.reshape(m, s.size, m * basis.n)
+
+    def __repr__(self):
+        names = "" if self.joint_names is None else f"joint_names={self.joint_names!r}"
+        root = "" if self.root == "planar" else f"root={self.root!r}"
+        return f"PlanarTorque({', '.join(x for x in (names, root) if x)})"
