@@ -1,19 +1,36 @@
-"""Bundled example problems (the model zoo's problems), shared by the CLI, tests and docs."""
+"""Bundled example problems (the model zoo's problems), shared by the CLI, tests and docs.
+
+Each example is a problem file in ``acroplan/io/data/`` (``acroplan examples --show NAME`` prints
+it); a file may name another file beside it (the diver's URDF), which :func:`files` lists and
+``acroplan init --example NAME`` copies too. :func:`command` says which command runs an example
+(``plan``, ``simulate`` or ``nilpotent``).
+"""
 
 from __future__ import annotations
 
+import re
+import tomllib
 from importlib import resources
+from pathlib import Path
 
 from ..core.errors import InvalidInputError
-from .problem import Problem, parse_problem
+from .problem import Problem, Simulation, parse_problem, parse_simulation
 
-__all__ = ["names", "load", "robot", "text"]
+__all__ = ["names", "load", "load_simulation", "robot", "text", "files", "command"]
 
 _DESCRIPTIONS = {
     "pike-dive": "Chapter 3: straight -> pike -> 3.5 somersaults -> straight, 5 segments, spline conditions",
     "pike-dive-limited": "the pike dive with phi kept in [-2 pi, -pi] (never folding past flat), free conditions",
     "chapter4": "Chapter 4: nilpotentization from (pi/4, 0, 0) to (pi/4, 2, 1.4 pi), cubic v1, v2 "
                 "(acroplan nilpotent)",
+    "diver-somersault": "planar body (URDF): a diver with arms turns one somersault in pike with an arm sweep, "
+                        "P0 = 36, 4 segments, spline conditions",
+    "space-robot-turn": "planar body (link tables): a space robot turns its base 90 deg at zero momentum by arm "
+                        "loops, within its joint and rate limits",
+    "three-rods-turn": "planar body (link tables): three equal rods at zero momentum turn 0.4 rad by one shape "
+                       "loop, |u| <= 2 rad/s",
+    "space-robot-arm-loop": "planar body: the turn of the space robot's base under a given arm loop "
+                            "(acroplan simulate)",
 }
 
 
@@ -22,33 +39,68 @@ def names() -> dict[str, str]:
     return dict(_DESCRIPTIONS)
 
 
-def text(name: str) -> str:
-    """The example's TOML source."""
+def _check(name: str) -> None:
     if name not in _DESCRIPTIONS:
         raise InvalidInputError("example", f"unknown example {name!r}", f"choose one of {sorted(_DESCRIPTIONS)}")
+
+
+def _folder() -> Path:
+    return Path(str(resources.files("acroplan.io").joinpath("data")))
+
+
+def text(name: str) -> str:
+    """The example's TOML source."""
+    _check(name)
     return resources.files("acroplan.io").joinpath("data", f"{name}.toml").read_text(encoding="utf-8")
 
 
-def load(name: str) -> Problem:
-    """The example as a validated :class:`~acroplan.problem.Problem`."""
-    import tomllib
+def files(name: str) -> dict[str, str]:
+    """The other files the example's problem file names (a URDF), by file name: their text."""
+    _check(name)
+    data = tomllib.loads(text(name))
+    out = {}
+    urdf = data.get("body", {}).get("urdf") if isinstance(data.get("body"), dict) else None
+    if isinstance(urdf, str) and re.fullmatch(r"[\w.-]+", urdf):
+        out[urdf] = resources.files("acroplan.io").joinpath("data", urdf).read_text(encoding="utf-8")
+    return out
 
+
+def command(name: str) -> str:
+    """The command that runs the example: ``"plan"``, ``"simulate"`` or ``"nilpotent"``."""
+    data = tomllib.loads(text(name))
+    return "nilpotent" if "nilpotent" in data else "plan" if "plan" in data else "simulate"
+
+
+def load(name: str) -> Problem:
+    """The example as a validated :class:`~acroplan.io.problem.Problem`."""
     data = tomllib.loads(text(name))
     if "nilpotent" in data:
         raise InvalidInputError("example", f"{name!r} is a nilpotentization problem",
                                 f"use: acroplan nilpotent --example {name}")
-    return parse_problem(data, name=name)
+    if "plan" not in data and "simulate" in data:
+        raise InvalidInputError("example", f"{name!r} is a simulation (a [simulate] table, no [plan])",
+                                f"use: acroplan simulate --example {name}")
+    return parse_problem(data, name=name, base=_folder())
+
+
+def load_simulation(name: str) -> Simulation:
+    """The example's ``[simulate]`` table as a validated :class:`~acroplan.io.problem.Simulation`."""
+    data = tomllib.loads(text(name))
+    if "simulate" not in data:
+        raise InvalidInputError("example", f"{name!r} has no [simulate] table",
+                                f"use: acroplan {command(name)} --example {name}")
+    return parse_simulation(data, name=name, base=_folder())
 
 
 def load_nilpotent(name: str):
     """A nilpotentization example: ``(NilpotentProblem, method)``."""
-    import tomllib
-
     from .problem import parse_nilpotent
 
     return parse_nilpotent(tomllib.loads(text(name)), name=name)
 
 
 def robot(name: str):
-    """The example's robot."""
+    """The example's system (an ``Acrobot``, or a ``PlanarBody``)."""
+    if command(name) == "simulate":
+        return load_simulation(name).system
     return load(name).robot

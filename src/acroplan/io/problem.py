@@ -1,8 +1,11 @@
 """Problem files (TOML) and their validation.
 
-A problem file has three tables::
+A problem file describes a body and what to do with it. The body is either the two-link acrobot of
+the text (a ``[robot]`` table) or a planar body of any number of links (a ``[body]`` table, from
+a URDF file or from link tables); then a ``[plan]`` table (``acroplan plan``, ``acroplan
+reach``) and/or a ``[simulate]`` table (``acroplan simulate``)::
 
-    [robot]            # either the physical body ...
+    [robot]            # the acrobot: either the physical body ...
     torso_mass = 40.0          # M  (> 0)
     leg_mass = 20.0            # m  (> 0)
     torso_inertia = 2.5        # J  (> 0), about the torso's centre of mass
@@ -30,7 +33,66 @@ A problem file has three tables::
     tol = 1e-10
     max_evaluations = 2000
 
-Unknown tables and keys are rejected, so a typo never passes silently.
+A planar body (:class:`~acroplan.families.planar.model.PlanarBody`; state :math:`(\\theta, q_1,
+\\dots, q_{n-1})`, :math:`\\theta` the root link's angle, :math:`q_j` the joint angles named by
+their joints; inputs :math:`u_j = \\dot q_j` named ``u_<joint>``; the angular momentum :math:`P_0`
+about the axis normal to the plane is conserved)::
+
+    [body]
+    urdf = "diver.urdf"             # relative to the problem file (read by Pinocchio) ...
+    angular_momentum = 36.0         # P0
+    # ... or, instead of urdf, one [[body.link]] table per link:
+    # [[body.link]]
+    # name = "base"                 # the root: no parent
+    # mass = 150.0
+    # inertia = 25.0                # about the link's centre of mass
+    # com = [0.0, 0.0]              # centre of mass in the link's own frame
+    # [[body.link]]
+    # name = "upper_arm"
+    # parent = "base"
+    # joint = [0.6, 0.0]            # its joint, in the parent's frame
+    # joint_name = "shoulder"       # default: the link's name
+    # mass = 12.0
+    # inertia = 1.44
+    # com = [0.6, 0.0]
+    # lower = -2.6                  # optional joint limits (rad) and rate limit (rad/s)
+    # upper = 2.6
+    # velocity = 0.5
+
+    [plan]
+    times = [0.0, 1.5]
+    theta = [0.0, 1.2]              # the root link's angle
+    shoulder = [0.3, 0.3]           # one array per joint, named as in the URDF / link table
+    conditions = "free"
+
+    [limits]           # optional: overrides the URDF's / table's limits, joint by joint
+    shoulder_min = -1.0             # joint limits; "none" drops the URDF's
+    shoulder_max = 3.0
+    u_shoulder = 5.0                # the joint's rate limit |u_shoulder| <= 5 rad/s
+    u_max = 8.0                     # every joint's rate limit (a joint's own u_<joint> wins)
+
+The file's ``[limits]`` are written into the body's link table, so the limits a plan honours are the
+URDF's (or the table's) unless the file overrides them, and ``solution.json`` records them with the
+body. The link table is always in radians; ``options.degrees = true`` applies to ``[plan]`` and
+``[limits]``.
+
+A simulation (``acroplan simulate``): the motion a given joint motion produces::
+
+    [simulate]
+    times = [0.0, 10.0, 20.0]
+    theta = 0.0                     # the initial root angle
+    shoulder = [0.0, 1.5, 0.0]      # a joint's angle at each time: a clamped cubic spline
+                                    # through them (at rest at both ends, u continuous) ...
+    elbow = 0.0                     # ... or its initial angle and
+    u_elbow = [[0.0, 0.3], [0.0, -0.3]]   # its rate's Legendre coefficients per segment
+
+Per joint either form; a joint given neither way is refused. The spline's rate is a quadratic per
+segment, so its three Legendre coefficients are exact. For the acrobot the joint is ``phi`` and its
+rate ``u``.
+
+Unknown tables and keys are rejected with the nearest known name, so a typo never passes silently;
+every message names the file's field (``body.link[2].mass``, ``plan.shoulder``,
+``limits.u_shoulder``, ``simulate.u_elbow[1]``) and the fix.
 """
 
 from __future__ import annotations
@@ -41,56 +103,134 @@ import math
 import operator
 import tomllib
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable
+
+import numpy as np
 
 from ..core.errors import InvalidInputError
 from ..core.limits import Limits
+from ..core.system import ControlAffineSystem
 from ..families.acrobot.model import MAX_MAGNITUDE, Acrobot
 from ..families.acrobot.reach import reachable_set
 from ..planning import PlanRequest
 
-__all__ = ["Problem", "load_problem", "parse_problem", "system_to_dict"]
+__all__ = ["Problem", "Simulation", "load_problem", "load_simulation", "parse_problem", "parse_simulation",
+           "parse_body", "system_to_dict"]
 
 PHYSICAL_KEYS = ("torso_mass", "leg_mass", "torso_inertia", "leg_inertia", "torso_length", "leg_length",
                  "angular_momentum")
 LUMPED_KEYS = ("M1", "A1", "M2", "A2", "P0")
 PLAN_KEYS = ("times", "theta", "phi", "conditions")
-OPTION_KEYS = ("method", "basis", "n_coefficients", "tol", "max_evaluations", "time_limit", "degrees", "start_rate",
-               "end_rate")
 #: the physical keys' clearer names (what they are: centre of mass to the joint)
 ALIASES = {"torso_com_to_joint": "torso_length", "leg_com_to_joint": "leg_length"}
 LIMIT_KEYS = ("phi_min", "phi_max", "u_max")
+#: the tables a problem file may hold
+TABLES = ("robot", "body", "plan", "limits", "options", "simulate")
+#: the keys of [body], and of each [[body.link]] (the fields of :class:`~acroplan.families.planar.links.Link`)
+BODY_KEYS = ("urdf", "link", "angular_momentum")
+LINK_KEYS = ("name", "parent", "mass", "inertia", "com", "joint", "joint_name", "lower", "upper", "velocity")
 
 
 @dataclasses.dataclass(frozen=True)
 class Problem:
-    """A validated planning problem: a robot, waypoints and options."""
+    """A validated planning problem: a system, waypoints by state name, conditions and options.
 
-    robot: Acrobot
+    Parameters
+    ----------
+    system : ControlAffineSystem
+        An :class:`~acroplan.families.acrobot.model.Acrobot` (a ``[robot]`` table) or a
+        :class:`~acroplan.families.planar.model.PlanarBody` (a ``[body]`` table; the file's
+        ``[limits]`` are in its link table).
+    times : tuple of float, length K + 1
+    waypoints : dict of str to tuple, each of length K + 1
+        One entry per state of ``system``, in state order; ``None`` marks a free interior value.
+    conditions : {"spline", "free"}
+    options : dict
+        Further :func:`acroplan.plan` keywords (the acrobot's limits ``phi_min``, ``phi_max``,
+        ``u_max`` among them).
+    name : str
+
+    Notes
+    -----
+    ``problem.robot`` is the system (any kind, as the front doors expect); ``problem.theta`` and,
+    for the acrobot, ``problem.phi`` are the waypoints of those states.
+    """
+
+    system: ControlAffineSystem
     times: tuple[float, ...]
-    theta: tuple[float, ...]
-    phi: tuple[float, ...]
+    waypoints: dict[str, tuple] = dataclasses.field(default_factory=dict)
     conditions: str = "spline"
     options: dict[str, Any] = dataclasses.field(default_factory=dict)
     name: str = ""
 
+    @property
+    def robot(self) -> ControlAffineSystem:
+        """The system (the name the acrobot's callers know)."""
+        return self.system
+
+    @property
+    def theta(self) -> tuple:
+        """The waypoints of ``theta``."""
+        return self.state("theta")
+
+    @property
+    def phi(self) -> tuple:
+        """The waypoints of ``phi`` (the acrobot's joint angle)."""
+        if "phi" not in self.waypoints:
+            raise AttributeError(f"a {type(self.system).__name__} has no state phi; its states are "
+                                 f"{list(self.system.state_names)}")
+        return self.waypoints["phi"]
+
+    def state(self, name: str) -> tuple:
+        """The waypoints of state ``name``."""
+        if name not in self.waypoints:
+            raise InvalidInputError("state", f"{name!r} is not a state of this problem",
+                                    f"states are {list(self.waypoints)}")
+        return self.waypoints[name]
+
     def plan_kwargs(self) -> dict[str, Any]:
         """The keywords of :func:`acroplan.plan` for this problem (all but the system)."""
-        return dict(times=self.times, theta=self.theta, phi=self.phi, conditions=self.conditions, **self.options)
+        return dict(times=self.times, **self.waypoints, conditions=self.conditions, **self.options)
 
-    def solve(self, *, verify: bool = True, progress=None):
+    def solve(self, *, verify: bool | str = True, progress=None):
         """Plan it with :func:`acroplan.plan`."""
         from ..planning import plan
 
-        return plan(self.robot, verify=verify, progress=progress, **self.plan_kwargs())
+        return plan(self.system, verify=verify, progress=progress, **self.plan_kwargs())
 
     @property
-    def limits(self):
-        """The problem's :class:`~acroplan.reach.Limits`."""
-        return Limits(**{k: self.options[k] for k in ("phi_min", "phi_max", "u_max") if k in self.options})
+    def limits(self) -> Limits:
+        """The limits a plan of this problem honours: the acrobot's ``[limits]``; a body's link-table
+        limits (the URDF's, overridden by the file's ``[limits]``)."""
+        if isinstance(self.system, Acrobot):
+            return Limits(**{k: self.options[k] for k in ("phi_min", "phi_max", "u_max") if k in self.options})
+        return self.system.default_limits() or Limits()
 
     def reach(self) -> list[dict]:
-        """The exact reachable interval of every segment, without and with the limits."""
+        """What can be proven about every segment's reachable :math:`\\theta(T)`.
+
+        The acrobot (and any two-link body, which is one): the exact reachable interval, without
+        and with the limits. A body of three or more links: the bound of :meth:`PlanarBody.turn_bound
+        <acroplan.families.planar.model.PlanarBody.turn_bound>`, :math:`|\\theta(T) - \\theta(0)| \\le B`,
+        when every joint has a rate limit (a target outside it is proven unreachable; one inside
+        is not proven reachable: ``reachable`` is then ``None``).
+
+        Returns
+        -------
+        list of dict, one per segment
+
+        Raises
+        ------
+        InvalidInputError
+            For a body of three or more links with a joint without a rate limit (no bound is known).
+        """
+        if isinstance(self.system, Acrobot):
+            return self._reach_acrobot()
+        if getattr(self.system, "n_links", 0) == 2:
+            return self._reach_two_links()
+        return self._reach_bound()
+
+    def _reach_acrobot(self) -> list[dict]:
         out = []
         for k in range(len(self.times) - 1):
             T = self.times[k + 1] - self.times[k]
@@ -107,6 +247,133 @@ class Problem:
                 "reachable": lim.contains(target),
             })
         return out
+
+    def _segments(self):
+        names = self.system.state_names
+        for k in range(len(self.times) - 1):
+            x0 = [self.waypoints[n][k] for n in names]
+            x1 = [self.waypoints[n][k + 1] for n in names]
+            if any(v is None for v in x0 + x1):
+                raise InvalidInputError(f"plan.{names[[v is None for v in x0 + x1].index(True) % len(names)]}",
+                                        "has a free waypoint: what is reachable is asked from given states",
+                                        "give every state at every waypoint for acroplan reach")
+            yield k, np.array(x0, dtype=float), np.array(x1, dtype=float), self.times[k + 1] - self.times[k]
+
+    def _reach_two_links(self) -> list[dict]:
+        """The exact interval of a two-link body: it is an acrobot (``PlanarBody.as_acrobot``)."""
+        body = self.system
+        acro, psi0, delta = body.as_acrobot()
+        joint = body.links.joint_names[0]
+        lim = self.limits
+        out = []
+        for k, x0, x1, T in self._segments():
+            kw = dict(theta0=float(x0[0]) + psi0, phi0=float(x0[1]) + delta, phiT=float(x1[1]) + delta, T=T)
+            free = reachable_set(acro, **kw)
+            alim = None
+            if lim.active:
+                lo, hi = lim.bounds(joint)
+                U = lim.input_bound(f"u_{joint}")
+                sb = {"phi": (None if lo == -math.inf else lo + delta, None if hi == math.inf else hi + delta)} \
+                    if (lo > -math.inf or hi < math.inf) else {}
+                alim = Limits(sb, {"u": U} if U is not None else None)
+            R = reachable_set(acro, **kw, limits=alim) if alim is not None else free
+            shift = lambda r: None if r.empty else [r.low - psi0, r.high - psi0]  # noqa: E731
+            target = float(x1[0])
+            inside = R.contains(target + psi0)
+            out.append({
+                "index": k, "t0": self.times[k], "t1": self.times[k + 1], "theta0": float(x0[0]),
+                "joint": joint, "joint0": float(x0[1]), "jointT": float(x1[1]), "target_theta": target,
+                "kind": "exact (a two-link body is an acrobot)",
+                "interval": shift(free), "interval_closed": free.closed,
+                "interval_with_limits": shift(R), "with_limits_closed": R.closed,
+                "empty_reason": R.reason or None, "reachable": bool(inside),
+            })
+        return out
+
+    def _reach_bound(self) -> list[dict]:
+        body = self.system
+        lim = self.limits
+        unlimited = [j for j in body.links.joint_names if lim.input_bound(f"u_{j}") is None]
+        if unlimited:
+            raise InvalidInputError(
+                "reach", f"exact reachable sets exist for the two-link body only, and this body has "
+                f"{body.n_links} links; joint {unlimited[0]!r} has no rate limit, so no bound on theta(T) is known "
+                "either", f"give every joint a rate limit (limits.u_{unlimited[0]} or limits.u_max) to get a proven "
+                "bound, or plan the file with acroplan plan")
+        out = []
+        for k, x0, x1, T in self._segments():
+            B = float(body.turn_bound(x0, x1, T, lim))
+            proof = body.check_segment(x0, x1, T, lim)
+            target = float(x1[0])
+            out.append({
+                "index": k, "t0": self.times[k], "t1": self.times[k + 1], "theta0": float(x0[0]),
+                "start": dict(zip(body.state_names, map(float, x0))),
+                "end": dict(zip(body.state_names[1:], map(float, x1[1:]))), "target_theta": target,
+                "kind": "bound (rate limits): |theta(T) - theta(0)| <= B; inside it is not proven reachable",
+                "bound": B, "interval": None, "interval_closed": True,
+                "interval_with_limits": [float(x0[0]) - B, float(x0[0]) + B], "with_limits_closed": True,
+                "empty_reason": None if proof is None else proof.reason,
+                "reachable": False if proof is not None else None,
+            })
+        return out
+
+
+@dataclasses.dataclass(frozen=True)
+class Simulation:
+    """A validated simulation: the motion that given joint motions produce (``[simulate]``).
+
+    Parameters
+    ----------
+    system : ControlAffineSystem
+    times : tuple of float, length K + 1
+    initial : dict of str to float
+        The initial state, every state by name.
+    inputs : tuple of numpy.ndarray, K arrays of shape (m, n)
+        Per segment, each input's Legendre coefficients on :math:`s = (t - t_k)/(t_{k+1} - t_k)`
+        (:func:`acroplan.simulate`'s ``inputs``), padded with zeros to a common ``n``.
+    motion : dict of str to str
+        Per input, ``"spline"`` (through the file's joint angles) or ``"coefficients"``.
+    name : str
+    """
+
+    system: ControlAffineSystem
+    times: tuple[float, ...]
+    initial: dict[str, float]
+    inputs: tuple[np.ndarray, ...]
+    motion: dict[str, str] = dataclasses.field(default_factory=dict)
+    name: str = ""
+
+    def simulate_kwargs(self) -> dict[str, Any]:
+        """The keywords of :func:`acroplan.simulate` (all but the system and ``verify``)."""
+        return dict(times=self.times, inputs=[np.array(c) for c in self.inputs], basis="legendre", **self.initial)
+
+    def run(self, *, verify: bool | str = True):
+        """:func:`acroplan.simulate`, checked by the family's own independent check when
+        ``verify="family"`` (the Pinocchio check of a planar body), by the DOP853 re-simulation when
+        ``True`` or ``"ode"``, not at all when ``False``.
+
+        Returns
+        -------
+        PlanResult
+        """
+        from ..simulation import simulate
+
+        if verify != "family":
+            return simulate(self.system, verify=bool(verify), **self.simulate_kwargs())
+        from ..core.result import PlanResult, Status
+        from ..core.verify import verify_plan
+
+        res = simulate(self.system, verify=False, **self.simulate_kwargs())
+        checked, bad, allowed = verify_plan(self.system, res.waypoints[0], res.segments, method="family")
+        how = getattr(self.system, "family_check", "the family's own check")
+        common = dict(system=res.system, times=res.times, waypoints=res.waypoints, conditions=res.conditions,
+                      basis=res.basis, segments=tuple(checked), verified=True, verification="family")
+        if bad is not None:
+            return PlanResult(status=Status.NOT_CONVERGED, message=f"not converged: the independent check ({how}) "
+                              f"disagrees at t = {bad.t1:g} by {bad.verified_error:.2e} > {allowed:.2g}", **common)
+        worst = max(s.verified_error for s in checked)
+        return PlanResult(status=Status.SUCCESS, message=f"simulated: {len(checked)} segment(s), independently "
+                          f"verified ({how}) to {worst:.2e}", **common)
 
 
 _OPS = {ast.Add: operator.add, ast.Sub: operator.sub, ast.Mult: operator.mul, ast.Div: operator.truediv,
@@ -261,9 +528,6 @@ def _check_keys(table: str, data: dict, allowed) -> None:
                                     (f"did you mean {close[0]!r}? " if close else "") + f"known keys are {list(allowed)}")
 
 
-_BODY = "the body's numbers"
-
-
 def parse_robot(data: dict) -> Acrobot:
     """An :class:`Acrobot` from a ``[robot]`` table (physical or lumped keys)."""
     if isinstance(data, dict):
@@ -333,87 +597,470 @@ def _check_lumped(robot: Acrobot, physical: dict | None) -> None:
                                 f"{MIN_BODY:g}, less than the arithmetic carries", fix)
 
 
-def parse_problem(data: dict, name: str = "") -> Problem:
-    """A :class:`Problem` from the parsed TOML document."""
-    _check_keys("<file>", data, ("robot", "plan", "limits", "options"))
-    for table in ("robot", "plan"):
-        if table not in data:
-            raise InvalidInputError(table, "table is missing", f"add a [{table}] table (see the README)")
-    robot = parse_robot(data["robot"])
+_BODY = "the body's numbers"
+
+
+# ------------------------------------------------------------------------------- [body]
+def _name_field(field: str, value) -> str:
+    if not isinstance(value, str):
+        key = field.rsplit(".", 1)[-1]
+        raise InvalidInputError(field, f"must be a name in quotes, got {_short(value)}", f"write for example "
+                                f"{key} = \"arm\"")
+    return value
+
+
+def _pair_field(field: str, value) -> tuple[float, float]:
+    if not isinstance(value, list) or len(value) != 2:
+        raise InvalidInputError(field, f"must be a pair [x, y], got {_short(value)}", "write for example [0.5, 0.0]")
+    return tuple(_number(f"{field}[{i}]", v, MAX_BODY, _BODY) for i, v in enumerate(value))
+
+
+def _renamed(e: InvalidInputError, old: str, new: str) -> InvalidInputError:
+    """``e`` with its field's prefix ``old`` (``links``) written as the file's ``new`` (``body.link``)."""
+    field = e.field
+    if field == old or field.startswith((old + "[", old + ".")):
+        field = new + field[len(old):]
+    return InvalidInputError(field, e.problem, e.fix)
+
+
+def _links_from_tables(tables) -> list:
+    """:class:`~acroplan.families.planar.links.Link` records from ``[[body.link]]`` tables (numbers
+    checked and arithmetic read here; the tree is checked by ``LinkTable``)."""
+    from ..families.planar.links import Link
+
+    if not isinstance(tables, list) or not tables or not all(isinstance(t, dict) for t in tables):
+        raise InvalidInputError("body.link", f"must be an array of tables ([[body.link]]), got {_short(tables)}",
+                                "write one [[body.link]] table per link (docs/problem-files.md)")
+    links = []
+    for i, d in enumerate(tables):
+        f = f"body.link[{i}]"
+        _check_keys(f, d, LINK_KEYS)
+        for key in ("name", "mass", "inertia"):
+            if key not in d:
+                raise InvalidInputError(f"{f}.{key}", "is missing", "give every link a name, mass and inertia (and "
+                                        "every link but the root its parent and joint)")
+        kw: dict[str, Any] = {k: _name_field(f"{f}.{k}", d[k]) for k in ("name", "parent", "joint_name") if k in d}
+        for key in ("mass", "inertia"):
+            v = _number(f"{f}.{key}", d[key], MAX_BODY, _BODY)
+            if 0 < v < MIN_BODY:
+                raise InvalidInputError(f"{f}.{key}", f"is {v:.3g}: masses and inertias below {MIN_BODY:g} are less "
+                                        "than the arithmetic carries",
+                                        "change the units so that the numbers come nearer to 1")
+            kw[key] = v
+        for key in ("com", "joint"):
+            if key in d:
+                kw[key] = _pair_field(f"{f}.{key}", d[key])
+        for key in ("lower", "upper"):
+            if key in d:
+                kw[key] = _number(f"{f}.{key}", d[key], MAX_ANGLE, "angles")
+        if "velocity" in d:
+            kw["velocity"] = _number(f"{f}.velocity", d["velocity"], MAX_BODY, "rates")
+        kw.setdefault("parent", None)
+        links.append(Link(**kw))
+    return links
+
+
+def _urdf_table(value, base):
+    """The link table of the URDF file ``value`` (relative to ``base``), read by Pinocchio."""
+    from ..families.planar.urdf import read_link_table
+
+    if not isinstance(value, str) or not value.strip():
+        raise InvalidInputError("body.urdf", f"must be the path of a URDF file in quotes, got {_short(value)}",
+                                "write for example urdf = \"diver.urdf\"")
+    path = Path(value)
+    if not path.is_absolute() and base is not None:
+        path = Path(base) / path
+    if not path.is_file():
+        raise InvalidInputError("body.urdf", f"no such file: {_short(str(path), 200)}",
+                                "give the path of a .urdf file (a relative path is read from the problem file's "
+                                "folder)")
+    if path.stat().st_size > MAX_FILE_BYTES:
+        raise InvalidInputError("body.urdf", f"{path.name} is larger than {MAX_FILE_BYTES // 1_000_000} MB",
+                                "give the URDF of a planar body")
+    try:
+        return read_link_table(path)
+    except InvalidInputError as e:
+        what = e.problem if e.field == "urdf" else f"{e.field} {e.problem}"
+        raise InvalidInputError("body.urdf", f"{path.name}: {what}", e.fix) from None
+
+
+_UNSET = object()
+
+
+def _apply_limits(table, lim, degrees: bool):
+    """The link table with the file's ``[limits]`` written into it (per joint ``NAME_min``,
+    ``NAME_max``, ``u_NAME``; ``u_max`` for every joint; ``"none"`` drops a limit)."""
+    from ..families.planar.links import LinkTable
+
+    names = table.joint_names
+    allowed = ("u_max",) + tuple(k for j in names for k in (f"{j}_min", f"{j}_max", f"u_{j}"))
+    _check_keys("limits", lim, allowed)
+    if not lim:
+        return table
+
+    def value(key, angle: bool):
+        v = lim[key]
+        if isinstance(v, str) and v.strip().lower() == "none":
+            return None
+        x = _number(f"limits.{key}", v, *((MAX_ANGLE, "angles") if angle else (MAX_BODY, "rates")))
+        return math.radians(x) if degrees else x
+
+    u_all = value("u_max", False) if "u_max" in lim else _UNSET
+    links = list(table.links)
+    for j, i in zip(names, table.joints):
+        link = links[i]
+        lo = value(f"{j}_min", True) if f"{j}_min" in lim else link.lower
+        hi = value(f"{j}_max", True) if f"{j}_max" in lim else link.upper
+        key = f"u_{j}" if f"u_{j}" in lim else "u_max"
+        vel = value(key, False) if f"u_{j}" in lim else (link.velocity if u_all is _UNSET else u_all)
+        if vel is not None and not vel > 0:
+            raise InvalidInputError(f"limits.{key}", f"must be > 0, got {vel:g}",
+                                    "give the joint's top speed in rad/s, or \"none\" for no rate limit")
+        if lo is not None and hi is not None and not lo < hi:
+            field, other = (f"{j}_min", f"{j}_max") if f"{j}_min" in lim else (f"{j}_max", f"{j}_min")
+            whose = "" if other in lim else " (the body's own)"
+            raise InvalidInputError(f"limits.{field}", f"must be {'<' if field.endswith('min') else '>'} "
+                                    f"limits.{other}{whose}, got {j}_min = {lo:.12g}, {j}_max = {hi:.12g}",
+                                    "swap or widen the joint limits")
+        links[i] = dataclasses.replace(link, lower=lo, upper=hi, velocity=vel)
+    return LinkTable(links)
+
+
+def parse_body(data: dict, limits: dict | None = None, *, base=None, degrees: bool = False):
+    """A :class:`~acroplan.families.planar.model.PlanarBody` from a ``[body]`` table.
+
+    Parameters
+    ----------
+    data : dict
+        The ``[body]`` table: ``angular_momentum`` and either ``urdf`` (a path, relative to
+        ``base``) or ``link`` (the ``[[body.link]]`` tables, :class:`~acroplan.families.planar.links.Link`'s
+        fields).
+    limits : dict, optional
+        The file's ``[limits]``: ``NAME_min``, ``NAME_max`` (joint angles), ``u_NAME`` (rate),
+        ``u_max`` (every joint's rate); ``"none"`` drops the URDF's or the table's limit. Written
+        into the link table.
+    base : path, optional
+        The problem file's folder (default: the current folder).
+    degrees : bool
+        ``limits`` in degrees and degrees per second.
+
+    Returns
+    -------
+    PlanarBody
+
+    Raises
+    ------
+    InvalidInputError
+        Naming the file's field (``body.link[2].mass``, ``body.urdf``, ``limits.u_hip``).
+    """
+    from ..families.planar.links import LinkTable
+    from ..families.planar.model import PlanarBody
+
+    _check_keys("body", data, BODY_KEYS)
+    if "urdf" in data and "link" in data:
+        raise InvalidInputError("body", "gives both urdf and [[body.link]] tables",
+                                "describe the body one way: a URDF file or link tables")
+    if "urdf" not in data and "link" not in data:
+        raise InvalidInputError("body.urdf", "is missing, and there are no [[body.link]] tables",
+                                "give urdf = \"body.urdf\" or one [[body.link]] table per link")
+    if "angular_momentum" not in data:
+        raise InvalidInputError("body.angular_momentum", "is missing", "give P0, the angular momentum about the "
+                                "axis normal to the plane (0 for a body that starts at rest)")
+    P0 = _number("body.angular_momentum", data["angular_momentum"], MAX_BODY, _BODY)
+    where = "body.urdf" if "urdf" in data else "body.link"
+    if "urdf" in data:
+        table = _urdf_table(data["urdf"], base)
+    else:
+        try:
+            table = LinkTable(_links_from_tables(data["link"]))
+        except InvalidInputError as e:
+            raise _renamed(e, "links", "body.link") from None
+    table = _apply_limits(table, {} if limits is None else limits, degrees)
+    try:
+        body = PlanarBody(table, P0=P0)
+    except InvalidInputError as e:
+        raise _renamed(_renamed(e, "links", where), "P0", "body.angular_momentum") from None
+    for k, v in body.lumped().items():
+        if not (math.isfinite(v) and abs(v) <= MAX_BODY):
+            raise InvalidInputError(where, f"makes the lumped parameter {k} = {v:.3g}, beyond {MAX_BODY:g} in size: "
+                                    "more than the arithmetic carries",
+                                    "change the units so that the numbers come nearer to 1")
+    return body
+
+
+def _system_table(data: dict) -> str:
+    """``"robot"`` or ``"body"``: which table describes the system (refusing both and neither)."""
+    if "robot" in data and "body" in data:
+        raise InvalidInputError("[body]", "is given together with [robot]", "give [robot] for the two-link acrobot "
+                                "or [body] for a planar body of any number of links, not both")
+    if "robot" not in data and "body" not in data:
+        raise InvalidInputError("robot", "table is missing", "add a [robot] table (the two-link acrobot) or a "
+                                "[body] table (a planar body; see docs/problem-files.md)")
+    return "robot" if "robot" in data else "body"
+
+
+def _degrees(data: dict) -> bool:
+    opts = data.get("options")
+    return isinstance(opts, dict) and opts.get("degrees") is True
+
+
+def _parse_system(data: dict, base) -> ControlAffineSystem:
+    if _system_table(data) == "robot":
+        return parse_robot(data["robot"])
+    lim = data.get("limits", {})
+    return parse_body(data["body"], lim, base=base, degrees=_degrees(data))
+
+
+# ----------------------------------------------------------------------------- [options]
+def _choice(names: tuple[str, ...]):
+    def parse(field, v, system):
+        if not isinstance(v, str) or v not in names:
+            raise InvalidInputError(field, f"must be one of {list(names)}, got {_short(v)}",
+                                    f"write {field.rsplit('.', 1)[-1]} = \"{names[0]}\"")
+        return v
+    return parse
+
+
+def _whole_option(most: int, example: str):
+    def parse(field, v, system):
+        if isinstance(v, bool) or not isinstance(v, int) or not 1 <= v <= most:
+            raise InvalidInputError(field, f"must be a whole number from 1 to {most}, got "
+                                    f"{_short(v) if not isinstance(v, int) or abs(v) < 10**30 else 'a huge integer'}",
+                                    f"write for example {example}")
+        return v
+    return parse
+
+
+def _time_limit(field, v, system):
+    return _number(field, v, 1e7, "seconds")
+
+
+def _bool_option(field, v, system):
+    if not isinstance(v, bool):
+        raise InvalidInputError(field, f"must be true or false, got {_short(v)}",
+                                f"write {field.rsplit('.', 1)[-1]} = true")
+    return v
+
+
+def _rate_option(field, v, system):
+    """A number (every input), or for several inputs a table by input name."""
+    if isinstance(v, dict):
+        out = {}
+        for k, x in v.items():
+            if k not in system.input_names:
+                raise InvalidInputError(f"{field}.{_short(k, 60)}", "is not an input",
+                                        f"inputs are {list(system.input_names)}")
+            out[k] = _number(f"{field}.{k}", x, MAX_BODY, "rates")
+        return out
+    return _number(field, v, MAX_BODY, "rates")
+
+
+def _tol(field, v, system):
+    tol = _number(field, v)
+    if not TOL_RANGE[0] <= tol <= TOL_RANGE[1]:
+        raise InvalidInputError(field, f"is {tol:.3g}; tolerances outside [{TOL_RANGE[0]:g}, {TOL_RANGE[1]:g}] are "
+                                "beyond what double precision can meet or mean", "write for example 1e-10")
+    return tol
+
+
+#: The ``[options]`` keys and their readers ``(field, value, system) -> value`` (validated in this
+#: order). To add an option, add its reader here: the key becomes known to files, to their error
+#: messages and to the plan() keywords a :class:`Problem` passes on.
+OPTION_PARSERS: dict[str, Callable[[str, Any, ControlAffineSystem], Any]] = {
+    "method": _choice(("auto", "deform", "flat")),
+    "basis": _choice(("legendre", "monomial")),
+    "n_coefficients": _whole_option(1000, "6"),
+    "max_evaluations": _whole_option(MAX_EVALUATIONS, "2000"),
+    "time_limit": _time_limit,
+    "degrees": _bool_option,
+    "start_rate": _rate_option,
+    "end_rate": _rate_option,
+    "tol": _tol,
+}
+OPTION_KEYS = tuple(OPTION_PARSERS)
+
+
+# -------------------------------------------------------------------------------- [plan]
+def parse_problem(data: dict, name: str = "", base=None) -> Problem:
+    """A :class:`Problem` from the parsed TOML document (``[robot]`` or ``[body]``, ``[plan]``,
+    optional ``[limits]``, ``[options]``; a ``[simulate]`` table is left to :func:`parse_simulation`).
+
+    ``base`` is the problem file's folder: a URDF path in ``[body]`` is read relative to it
+    (default: the current folder).
+    """
+    _check_keys("<file>", data, TABLES)
+    _system_table(data)
+    if "plan" not in data:
+        raise InvalidInputError("plan", "table is missing", "add a [plan] table (see docs/problem-files.md)" +
+                                ("; a file with only [simulate] is run by acroplan simulate" if "simulate" in data
+                                 else ""))
+    system = _parse_system(data, base)
+    acrobot = isinstance(system, Acrobot)
+    states = system.state_names
     p = data["plan"]
-    _check_keys("plan", p, PLAN_KEYS)
-    for key in ("times", "theta", "phi"):
+    _check_keys("plan", p, ("times",) + tuple(states) + ("conditions",))
+    for key in ("times",) + tuple(states):
         if key not in p:
-            raise InvalidInputError(f"plan.{key}", "is missing", "give one value per waypoint")
+            raise InvalidInputError(f"plan.{key}", "is missing", "give one value per waypoint" +
+                                    ("" if acrobot or key == "times" else
+                                     f" (every state: theta and the joints {list(states[1:])})"))
     times = _numbers("plan.times", p["times"], MAX_TIME, "times")
-    theta, phi = (_states(f"plan.{k}", p[k]) for k in ("theta", "phi"))
+    waypoints = {k: _states(f"plan.{k}", p[k]) for k in states}
     conditions = p.get("conditions", "spline")
     if not isinstance(conditions, str) or conditions not in ("spline", "free"):
         raise InvalidInputError("plan.conditions", f"must be \"spline\" or \"free\", got {_short(conditions)}",
                                 "write conditions = \"spline\"")
     opts = data.get("options", {})
-    _check_keys("options", opts, OPTION_KEYS)
+    _check_keys("options", opts, tuple(OPTION_PARSERS))
     options: dict[str, Any] = {}
-    lim = data.get("limits", {})
-    _check_keys("limits", lim, LIMIT_KEYS)
-    for key in LIMIT_KEYS:
-        if key in lim:
-            options[key] = _number(f"limits.{key}", lim[key], *((MAX_BODY, "rates") if key == "u_max"
-                                                                else (MAX_ANGLE, "angles")))
-    for key, names in (("method", ("auto", "deform", "flat")), ("basis", ("legendre", "monomial"))):
+    if acrobot:  # a body's limits are in its link table (parse_body)
+        lim = data.get("limits", {})
+        _check_keys("limits", lim, LIMIT_KEYS)
+        for key in LIMIT_KEYS:
+            if key in lim:
+                options[key] = _number(f"limits.{key}", lim[key], *((MAX_BODY, "rates") if key == "u_max"
+                                                                    else (MAX_ANGLE, "angles")))
+    for key, parse in OPTION_PARSERS.items():
         if key in opts:
-            if not isinstance(opts[key], str) or opts[key] not in names:
-                raise InvalidInputError(f"options.{key}", f"must be one of {list(names)}, got {_short(opts[key])}",
-                                        f"write {key} = \"{names[0]}\"")
-            options[key] = opts[key]
-    for key in ("n_coefficients", "max_evaluations"):
-        if key in opts:
-            v = opts[key]
-            most = MAX_EVALUATIONS if key == "max_evaluations" else 1000
-            if isinstance(v, bool) or not isinstance(v, int) or not 1 <= v <= most:
-                raise InvalidInputError(f"options.{key}", f"must be a whole number from 1 to {most}, got "
-                                        f"{_short(v) if not isinstance(v, int) or abs(v) < 10**30 else 'a huge integer'}",
-                                        "write for example 6" if key == "n_coefficients" else "write for example 2000")
-            options[key] = v
-    if "time_limit" in opts:
-        options["time_limit"] = _number("options.time_limit", opts["time_limit"], 1e7, "seconds")
-    if "degrees" in opts:
-        if not isinstance(opts["degrees"], bool):
-            raise InvalidInputError("options.degrees", f"must be true or false, got {_short(opts['degrees'])}",
-                                    "write degrees = true")
-        options["degrees"] = opts["degrees"]
-    for key in ("start_rate", "end_rate"):
-        if key in opts:
-            options[key] = _number(f"options.{key}", opts[key], MAX_BODY, "rates")
-    if "tol" in opts:
-        tol = _number("options.tol", opts["tol"])
-        if not TOL_RANGE[0] <= tol <= TOL_RANGE[1]:
-            raise InvalidInputError("options.tol", f"is {tol:.3g}; tolerances outside [{TOL_RANGE[0]:g}, "
-                                    f"{TOL_RANGE[1]:g}] are beyond what double precision can meet or mean",
-                                    "write for example 1e-10")
-        options["tol"] = tol
-    problem = Problem(robot, times, theta, phi, conditions, options, name)
+            options[key] = parse(f"options.{key}", opts[key], system)
+    problem = Problem(system, times, waypoints, conditions, options, name)
     # the meaning (lengths, order, ranges, limits against waypoints) is checked by plan()'s own
     # validation, once, with the fields named as the file names them
     try:
-        PlanRequest.build(robot, **problem.plan_kwargs())
+        PlanRequest.build(system, **problem.plan_kwargs())
     except InvalidInputError as e:
-        raise InvalidInputError(_FILE_FIELDS.get(e.field, e.field), _file_words(e.problem), _file_words(e.fix)) \
-            from None
+        raise InvalidInputError(_file_field(e.field, system), _file_words(e.problem), _file_words(e.fix)) from None
     return problem
 
 
-#: plan()'s keywords as a problem file names them
-_FILE_FIELDS = {**{k: f"plan.{k}" for k in PLAN_KEYS}, **{k: f"limits.{k}" for k in LIMIT_KEYS},
-                **{k: f"options.{k}" for k in OPTION_KEYS}}
+def _file_field(field: str, system) -> str:
+    """plan()'s field as the problem file names it (``times`` -> ``plan.times``, ``u_max`` ->
+    ``limits.u_max``, ``start_rate.u_hip`` -> ``options.start_rate.u_hip``)."""
+    head = field.split(".", 1)[0].split("[", 1)[0]
+    if head in ("times", "conditions") or head in system.state_names:
+        return f"plan.{field}"
+    if head in LIMIT_KEYS and isinstance(system, Acrobot):
+        return f"limits.{field}"
+    if head in OPTION_PARSERS:
+        return f"options.{field}"
+    return field
 
 
 def _file_words(text: str) -> str:
     """plan()'s option names in a message, as the file names them (``u_max`` -> ``limits.u_max``)."""
     import re
 
-    keys = [k for k in LIMIT_KEYS + OPTION_KEYS if "_" in k]
-    return re.sub(r"(?<![\w.])(" + "|".join(keys) + r")(?!\w)", lambda m: _FILE_FIELDS[m.group(1)], text)
+    names = {**{k: f"limits.{k}" for k in LIMIT_KEYS}, **{k: f"options.{k}" for k in OPTION_PARSERS}}
+    keys = [k for k in names if "_" in k]
+    return re.sub(r"(?<![\w.])(" + "|".join(keys) + r")(?!\w)", lambda m: names[m.group(1)], text)
+
+
+# ---------------------------------------------------------------------------- [simulate]
+def _spline_rates(times, angles) -> list[np.ndarray]:
+    """Per segment, the Legendre coefficients (3) of the rate of the clamped cubic spline through
+    ``(times, angles)``: on :math:`[t_k, t_{k+1}]`, :math:`q = c_3\\tau^3 + c_2\\tau^2 + c_1\\tau + c_0`,
+    so :math:`u(s) = c_1 + 2c_2 T s + 3c_3 T^2 s^2` with :math:`\\tau = Ts` (exact)."""
+    from scipy.interpolate import CubicSpline
+
+    from ..core.basis import Legendre
+
+    cs = CubicSpline(np.asarray(times, dtype=float), np.asarray(angles, dtype=float), bc_type="clamped")
+    basis = Legendre(3)
+    out = []
+    for k in range(len(times) - 1):
+        T = times[k + 1] - times[k]
+        c3, c2, c1, _ = cs.c[:, k]
+        out.append(basis.from_power_s([c1, 2.0 * c2 * T, 3.0 * c3 * T * T]))
+    return out
+
+
+def _coefficient_rows(field: str, value, K: int) -> list[np.ndarray]:
+    from ..planning import MAX_COEFFICIENTS
+
+    fix = f"give {K} list(s) of Legendre coefficients, one per segment, for example " + \
+          ("[[0.0, 0.5]]" if K == 1 else "[[0.0, 0.5], [0.0, -0.5]]")
+    if not isinstance(value, list) or not all(isinstance(r, list) for r in value):
+        raise InvalidInputError(field, f"must be a list of lists (one per segment), got {_short(value)}", fix)
+    if len(value) != K:
+        raise InvalidInputError(field, f"has {len(value)} segment(s) but simulate.times has {K}", fix)
+    out = []
+    for k, row in enumerate(value):
+        if not 1 <= len(row) <= MAX_COEFFICIENTS:
+            raise InvalidInputError(f"{field}[{k}]", f"has {len(row)} coefficients; give 1 to {MAX_COEFFICIENTS}", fix)
+        out.append(np.array(_numbers(f"{field}[{k}]", row, MAX_BODY, "rates")))
+    return out
+
+
+def parse_simulation(data: dict, name: str = "", base=None) -> Simulation:
+    """A :class:`Simulation` from the parsed TOML document (``[robot]`` or ``[body]`` and
+    ``[simulate]``; the module docstring shows the form). ``[plan]`` and ``[options]`` are not
+    read; ``[limits]`` of a body go into its link table (recorded, not imposed on the motion)."""
+    from ..planning import MAX_DURATION, MIN_DURATION
+
+    _check_keys("<file>", data, TABLES)
+    _system_table(data)
+    if "simulate" not in data:
+        raise InvalidInputError("simulate", "table is missing", "add a [simulate] table with times, the initial "
+                                "state and each joint's motion (docs/problem-files.md); a file with only [plan] is "
+                                "run by acroplan plan")
+    system = _parse_system(data, base)
+    if isinstance(system, Acrobot):
+        _check_keys("limits", data.get("limits", {}), LIMIT_KEYS)
+    sim = data["simulate"]
+    states, inputs = tuple(system.state_names), tuple(system.input_names)
+    input_of = {s: u for u, s in system.rate_inputs.items()}
+    _check_keys("simulate", sim, ("times",) + states + inputs)
+    if "times" not in sim:
+        raise InvalidInputError("simulate.times", "is missing", "give the segment boundaries, for example [0, 1, 2]")
+    times = _numbers("simulate.times", sim["times"], MAX_TIME, "times")
+    if len(times) < 2 or any(b <= a for a, b in zip(times, times[1:])):
+        raise InvalidInputError("simulate.times", "must hold at least 2 strictly increasing values",
+                                "give for example [0, 1, 2]")
+    for k, (a, b) in enumerate(zip(times, times[1:])):
+        if not MIN_DURATION <= b - a <= MAX_DURATION:
+            raise InvalidInputError("simulate.times", f"segment {k} lasts {b - a:.3g}; durations must lie in "
+                                    f"[{MIN_DURATION:g}, {MAX_DURATION:g}]", "rescale the units of time")
+    K = len(times) - 1
+    initial, rates, motion = {}, {}, {}
+    for state in states:
+        field = f"simulate.{state}"
+        u = input_of.get(state)
+        if state not in sim:
+            raise InvalidInputError(field, "is missing", "give the initial value of every state" +
+                                    ("" if u is None else f"; for a joint, its angles at the times (a spline) or its "
+                                     f"initial angle with simulate.{u}"))
+        v = sim[state]
+        if u is None:
+            if isinstance(v, list):
+                raise InvalidInputError(field, "is what the simulation computes: give its initial value only",
+                                        f"write for example {state} = 0.0")
+            initial[state] = _number(field, v, MAX_ANGLE, "angles")
+        elif isinstance(v, list):
+            if u in sim:
+                raise InvalidInputError(f"simulate.{u}", f"is given together with the angles of {state}",
+                                        f"give {state} = [angles at the times] (a spline through them), or "
+                                        f"{state} = its initial angle with {u} = [[coefficients], ...]")
+            angles = _numbers(field, v, MAX_ANGLE, "angles")
+            if len(angles) != len(times):
+                raise InvalidInputError(field, f"has {len(angles)} value(s) but simulate.times has {len(times)}",
+                                        "give one angle per time (a spline through them), or one number (the "
+                                        f"initial angle) with simulate.{u}")
+            initial[state] = angles[0]
+            rates[u] = _spline_rates(times, angles)
+            motion[u] = "spline"
+        else:
+            initial[state] = _number(field, v, MAX_ANGLE, "angles")
+            if u not in sim:
+                raise InvalidInputError(f"simulate.{u}", "is missing", f"give the Legendre coefficients of {u} per "
+                                        f"segment ([[c0, c1, ...], ...]), or {state} as a list of angles, one per time")
+            rates[u] = _coefficient_rows(f"simulate.{u}", sim[u], K)
+            motion[u] = "coefficients"
+    missing = [u for u in inputs if u not in rates]
+    if missing:  # an input that is the rate of no state (no such system is read from files today)
+        raise InvalidInputError(f"simulate.{missing[0]}", "is missing", "give its Legendre coefficients per segment")
+    n = max(len(c) for u in inputs for c in rates[u])
+    segs = tuple(np.array([np.pad(rates[u][k], (0, n - len(rates[u][k]))) for u in inputs]) for k in range(K))
+    return Simulation(system, times, initial, segs, motion, name)
 
 
 def parse_nilpotent(data: dict, name: str = ""):
@@ -509,8 +1156,13 @@ def _line_of_long_number(text: str) -> str:
 
 
 def load_problem(path) -> Problem:
-    """Read and validate a problem file."""
-    return parse_problem(load_toml(path), name=Path(path).stem)
+    """Read and validate a problem file (a URDF it names is read relative to its folder)."""
+    return parse_problem(load_toml(path), name=Path(path).stem, base=Path(path).parent)
+
+
+def load_simulation(path) -> Simulation:
+    """Read and validate a problem file's ``[simulate]`` table (with its ``[robot]`` or ``[body]``)."""
+    return parse_simulation(load_toml(path), name=Path(path).stem, base=Path(path).parent)
 
 
 def system_to_dict(system) -> dict[str, Any]:
