@@ -1,0 +1,348 @@
+"""Human bodies (issue #13): Yeadon's model and de Leva's tables split into two and three parts,
+human limits as data, and the 10 m platform dive in pike.
+
+Every number asserted is either yeadon's own (computed independently by yeadon in 3-D from its
+solids), a value printed in de Leva (1996), an identity of the paper's table, a closed form, or a
+limit from the bundled data with its source.
+"""
+
+import doctest
+import inspect
+import math
+import sys
+
+import numpy as np
+import pytest
+
+import acroplan
+from acroplan.core.errors import InvalidInputError
+from acroplan.families.acrobot.reach import reachable_set
+from acroplan.families.human import (POSITIONS, SagittalBody, de_leva_table, flight_time, from_height_mass,
+                                     from_yeadon, hip_rate_literature, human_data, human_limits, position)
+from acroplan.families.human import body as body_module
+from acroplan.families.human import deleva as deleva_module
+from acroplan.families.human import limits as limits_module
+from acroplan.families.human.examples import platform_dive
+from acroplan.families.human.yeadon_body import load_human, whole_body
+
+yeadon = pytest.importorskip("yeadon")
+
+# (hip flexion, shoulder flexion) in rad: straight, pike, arms forward, piked with arms overhead,
+# hyperextended with arms back
+CONFIGS = [(0.0, 0.0), (2.5, 0.0), (0.0, 1.2), (1.3, 0.6), (2.4, math.pi), (-0.4, -0.8)]
+
+
+@pytest.fixture(scope="module")
+def human():
+    return load_human()  # the bundled male1
+
+
+@pytest.fixture(scope="module")
+def male1(human):
+    return from_yeadon(human)
+
+
+def _yeadon_com(human, psi, sigma, kappa):
+    """yeadon's whole-body centre of mass at these angles, in the trunk frame (X, Y) = (z, -y)."""
+    saved = dict(human.CFG)
+    cfg = {k: 0.0 for k in human.CFGnames}
+    cfg.update(PJ1extension=-psi, PK1extension=-psi, CA1extension=-sigma, CB1extension=-sigma, J1J2flexion=kappa,
+               K1K2flexion=kappa)
+    human.set_CFG_dict(cfg)
+    c = human.center_of_mass
+    out = (float(c[2, 0]), -float(c[1, 0]))
+    human.set_CFG_dict(saved)
+    return out
+
+
+# ------------------------------------------------------------------------------------------- yeadon
+def test_bundled_sample_is_yeadons_male1(human, male1):
+    # yeadon's own whole-body mass; the three parts add up to it
+    mass, inertia = whole_body(human)
+    assert mass == pytest.approx(58.200488588422544, rel=1e-12)
+    assert abs(male1.mass - mass) <= 1e-12 * mass
+    assert inertia == pytest.approx(9.630938502211407, rel=1e-12)
+
+
+def test_two_link_straight_matches_yeadon_whole_body(human, male1):
+    """Total mass and the moment of inertia about the somersault axis of the body split at the hips,
+    straight with the arms at the sides, equal yeadon's own whole-body values (1e-9 relative)."""
+    mass, inertia = whole_body(human, 0.0, 0.0, 0.0)
+    robot = male1.two_link(angular_momentum=50.0)
+    phys = robot.physical
+    assert abs(phys.torso_mass + phys.leg_mass - mass) <= 1e-9 * mass
+    assert male1.phi(0.0) == pytest.approx(-math.pi, abs=1e-15)  # straight: phi = -pi
+    assert abs(robot.h(male1.phi(0.0)) - inertia) <= 1e-9 * inertia
+    # the text's eq. (3) formulas: h(pi) = j + J + mu (L + l)^2
+    mu = phys.reduced_mass
+    assert robot.M1 - robot.A1 == pytest.approx(phys.leg_inertia + phys.torso_inertia
+                                                + mu * (phys.torso_length + phys.leg_length) ** 2, rel=1e-14)
+
+
+@pytest.mark.parametrize("psi,sigma", CONFIGS)
+def test_three_part_matches_yeadon_in_any_sagittal_configuration(human, male1, psi, sigma):
+    """The planar body's locked inertia and centre of mass at the joint angles of a yeadon
+    configuration equal yeadon's (which rotates its 3-D solids itself): checks the parts, their
+    frames and every sign convention (a wrong sign of the hip or shoulder angle moves the centre of
+    mass to the other side)."""
+    _, inertia = whole_body(human, psi, sigma, 0.0)
+    body = male1.three_part(angular_momentum=0.0)
+    q = male1.shape(psi, sigma)
+    assert abs(body.locked_inertia(list(q)) - inertia) <= 1e-9 * inertia
+    assert abs(male1.inertia(psi, sigma) - inertia) <= 1e-9 * inertia
+    com = _yeadon_com(human, psi, sigma, 0.0)
+    assert np.allclose(male1.center_of_mass(psi, sigma), com, rtol=0, atol=1e-12)
+    if sigma == 0.0:  # the two-link body (arms along the trunk) at the same hip flexion
+        robot = male1.two_link()
+        assert abs(robot.h(male1.phi(psi)) - inertia) <= 1e-9 * inertia
+
+
+def test_tuck_body_with_flexed_knees_matches_yeadon(human):
+    kappa = position("tuck").knee_flexion
+    body = from_yeadon(human, knee_flexion=kappa)
+    assert body.phi_offset() != 0.0  # the legs' centre of mass leaves the thigh's line
+    for psi, sigma in [(0.0, 0.0), (2.3, 0.0), (2.3, 1.0)]:
+        _, inertia = whole_body(human, psi, sigma, kappa)
+        assert abs(body.inertia(psi, sigma) - inertia) <= 1e-9 * inertia
+        assert np.allclose(body.center_of_mass(psi, sigma), _yeadon_com(human, psi, sigma, kappa), atol=1e-12)
+        if sigma == 0.0:
+            assert abs(body.two_link().h(body.phi(psi)) - inertia) <= 1e-9 * inertia
+    # the human's own configuration is left as it was
+    assert all(v == 0.0 for v in human.CFG.values())
+
+
+def test_yeadon_is_optional(monkeypatch):
+    monkeypatch.setitem(sys.modules, "yeadon", None)  # "import yeadon" now raises ImportError
+    with pytest.raises(ImportError, match=r"pip install acroplan\[human\]"):
+        from_yeadon()
+
+
+def test_bad_measurement_file_is_named(tmp_path):
+    bad = tmp_path / "meas.txt"
+    bad.write_text("measurementconversionfactor: 0.01\nLs1L: 4.9\n")
+    with pytest.raises(InvalidInputError, match="measurements"):
+        from_yeadon(str(bad))
+    with pytest.raises(InvalidInputError, match="measurements"):
+        from_yeadon(str(tmp_path / "missing.txt"))
+    with pytest.raises(InvalidInputError, match="knee_flexion"):
+        from_yeadon(knee_flexion=4.0)
+
+
+# ------------------------------------------------------------------------------------------- de Leva
+def test_de_leva_table_values_and_identities():
+    seg = de_leva_table()["segments"]
+    # values printed in de Leva (1996), Table 4 (male, female)
+    assert (seg["thigh"]["male"]["mass"], seg["thigh"]["female"]["mass"]) == (14.16, 14.78)
+    assert (seg["thigh"]["male"]["com"], seg["thigh"]["female"]["com"]) == (40.95, 36.12)
+    assert (seg["trunk"]["male"]["mass"], seg["head"]["male"]["com"]) == (43.46, 59.76)
+    assert (seg["upper_arm"]["male"]["r_trans"], seg["shank"]["female"]["r_trans"]) == (26.9, 26.7)
+    assert de_leva_table()["reference"]["stature_mm"] == {"male": 1741.0, "female": 1735.0}
+    for sex in ("male", "female"):
+        parts = [seg[s][sex] for s in ("upper_trunk", "middle_trunk", "lower_trunk")]
+        # the trunk is the upper, middle and lower trunk: masses and lengths add up
+        assert sum(p["mass"] for p in parts) == pytest.approx(seg["trunk"][sex]["mass"], abs=1e-9)
+        assert sum(p["length_mm"] for p in parts) == pytest.approx(seg["trunk"][sex]["length_mm"], abs=1e-9)
+        # alternative endpoints: the same masses
+        assert seg["head_to_c7"][sex]["mass"] == seg["head"][sex]["mass"]
+        assert seg["trunk_from_c7"][sex]["mass"] == seg["trunk_from_shoulders"][sex]["mass"] == seg["trunk"][sex]["mass"]
+    total = {sex: seg["head"][sex]["mass"] + seg["trunk"][sex]["mass"] + 2 * sum(
+        seg[s][sex]["mass"] for s in ("upper_arm", "forearm", "hand", "thigh", "shank", "foot")) for sex in ("male", "female")}
+    assert total["male"] == pytest.approx(100.00, abs=1e-9)
+    assert total["female"] == pytest.approx(99.99, abs=1e-9)  # as transcribed (data file's note)
+
+
+def _de_leva_by_hand(H, M, sex, sigma):
+    """The straight body's moment of inertia about the somersault axis, segment by segment (9
+    segment kinds, 15 segments), from the table alone: an independent sum of m (r l)^2 + m x^2."""
+    seg, ref = de_leva_table()["segments"], de_leva_table()["reference"]["stature_mm"][sex] / 1000
+    s = H / ref
+
+    def row(name):
+        r = seg[name][sex]
+        return r["mass"] / 100, r["length_mm"] / 1000 * s, r["com"] / 100, r["r_trans"] / 100
+
+    names = ("head_to_c7", "trunk_from_shoulders", "upper_arm", "forearm", "hand", "thigh", "shank", "foot")
+    tot = row("head_to_c7")[0] + row("trunk_from_shoulders")[0] + 2 * sum(row(n)[0] for n in names[2:])
+    pts = []  # (mass, position along the body's axis from the mid-hip, own inertia)
+    fm, lt, ct, rt = row("trunk_from_shoulders")
+    pts.append((fm, lt * (1 - ct), rt * lt))
+    fm, lh, ch, rh = row("head_to_c7")
+    pts.append((fm, row("trunk_from_c7")[1] + lh * (1 - ch), rh * lh))
+    direction = -1.0 if sigma == 0.0 else 1.0  # arms along the trunk (down) or overhead (up)
+    x = lt
+    for n in ("upper_arm", "forearm", "hand"):
+        fm, length, c, r = row(n)
+        pts.append((2 * fm, x + direction * c * length, r * length))
+        x += direction * length
+    x = 0.0
+    for n in ("thigh", "shank", "foot"):
+        fm, length, c, r = row(n)
+        pts.append((2 * fm, x - c * length, r * length))
+        x -= length
+    masses = np.array([p[0] for p in pts]) * M / tot
+    xs = np.array([p[1] for p in pts])
+    ks = np.array([p[2] for p in pts])
+    xc = masses @ xs / masses.sum()
+    return masses.sum(), float(masses @ ks**2 + masses @ (xs - xc) ** 2)
+
+
+@pytest.mark.parametrize("sex,H,M", [("male", 1.741, 73.0), ("female", 1.64, 55.0), ("male", 1.90, 92.5)])
+def test_de_leva_body_sums_and_inertia(sex, H, M):
+    body = from_height_mass(H, M, sex=sex)
+    assert abs(body.mass - M) <= 1e-12 * M  # the segments sum to the total mass
+    for sigma in (0.0, math.pi):  # arms at the sides, arms overhead
+        m_hand, inertia = _de_leva_by_hand(H, M, sex, sigma)
+        assert m_hand == pytest.approx(M, rel=1e-12)
+        assert abs(body.inertia(0.0, sigma) - inertia) <= 1e-12 * inertia
+        assert abs(body.three_part().locked_inertia(list(body.shape(0.0, sigma))) - inertia) <= 1e-9 * inertia
+        assert abs(body.two_link(shoulder_flexion=sigma).h(body.phi(0.0, sigma)) - inertia) <= 1e-9 * inertia
+    # segment masses are the paper's fractions (rescaled by their sum)
+    frac = de_leva_table()["segments"]["thigh"][sex]["mass"] / 100
+    legs = 2 * sum(de_leva_table()["segments"][s][sex]["mass"] for s in ("thigh", "shank", "foot")) / 100
+    total = 1.0 if sex == "male" else 0.9999
+    assert body.legs.mass == pytest.approx(M * legs / total, rel=1e-12)
+    assert frac > 0
+
+
+def test_de_leva_and_yeadon_are_close_for_a_similar_body(male1):
+    """Two independent models of an adult man: de Leva's at male1's mass and a stature of 1.74 m
+    (an assumption: yeadon does not give stature) within 20 % of yeadon's straight inertia (a
+    plausibility check of the units and placements, not a validation)."""
+    d = from_height_mass(1.74, male1.mass, sex="male")
+    assert abs(d.inertia() / male1.inertia() - 1) < 0.20
+
+
+def test_de_leva_knees_flex_backwards():
+    body = from_height_mass(1.75, 70.0, knee_flexion=2.0)
+    assert body.legs.com[1] > 0  # towards +y of the legs' frame: backwards when they hang down
+    assert body.inertia(0.0, 0.0) < from_height_mass(1.75, 70.0).inertia(0.0, 0.0)
+
+
+@pytest.mark.parametrize("kw,field", [({"height": 175.0, "mass": 70.0}, "height"),
+                                      ({"height": 1.75, "mass": 7.0}, "mass"),
+                                      ({"height": 1.75, "mass": 70.0, "sex": "x"}, "sex"),
+                                      ({"height": float("nan"), "mass": 70.0}, "height")])
+def test_de_leva_bad_input_names_the_field(kw, field):
+    with pytest.raises(InvalidInputError) as e:
+        from_height_mass(**kw)
+    assert e.value.field == field
+
+
+# ------------------------------------------------------------------------------------------- limits
+def test_limits_data_have_sources_or_are_marked_estimates():
+    data = human_data()
+    sources = data["sources"]
+    n = 0
+    for group in ("hip", "knee", "shoulder", "rates"):
+        for name, entry in data[group].items():
+            n += 1
+            assert entry["estimate"] or entry["source"] in sources, (group, name)
+            assert entry["source"] == "" or entry["source"] in sources, (group, name)
+            assert entry["note"], (group, name)
+    assert n >= 10
+    assert hip_rate_literature() == (11.0, 12.8)  # Murtaugh (2000); Murtaugh & Miller (2001)
+    assert data["rates"]["hip"]["source"] == "Murtaugh2000"
+    assert data["hip"]["extension"]["value"] == 30.0 and not data["hip"]["extension"]["estimate"]  # AAOS
+
+
+def test_positions_map_to_two_and_three_part_limits(male1):
+    pike = position("pike")
+    assert pike.hip == pytest.approx((-math.radians(30), math.radians(150)))
+    two = human_limits(male1, "pike")
+    lo, hi = two.bounds("phi")
+    assert (lo, hi) == pytest.approx((male1.phi(pike.hip[0]), male1.phi(pike.hip[1])), abs=1e-15)
+    assert two.input_bound("u") == pike.hip_rate == 12.0
+    three = human_limits(male1, "pike", links=3)
+    assert three.bounds("hip") == pytest.approx((math.pi - pike.hip[1], math.pi - pike.hip[0]))
+    assert three.bounds("shoulder") == pytest.approx((0.0, math.pi + math.radians(60)))
+    assert three.input_bound("u_hip") == 12.0 and three.input_bound("u_shoulder") == 15.0
+    body = male1.three_part(angular_momentum=30.0, limits=three)
+    assert body.default_limits() == three
+    straight = human_limits(male1, "straight")
+    assert straight.bounds("phi") == pytest.approx((-math.pi - math.radians(15), -math.pi + math.radians(15)))
+    with pytest.raises(InvalidInputError) as e:
+        human_limits(male1, "tuck")  # male1 was built with straight knees
+    assert e.value.field == "position"
+    with pytest.raises(InvalidInputError) as e:
+        human_limits(male1, "layout")
+    assert e.value.field == "position"
+    assert set(POSITIONS) == {"pike", "tuck", "straight"}
+
+
+def test_tuck_limits_carry_the_offset(human):
+    body = from_yeadon(human, knee_flexion=position("tuck").knee_flexion)
+    lo, hi = human_limits(body, "tuck").bounds("phi")
+    d = body.phi_offset()
+    assert (lo, hi) == pytest.approx((position("tuck").hip[0] - math.pi + d, position("tuck").hip[1] - math.pi + d))
+    assert body.hip_flexion(body.phi(1.7)) == pytest.approx(1.7, abs=1e-15)
+
+
+# ------------------------------------------------------------------------------------------- the dive
+def test_flight_time_is_the_fall_from_the_rise():
+    H, r, g = 10.0, 0.2, 9.81
+    T = flight_time(H, r, g)
+    v0 = math.sqrt(2 * g * r)  # take-off vertical speed for a rise r
+    assert v0 * T - 0.5 * g * T**2 == pytest.approx(-H, abs=1e-12)  # the centre of mass falls H at T
+    assert T == pytest.approx(1.644, abs=5e-4)
+    with pytest.raises(InvalidInputError):
+        flight_time(-1.0)
+
+
+ENERGY = "objective" in inspect.signature(acroplan.plan).parameters  # plan(objective=) is issue #13's
+
+
+@pytest.fixture(scope="module", params=[None, "energy"])
+def dive(request, male1):
+    """The dive planned as the feasible plan (objective=None) and as the energy-optimal one (once
+    plan() has the keyword)."""
+    if request.param == "energy" and not ENERGY:
+        pytest.skip("acroplan.plan has no objective= yet")
+    d = platform_dive(male1, objective=request.param)
+    return d, acroplan.plan(d.robot, **d.kw)
+
+
+def test_platform_dive_momentum_is_the_exact_least_with_a_margin(dive):
+    d, _ = dive
+    assert d.flight_time == pytest.approx(flight_time(10.0, 0.2), rel=1e-15)
+    assert d.least.attained and d.least.success
+    assert d.P0 == pytest.approx(1.10 * d.least.P0, rel=1e-14)
+    # at the least momentum the far end of the exact reachable set is exactly 3.5 somersaults
+    least_robot = d.body.two_link(angular_momentum=d.least.P0)
+    reach = reachable_set(least_robot, theta0=0.0, phi0=d.kw["phi"][0], phiT=d.kw["phi"][-1], T=d.flight_time,
+                          limits=d.limits)
+    assert reach.high == pytest.approx(7 * math.pi, abs=1e-9)
+    # the extremal motion pikes at the full hip rate and holds the deepest pike
+    assert [u for _, u in reach.extremal["high"]] == [12.0, 0.0, -12.0]
+
+
+def test_platform_dive_stays_inside_the_divers_limits(dive):
+    d, res = dive
+    assert res.status == "success", res.message
+    assert getattr(res, "objective", None) == d.kw.get("objective")
+    t = np.linspace(0.0, d.flight_time, 40001)
+    s = res.evaluate(t)
+    theta, phi, u = s.states[0], s.states[1], s.inputs[0]
+    # 3.5 somersaults
+    assert theta[-1] - theta[0] == pytest.approx(7 * math.pi, abs=1e-9)
+    # the hip range of a pike
+    lo, hi = d.limits.bounds("phi")
+    assert phi.min() >= lo - 1e-9 and phi.max() <= hi + 1e-9
+    psi = d.body.hip_flexion(phi)
+    assert psi.min() >= math.radians(-30) - 1e-9 and psi.max() <= math.radians(150) + 1e-9
+    assert psi.max() > 2.4  # it does pike
+    # the rate limit, and the literature's peak hip flexion rate of elite platform divers
+    assert np.abs(u).max() <= 12.0 + 1e-9
+    assert np.abs(u).max() < hip_rate_literature()[1]
+    # take-off and entry straight
+    assert psi[0] == pytest.approx(0.0, abs=1e-12) and psi[-1] == pytest.approx(0.0, abs=1e-12)
+
+
+# ------------------------------------------------------------------------------------------- docs
+@pytest.mark.parametrize("module", [body_module, deleva_module, limits_module])
+def test_docstring_examples(module):
+    failures, _ = doctest.testmod(module, verbose=False)
+    assert failures == 0
+
+
+def test_sagittal_body_is_public():
+    assert SagittalBody.__doc__ and "sagittal" in SagittalBody.__doc__
