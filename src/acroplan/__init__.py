@@ -20,6 +20,10 @@ Planning
     :func:`plan`, :func:`plan_many`, :func:`simulate`, :func:`warm_up`, :class:`Limits`,
     :class:`PlanResult`, :class:`SegmentResult`, :class:`Samples`, :class:`Status`,
     :class:`Strategy`, :func:`register_strategy`.
+Effort and optimal plans
+    ``plan(objective="energy" | "torque", tau_max=...)``, :class:`EnergyOptimal`,
+    :class:`TorqueOptimal`, :class:`JointEffort` (``PlanResult.effort()``),
+    :func:`register_torque_model`.
 Feasibility
     :func:`reachable_interval`, :func:`reachable_set`, :class:`Reach`.
 Input bases
@@ -51,6 +55,8 @@ _PUBLIC = {
     "PlanResult": "acroplan.core.result", "SegmentResult": "acroplan.core.result", "Samples": "acroplan.core.result",
     "Status": "acroplan.core.result",
     "Strategy": "acroplan.core.strategies", "register_strategy": "acroplan.core.strategies",
+    "EnergyOptimal": "acroplan.core.optimal", "TorqueOptimal": "acroplan.core.optimal",
+    "JointEffort": "acroplan.core.result", "register_torque_model": "acroplan.core.system",
     "plan": "acroplan.planning", "warm_up": "acroplan.planning",
     "plan_many": "acroplan.batch", "simulate": "acroplan.simulation",
     "Problem": "acroplan.io.problem", "load_problem": "acroplan.io.problem", "load_result": "acroplan.io.results",

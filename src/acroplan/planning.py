@@ -9,9 +9,11 @@ work is shared out as follows, and this module names no body:
    limits) refuses an impossible request with its proof; spline conditions that break the limits
    are refused too (:class:`~acroplan.core.conditions.Conditions`);
 3. each waypoint interval is planned by a strategy (:mod:`acroplan.core.strategies`): a registered
-   name, an object, or ``"auto"``, the system's own choice;
-4. every result is checked for compliance with the limits exactly, and every successful plan is
-   re-simulated independently (:mod:`acroplan.core.verify`) unless ``verify=False``.
+   name, an object, or ``"auto"``, the system's own choice; with ``objective=`` (or ``tau_max=``)
+   by an optimal strategy (:mod:`acroplan.core.optimal`) that starts from ``method``'s plan;
+4. every result is checked for compliance with the limits exactly (torque limits on the refined
+   peak of each joint's torque), and every successful plan is re-simulated independently
+   (:mod:`acroplan.core.verify`) unless ``verify=False``.
 """
 
 from __future__ import annotations
@@ -27,10 +29,11 @@ from .core.basis import InputBasis, make_basis
 from .core.conditions import CONDITIONS, Conditions, check_conditions
 from .core.errors import InvalidInputError
 from .core.limits import Limits
+from .core.optimal import OBJECTIVES, EnergyOptimal, _tau_vector, objective_strategy
 from .core.result import PlanResult, SegmentResult, Status
 from .core.budget import BudgetExceeded, budget
-from .core.strategies import Interval, IntervalOutcome, Strategy, resolve_strategy
-from .core.system import ControlAffineSystem
+from .core.strategies import STRATEGIES, Interval, IntervalOutcome, Strategy, resolve_strategy
+from .core.system import ControlAffineSystem, torque_model_of
 from .core.verify import VERIFY_METHODS, VERIFY_TOL, verify_plan
 
 __all__ = ["plan", "warm_up", "PlanRequest", "CONDITIONS", "VERIFY_TOL", "DEFAULT_SIZE", "MAX_COEFFICIENTS",
@@ -50,7 +53,7 @@ MIN_DURATION, MAX_DURATION, MAX_TIME = 1e-6, 1e6, 1e12
 #: plan()'s own keywords, for suggestions when one is mistyped
 _OPTIONS = ("times", "conditions", "method", "basis", "n_coefficients", "limits", "u_max", "state_bounds",
             "input_bounds", "verify", "tol", "max_evaluations", "time_limit", "start_rate", "end_rate", "degrees",
-            "progress")
+            "objective", "tau_max", "progress")
 
 
 def _waypoints(field, value, length) -> np.ndarray:
@@ -134,6 +137,12 @@ class PlanRequest:
     start_rate, end_rate : numpy.ndarray, shape (m,), or None
     degrees : bool
         Whether the caller gave angles in degrees (already converted: every array here is in radians).
+    objective : {"energy", "torque"} or None
+        What the plan minimises (``None``: a feasible plan). Also set when ``method`` is itself an
+        optimal strategy (``"energy-optimal"``).
+    torque_limits : dict or None
+        ``{joint: tau_max}`` for every limited joint (``tau_max=``, validated against the torque
+        model's joints).
     """
 
     system: ControlAffineSystem
@@ -152,13 +161,16 @@ class PlanRequest:
     start_rate: np.ndarray | None = None
     end_rate: np.ndarray | None = None
     degrees: bool = False
+    objective: str | None = None
+    torque_limits: dict | None = None
 
     @classmethod
     def build(cls, system, *, times, conditions: str = "spline", method="auto", basis="legendre",
               n_coefficients: int | None = None, limits: Limits | None = None, u_max: float | None = None,
               state_bounds=None, input_bounds=None, verify: bool | str = True, tol: float = 1e-10,
               max_evaluations: int = 2000, time_limit: float | None = TIME_LIMIT, start_rate=None,
-              end_rate=None, degrees: bool = False, **named) -> "PlanRequest":
+              end_rate=None, degrees: bool = False, objective: str | None = None, tau_max=None,
+              **named) -> "PlanRequest":
         """Validate :func:`plan`'s arguments (same keywords). Raises :class:`InvalidInputError`."""
         if not isinstance(system, ControlAffineSystem):
             raise InvalidInputError("system", f"must be a ControlAffineSystem, got {type(system).__name__}",
@@ -216,7 +228,7 @@ class PlanRequest:
                 k: _deg(f"input_bounds.{k}", v, system.rate_inputs.get(k) in system.angle_states)
                 for k, v in dict(input_bounds).items()}
         check_conditions(conditions, system)
-        strategy = resolve_strategy(method, system)
+        strategy, objective, torque_limits = _optimal_strategy(system, method, objective, tau_max)
         sizes = None if n_coefficients is None else (_whole("n_coefficients", n_coefficients, 6, MAX_COEFFICIENTS),)
         b = make_basis(basis, sizes[0] if sizes else DEFAULT_SIZE)
         if not (isinstance(tol, (int, float)) and not isinstance(tol, bool) and math.isfinite(tol) and tol > 0):
@@ -280,14 +292,68 @@ class PlanRequest:
         return cls(system=system, times=t, waypoints=X, free=free, conditions=conditions, strategy=strategy, basis=b,
                    sizes=sizes, limits=limits, verify=verify, tol=float(tol), max_evaluations=max_evaluations,
                    time_limit=None if time_limit is None else float(time_limit), start_rate=rates.get("start_rate"),
-                   end_rate=rates.get("end_rate"), degrees=degrees)
+                   end_rate=rates.get("end_rate"), degrees=degrees, objective=objective, torque_limits=torque_limits)
+
+
+def _optimal_strategy(system, method, objective, tau_max):
+    """``(strategy, objective, torque_limits)`` for ``method``, ``objective`` and ``tau_max``
+    (validated: :func:`plan`'s Parameters)."""
+    if objective is not None and (not isinstance(objective, str) or objective not in OBJECTIVES):
+        raise InvalidInputError("objective", f"must be None, \"energy\" or \"torque\", got {_short(objective)}",
+                                "give \"energy\" (least integral of |u|^2), \"torque\" (least integral of "
+                                "|tau|^2), or leave it out for the fast feasible plan")
+    if objective is None and tau_max is None:
+        strategy = resolve_strategy(method, system)
+        if not isinstance(strategy, EnergyOptimal):
+            return strategy, None, None
+        # method is itself an optimal strategy: record what it minimises and its torque limits
+        model = strategy._model(system)
+        vec = _tau_vector(strategy.tau_max, model) if strategy.tau_max is not None else None
+        return strategy, strategy._cost_kind, _limits_by_joint(model, vec)
+    objective = objective or "energy"  # torque limits need the optimiser; it minimises the energy by default
+    model = None
+    for field, wanted in (("objective", objective == "torque"), ("tau_max", tau_max is not None)):
+        if wanted:
+            model, why = torque_model_of(system)
+            if model is None:
+                raise InvalidInputError(field, f"needs the joint torques, and {why}",
+                                        "leave it out, or give a body with its masses and inertias (for example "
+                                        "Acrobot.from_physical)" if field == "tau_max" else
+                                        "use objective=\"energy\" or leave it out, or give a body with its masses "
+                                        "and inertias (for example Acrobot.from_physical)")
+    vec = None if tau_max is None else _tau_vector(tau_max, model)
+    optimal = (method if isinstance(method, str) and isinstance(STRATEGIES.get(method), EnergyOptimal)
+               else method if isinstance(method, EnergyOptimal)
+               or (isinstance(method, type) and issubclass(method, EnergyOptimal)) else None)
+    if optimal is not None:
+        raise InvalidInputError("method", f"is an optimal strategy ({_short(optimal)}) and objective="
+                                f"{objective!r}{' (set by tau_max)' if tau_max is not None else ''} is given too",
+                                "give objective= (and tau_max=) alone, with method naming the feasible plan to "
+                                "start from, or method= alone")
+    if isinstance(method, str) and method == "auto":
+        strategy = objective_strategy(objective, tau_max=tau_max)
+    else:  # the optimum starts from the plan of the method asked for
+        strategy = objective_strategy(objective, tau_max=tau_max, feasible=resolve_strategy(method, system),
+                                      starts=("auto",))
+    why = strategy.unsupported(system)
+    if why:
+        raise InvalidInputError("objective", why, "leave objective and tau_max out")
+    return strategy, objective, _limits_by_joint(model if tau_max is not None else None, vec)
+
+
+def _limits_by_joint(model, vec):
+    if vec is None:
+        return None
+    names = getattr(model, "joint_names", None) or tuple(f"joint{j}" for j in range(len(vec)))
+    return {str(n): float(v) for n, v in zip(names, vec) if math.isfinite(v)}
 
 
 def plan(system: ControlAffineSystem, *, times, conditions: str = "spline", method="auto", basis="legendre",
          n_coefficients: int | None = None, limits: Limits | None = None, u_max: float | None = None,
          state_bounds=None, input_bounds=None, verify: bool | str = True, tol: float = 1e-10,
          max_evaluations: int = 2000, time_limit: float | None = TIME_LIMIT, start_rate=None, end_rate=None,
-         degrees: bool = False, progress=None, **waypoints) -> PlanResult:
+         degrees: bool = False, objective: str | None = None, tau_max=None, progress=None,
+         **waypoints) -> PlanResult:
     r"""Plan a motion of ``system`` through waypoints.
 
     Parameters
@@ -307,7 +373,11 @@ def plan(system: ControlAffineSystem, *, times, conditions: str = "spline", meth
         the rate of a state (:attr:`ControlAffineSystem.rate_inputs`).
     method : str or Strategy
         ``"auto"`` (the system's own choice), a registered strategy (``"deform"``, the text's path
-        deformation; ``"flat"`` for the acrobot), or a :class:`~acroplan.core.strategies.Strategy`.
+        deformation; ``"flat"`` for the acrobot; ``"energy-optimal"``, ``"torque-optimal"``), or a
+        :class:`~acroplan.core.strategies.Strategy`. With ``objective``: the feasible plan the
+        optimisation starts from (``"auto"``: the family's own starts when it has them, else the
+        system's ``"auto"`` plan and path deformation; any other method: that method's plan alone);
+        an optimal strategy together with ``objective`` is refused.
     basis : {"legendre", "monomial"} or InputBasis
         Internal basis of each segment's input (results are also exported in the power basis).
     n_coefficients : int, optional
@@ -342,6 +412,24 @@ def plan(system: ControlAffineSystem, *, times, conditions: str = "spline", meth
         Angles (the system's :attr:`~ControlAffineSystem.angle_states`) are given in degrees:
         waypoints, their bounds, and rate limits and rates of angles in degrees per second. The
         result is in radians.
+    objective : {None, "energy", "torque"}
+        ``None`` (default): the fast feasible plan, no cost minimised. ``"energy"``: the least
+        :math:`\int_0^T\|u\|^2 dt` on each waypoint interval; ``"torque"``: the least
+        :math:`\int_0^T\|\tau\|^2 dt` of the joint torques (systems with a torque model:
+        :meth:`~ControlAffineSystem.torque_model`). The endpoint is an equality, the limits are
+        inequalities, in the input coefficients; the basis size goes up the ladder 6, 10, 14, 20,
+        26, 30 until the optimal cost changes by less than 1e-4 (relative) from one size to the
+        next (``n_coefficients`` fixes one size), and each segment reports its relative KKT
+        residual (target 1e-8) in :attr:`SegmentResult.optimality`
+        (:mod:`acroplan.core.optimal`). Each interval is optimised on its own, with its input
+        conditions. Slower than the feasible plan (a few ms to tens of ms per interval). The
+        strategies are :class:`acroplan.EnergyOptimal` and :class:`acroplan.TorqueOptimal`.
+    tau_max : float, sequence, or dict by joint name, optional
+        Torque limits :math:`|\tau_j(t)| \le \bar\tau_j` (one number for every joint, one per
+        joint, or ``{joint: limit}``; joints not named are free), with the rate and joint limits;
+        needs a torque model. Torque limits need the optimiser, so ``objective`` defaults to
+        ``"energy"`` with them. The result's peak torque of each joint (refined between grid points)
+        is checked: above :math:`\bar\tau_j(1 + 10^{-9})` the plan is ``not_converged``.
     progress : callable, optional
         Called as ``progress(done, total)`` after each waypoint interval (for a progress bar).
 
@@ -367,7 +455,7 @@ def plan(system: ControlAffineSystem, *, times, conditions: str = "spline", meth
                             n_coefficients=n_coefficients, limits=limits, u_max=u_max, state_bounds=state_bounds,
                             input_bounds=input_bounds, verify=verify, tol=tol, max_evaluations=max_evaluations,
                             time_limit=time_limit, start_rate=start_rate, end_rate=end_rate, degrees=degrees,
-                            **waypoints)
+                            objective=objective, tau_max=tau_max, **waypoints)
     return solve(req, progress=progress)
 
 
@@ -383,7 +471,8 @@ def _solve(req: PlanRequest, progress) -> PlanResult:
     limits = req.limits if req.limits.active else None
     if req.free.any():
         X = _fill_free(system, t, X, req.free, limits)
-    common = dict(system=system, times=t, waypoints=X, conditions=req.conditions, basis=req.basis, limits=limits)
+    common = dict(system=system, times=t, waypoints=X, conditions=req.conditions, basis=req.basis, limits=limits,
+                  objective=req.objective, torque_limits=req.torque_limits)
     K = t.size - 1
 
     # ---------------------------------------------------------------- exact feasibility, all segments
@@ -437,9 +526,10 @@ def _solve(req: PlanRequest, progress) -> PlanResult:
     segments = tuple(segments)
     worst_final = max(s.final_error for s in segments)
     if not req.verify:
-        return PlanResult(status=Status.SUCCESS, message=f"success: {K} segment(s), max endpoint error "
-                          f"{worst_final:.2e} (not independently verified)", segments=segments, verified=False,
-                          **common)
+        return _check_torque_limits(PlanResult(
+            status=Status.SUCCESS, message=f"success: {K} segment(s), max endpoint error {worst_final:.2e} (not "
+            f"independently verified)" + _optimality_note(segments, req), segments=segments, verified=False,
+            **common), req)
 
     # ---------------------------------------------------------------- independent check
     check = (system.family_check or "the family's own check") if req.verify == "family" else \
@@ -455,9 +545,41 @@ def _solve(req: PlanRequest, progress) -> PlanResult:
                           f"misses the planned state at t = {bad.t1:g} by {bad.verified_error:.2e} > "
                           f"{allowed:.2g}", segments=checked, verified=True, verification=req.verify, **common)
     worst = max(s.verified_error for s in checked)
-    return PlanResult(status=Status.SUCCESS, message=f"success: {K} segment(s), max endpoint error "
-                      f"{max(s.final_error for s in checked):.2e}, independently verified to {worst:.2e} ({check})",
-                      segments=checked, verified=True, verification=req.verify, **common)
+    result = PlanResult(status=Status.SUCCESS, message=f"success: {K} segment(s), max endpoint error "
+                        f"{max(s.final_error for s in checked):.2e}, independently verified to {worst:.2e} "
+                        f"({check})" + _optimality_note(checked, req), segments=checked, verified=True,
+                        verification=req.verify, **common)
+    return _check_torque_limits(result, req)
+
+
+def _optimality_note(segments, req) -> str:
+    """What the success message says of an optimal plan: its cost, worst KKT residual, and whether
+    every interval converged."""
+    opt = [s.optimality for s in segments if s.optimality]
+    if not req.objective or not opt:
+        return ""
+    cost = sum(d["cost"] or 0.0 for d in opt)
+    kkt = max((d["kkt"] if d["kkt"] is not None else math.inf) for d in opt)
+    bad = [s.interval for s in segments if s.optimality and not s.optimality["converged"]]
+    what = "integral of |u|^2" if req.objective == "energy" else "integral of |tau|^2"
+    return (f"; {req.objective}-optimal: {what} = {cost:.10g}, largest relative KKT residual {kkt:.1e} (target "
+            f"{opt[0]['kkt_tol']:g}), " + ("converged on every interval" if not bad else
+                                            f"NOT converged on interval(s) {bad} (see each segment's optimality)"))
+
+
+def _check_torque_limits(result: PlanResult, req) -> PlanResult:
+    """``result``, or ``not_converged`` when a joint's peak torque (:meth:`PlanResult.effort`:
+    refined between grid points) exceeds its limit by more than 1e-9 (relative)."""
+    if not req.torque_limits or not result.success:
+        return result
+    effort = result.effort()
+    over = [(j, effort[j].peak_torque, top) for j, top in req.torque_limits.items()
+            if effort[j].peak_torque > top * (1.0 + 1e-9)]
+    if not over:
+        return result
+    j, peak, top = over[0]
+    return dataclasses.replace(result, status=Status.NOT_CONVERGED, message=f"not converged: the peak torque of "
+                               f"joint {j} is {peak:.10g} > tau_max = {top:g} (every waypoint reached)")
 
 
 

@@ -18,6 +18,9 @@ Modules
     Path deformation on one segment.
 :mod:`~acroplan.core.strategies`
     Interval strategies and their registry.
+:mod:`~acroplan.core.optimal`
+    Optimal plans: the energy- and torque-optimal strategies (registered on import as
+    ``"energy-optimal"`` and ``"torque-optimal"``; ``objective=`` of :func:`acroplan.plan`).
 :mod:`~acroplan.core.verify`
     The independent checking integrator (scipy DOP853).
 :mod:`~acroplan.core.result`
@@ -26,13 +29,16 @@ Modules
     Symbolic Lie-algebra tools; figures of any plan.
 """
 
+from . import optimal  # noqa: F401  (registers "energy-optimal" and "torque-optimal")
 from .basis import InputBasis, Legendre, Monomial, make_basis
 from .errors import InvalidInputError
 from .limits import Limits
-from .result import PlanResult, Samples, SegmentResult, Status
+from .optimal import EnergyOptimal, TorqueOptimal
+from .result import JointEffort, PlanResult, Samples, SegmentResult, Status
 from .strategies import STRATEGIES, Deform, Interval, IntervalOutcome, Strategy, register_strategy
-from .system import ControlAffineSystem, Infeasibility
+from .system import ControlAffineSystem, Infeasibility, register_torque_model
 
-__all__ = ["ControlAffineSystem", "Deform", "Infeasibility", "InputBasis", "Interval", "IntervalOutcome",
-           "InvalidInputError", "Legendre", "Limits", "Monomial", "PlanResult", "STRATEGIES", "Samples",
-           "SegmentResult", "Status", "Strategy", "make_basis", "register_strategy"]
+__all__ = ["ControlAffineSystem", "Deform", "EnergyOptimal", "Infeasibility", "InputBasis", "Interval",
+           "IntervalOutcome", "InvalidInputError", "JointEffort", "Legendre", "Limits", "Monomial", "PlanResult",
+           "STRATEGIES", "Samples", "SegmentResult", "Status", "Strategy", "TorqueOptimal", "make_basis",
+           "register_strategy", "register_torque_model"]

@@ -125,7 +125,7 @@ from .errors import InvalidInputError
 from .limits import COMPLIANCE_TOL, linear_limits, violation
 from .linalg import null_space
 from .strategies import AUTO_DEFAULT, Interval, IntervalOutcome, Strategy, make_segment, register_strategy
-from .system import ControlAffineSystem
+from .system import ControlAffineSystem, torque_model_of
 
 __all__ = ["EnergyOptimal", "TorqueOptimal", "OptimalSolve", "optimize_segment", "energy", "TorqueModel",
            "OBJECTIVES", "objective_strategy", "FAMILY_STARTS", "register_starts", "family_starts", "SIZES", "RTOL",
@@ -981,19 +981,24 @@ class EnergyOptimal(Strategy):
         for SLSQP.
     kkt_tol : float
         Target relative KKT residual of the reported optimum (default :data:`KKT_TOL`).
+    feasible : Strategy, optional
+        The strategy whose plan is the ``"auto"`` start (default: the system's ``method="auto"``);
+        :func:`acroplan.plan` passes its ``method`` here when ``objective`` is given with a method
+        other than ``"auto"`` (then with ``starts=("auto",)``: the optimum starts from that plan).
 
     Notes
     -----
     The segment's ``method`` is the strategy's name; its message gives the cost, the basis size,
-    the ladder, the relative KKT residual and the start used. The evaluations of the feasible plan
-    and of every start are charged to it.
+    the ladder, the relative KKT residual and the start used, and its ``optimality`` the same as data
+    (:meth:`diagnostics`). The evaluations of the feasible plan and of every start are charged to it.
     """
 
     name = "energy-optimal"
     _cost_kind = "energy"
 
     def __init__(self, sizes: Sequence[int] = SIZES, rtol: float = RTOL, starts: Sequence[str] | None = None,
-                 torque: TorqueModel | None = None, tau_max=None, kkt_tol: float = KKT_TOL):
+                 torque: TorqueModel | None = None, tau_max=None, kkt_tol: float = KKT_TOL,
+                 feasible: Strategy | None = None):
         try:
             self.sizes = tuple(int(n) for n in sizes)
         except (TypeError, ValueError):
@@ -1019,27 +1024,33 @@ class EnergyOptimal(Strategy):
         if isinstance(kkt_tol, bool) or not (isinstance(kkt_tol, (int, float)) and kkt_tol > 0):
             raise InvalidInputError("kkt_tol", f"must be a positive number, got {kkt_tol!r}", "give e.g. 1e-8")
         self.kkt_tol = float(kkt_tol)
+        if feasible is not None and not isinstance(feasible, Strategy):
+            raise InvalidInputError("feasible", f"must be a Strategy, got {feasible!r}",
+                                    "give the strategy whose plan starts the optimisation, or leave it out")
+        if isinstance(feasible, EnergyOptimal):
+            raise InvalidInputError("feasible", "is itself an optimal strategy",
+                                    "give a strategy that finds a feasible plan (\"deform\", \"flat\", ...)")
+        self.feasible = feasible
 
     def _model(self, system):
         if self.torque is not None:
             return self.torque
-        hook = getattr(system, "torque_model", None)
-        return hook() if callable(hook) else None
+        return torque_model_of(system)[0]
 
     def unsupported(self, system):
         if self._cost_kind == "energy" and self.tau_max is None:
             return None
-        model = self._model(system)
-        if model is None:
-            what = "torque-optimal plans" if self._cost_kind == "torque" else "tau_max"
-            return (f"{what} need a torque model for {type(system).__name__}: pass torque=... (for the acrobot "
-                    "acroplan.families.acrobot.effort.AcrobotTorque())")
-        check = getattr(model, "unsupported", None)
+        what = "torque-optimal plans" if self._cost_kind == "torque" else "tau_max"
+        if self.torque is None:
+            model, why = torque_model_of(system)
+            return None if model is not None else f"{what} need joint torques: {why}"
+        check = getattr(self.torque, "unsupported", None)
         return check(system) if callable(check) else None
 
     def __repr__(self):
         return (f"{type(self).__name__}(sizes={self.sizes}, rtol={self.rtol:g}, starts={self.starts}"
-                + (f", tau_max={self.tau_max!r}" if self.tau_max is not None else "") + ")")
+                + (f", tau_max={self.tau_max!r}" if self.tau_max is not None else "")
+                + (f", feasible={self.feasible!r}" if self.feasible is not None else "") + ")")
 
     def optimize(self, interval: Interval) -> tuple[OptimalSolve, tuple]:
         """The optimum on ``interval`` with its diagnostics (what :meth:`solve` reports).
@@ -1137,7 +1148,7 @@ class EnergyOptimal(Strategy):
                 candidates = [(label, c, FAMILY_PROMISING) for label, c in (fam or ())]
                 best = first_stage(first, candidates + (deform_start(first) if "deform" in self.starts else []))
             else:
-                feasible = (system.auto_strategy() or AUTO_DEFAULT).solve(interval)
+                feasible = (self.feasible or system.auto_strategy() or AUTO_DEFAULT).solve(interval)
                 evaluations += (sum(p.evaluations for p in feasible.pieces) if feasible.success
                                 else feasible.evaluations)
                 if not feasible.success:
@@ -1235,8 +1246,21 @@ class EnergyOptimal(Strategy):
             return IntervalOutcome(False, feasible, res.message, res.evaluations)
         seg = make_segment(interval.system, res.basis, interval.x0, interval.x1, interval.T, res.coefficients, t0=0.0,
                            final_error=res.final_error, limits=interval.limits, message=res.message, method=self.name,
-                           evaluations=res.evaluations, iterations=res.iterations)
+                           evaluations=res.evaluations, iterations=res.iterations,
+                           optimality=self.diagnostics(res, one_size=interval.sizes is not None))
         return IntervalOutcome(True, (seg,), "", 0)
+
+    def diagnostics(self, res: OptimalSolve, one_size: bool = False) -> dict:
+        """The optimality diagnostics of a segment (:attr:`SegmentResult.optimality`): those of
+        :meth:`OptimalSolve.to_dict` and ``kkt_tol`` (the target), ``kkt_converged`` (the relative
+        KKT residual at most ``kkt_tol``), ``rtol`` (the ladder's), ``one_size`` (``n_coefficients``
+        given: no ladder) and ``converged`` (the KKT residual within its target and, unless one
+        size was given, the cost converged in the basis)."""
+        d = res.to_dict(self._cost_kind)
+        kkt_ok = bool(math.isfinite(res.kkt) and res.kkt <= self.kkt_tol)
+        d.update(kkt_tol=self.kkt_tol, kkt_converged=kkt_ok, rtol=self.rtol, one_size=bool(one_size),
+                 converged=bool(kkt_ok and (one_size or res.converged_in_basis)))
+        return d
 
 
 class TorqueOptimal(EnergyOptimal):

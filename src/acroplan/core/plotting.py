@@ -3,14 +3,15 @@ here (the command line chooses Agg for itself).
 
 * :func:`plot_input`: the text's Fig. 1, :math:`u(t)`, with the waypoint times marked;
 * :func:`plot_states`: the text's Fig. 2, :math:`\\theta(t)` above :math:`\\varphi(t)`, waypoints marked;
-* :func:`plot_continuation`: path-deformation diagnostics.
+* :func:`plot_continuation`: path-deformation diagnostics;
+* :func:`plot_effort`: joint torques and mechanical power (systems with a torque model).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["plot_input", "plot_states", "plot_result", "plot_continuation"]
+__all__ = ["plot_input", "plot_states", "plot_result", "plot_continuation", "plot_effort"]
 
 
 def _plt():
@@ -23,7 +24,7 @@ def plot_input(result, samples=None, *, ax=None):
     """Fig. 1 style: the input over time, waypoint times as dashed lines. Returns the figure (or,
     given ``ax``, draws there and returns ``ax``)."""
     plt = _plt()
-    samples = samples if samples is not None else result.sample()
+    samples = samples if samples is not None else result.sample(effort=False)
     own = ax is None
     if own:
         fig, ax = plt.subplots(figsize=(7, 3.6), constrained_layout=True)
@@ -69,7 +70,7 @@ def plot_states(result, samples=None, *, ax=None):
     dots), state limits dotted, and the family's reference values dashed (the acrobot's straight
     and folded body). Given ``ax``, every state is drawn on that one panel and ``ax`` returned."""
     plt = _plt()
-    samples = samples if samples is not None else result.sample()
+    samples = samples if samples is not None else result.sample(effort=False)
     names = samples.state_names
     if ax is not None:
         for i, name in enumerate(names):
@@ -98,7 +99,7 @@ def plot_states(result, samples=None, *, ax=None):
 def plot_result(result, *, per_segment: int = 200):
     """The figures of a plan: ``{"input": Fig. 1, "states": Fig. 2, "continuation": diagnostics}``
     (the last only when a segment was planned by path deformation)."""
-    samples = result.sample(per_segment)
+    samples = result.sample(per_segment, effort=False)
     figs = {"input": plot_input(result, samples), "states": plot_states(result, samples)}
     if any(s.history for s in result.segments):
         figs["continuation"] = plot_continuation(result)
@@ -137,4 +138,54 @@ def plot_continuation(result):
         ax.grid(alpha=0.3)
         if len(segs) <= 6 and segs:
             ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncols=3, frameon=False)
+    return fig
+
+
+def _effort_panel(ax, result, samples, values, kind):
+    for k, name in enumerate(samples.joint_names):
+        ax.plot(samples.t, values[k], lw=1.6, color=f"C{k}", label=f"{name}")
+    for tk in result.times:
+        ax.axvline(tk, color="0.75", lw=0.8, ls="--", zorder=0)
+    ax.axhline(0.0, color="0.5", lw=0.6, zorder=0)
+    if kind == "torque":
+        limits = getattr(result, "torque_limits", None) or {}
+        for k, name in enumerate(samples.joint_names):
+            top = limits.get(name)
+            if top is not None and np.isfinite(top):
+                for v in (-top, top):
+                    ax.axhline(v, color=f"C{k}", lw=0.9, ls=":",
+                               label=f"torque limit {name} ±{top:g}" if v > 0 else None)
+        ax.set_ylabel("joint torque τ [N m]")
+    else:
+        ax.set_ylabel("power τ·u [W]")
+    ax.grid(alpha=0.3)
+    handles, _ = ax.get_legend_handles_labels()
+    if len(handles) > 1:
+        ax.legend(fontsize=8)
+
+
+def plot_effort(result, samples=None, *, ax=None):
+    """Joint torques :math:`\\tau_j(t)` (upper panel; torque limits dotted) and mechanical power
+    :math:`\\tau_j u_{i(j)}` (lower panel; positive: the motor does work), waypoint times dashed,
+    one line per joint of the system's torque model. Given ``ax``, draws the torques there and
+    returns ``ax``; otherwise returns the figure.
+
+    Parameters
+    ----------
+    result : PlanResult
+        Of a system with a torque model (:meth:`PlanResult.torques`).
+    samples : Samples, optional
+        With torques (:meth:`PlanResult.sample`); default: 200 points per segment.
+    """
+    plt = _plt()
+    samples = samples if samples is not None and samples.torques is not None else result.sample()
+    if ax is not None:
+        _effort_panel(ax, result, samples, samples.torques, "torque")
+        ax.set_xlabel("t [s]")
+        return ax
+    fig, axes = plt.subplots(2, 1, figsize=(7, 5.4), sharex=True, constrained_layout=True)
+    _effort_panel(axes[0], result, samples, samples.torques, "torque")
+    _effort_panel(axes[1], result, samples, samples.power, "power")
+    axes[0].set_title("Joint torque (upper) and mechanical power (lower)")
+    axes[1].set_xlabel("t [s]")
     return fig

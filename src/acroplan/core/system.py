@@ -28,6 +28,8 @@ Contract for implementers
    * :meth:`diff` and :meth:`retract` when the state space is not Euclidean (a unit quaternion);
    * :meth:`check_segment`, an exact feasibility test;
    * :meth:`auto_strategy`, the family's own ``method="auto"``;
+   * :meth:`torque_model`, the joint torques of a planned motion (effort, torque-optimal plans,
+     torque limits), directly or through :func:`register_torque_model`;
    * :meth:`to_dict`, what a result file records of the system.
 """
 
@@ -36,12 +38,13 @@ from __future__ import annotations
 import abc
 import dataclasses
 import threading
-from typing import Any, ClassVar, Hashable
+from typing import Any, Callable, ClassVar, Hashable
 
 import numpy as np
 import sympy as sp
 
-__all__ = ["ControlAffineSystem", "Infeasibility"]
+__all__ = ["ControlAffineSystem", "Infeasibility", "register_torque_model", "TORQUE_MODELS", "torque_model_of",
+           "joint_inputs"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -70,6 +73,34 @@ _SYMBOLIC: dict[Hashable, tuple[sp.Matrix, sp.Matrix]] = {}
 _NUMERIC: dict[Hashable, Any] = {}
 _LOCK = threading.Lock()
 _TYPES: dict[str, type] = {}
+#: Torque models by system class: ``factory(system) -> model or None`` (:func:`register_torque_model`).
+TORQUE_MODELS: dict[type, Callable] = {}
+
+
+def register_torque_model(system_type: type, factory: Callable) -> None:
+    """Make ``factory(system)`` the torque model of systems of ``system_type`` (and subclasses):
+    what the default :meth:`ControlAffineSystem.torque_model` returns. A family registers its own
+    when imported, from the module that defines the model (so the model's module may import the
+    system's without an import circle); the acrobot registers
+    :class:`acroplan.families.acrobot.effort.AcrobotTorque`.
+
+    Parameters
+    ----------
+    system_type : type
+        A :class:`ControlAffineSystem` subclass.
+    factory : callable
+        ``factory(system) -> model or None`` (the interface of a model:
+        :meth:`ControlAffineSystem.torque_model`).
+    """
+    from .errors import InvalidInputError
+
+    if not (isinstance(system_type, type) and issubclass(system_type, ControlAffineSystem)):
+        raise InvalidInputError("system_type", f"must be a ControlAffineSystem subclass, got {system_type!r}",
+                                "pass the system's class")
+    if not callable(factory):
+        raise InvalidInputError("factory", f"must be callable, got {factory!r}",
+                                "give factory(system) -> torque model or None")
+    TORQUE_MODELS[system_type] = factory
 
 
 class ControlAffineSystem(abc.ABC):
@@ -77,6 +108,12 @@ class ControlAffineSystem(abc.ABC):
 
     Shapes: ``x`` is ``(n,)``, ``f`` is ``(n,)``, ``G`` is ``(n, m)``; tangent vectors
     (:meth:`diff`) are ``(n,)`` too (``ndx == n``) unless a subclass says otherwise.
+
+    Family hooks, each a method with a default: :meth:`check_segment`, :meth:`continuation_path`,
+    :meth:`family_errors`, :meth:`fill_free`, :meth:`default_limits`, :meth:`reference_lines`,
+    :meth:`auto_strategy`, :meth:`torque_model` (the joint torques of a motion: ``None`` by
+    default, or the model registered with :func:`acroplan.register_torque_model`),
+    :meth:`to_dict` / :meth:`from_dict`.
     """
 
     def __init_subclass__(cls, **kwargs):
@@ -326,6 +363,34 @@ class ControlAffineSystem(abc.ABC):
         output, a good first guess) overrides it."""
         return None
 
+    def torque_model(self):
+        """The joint torques of a planned motion, or ``None`` when none are known (the default, for
+        kinematic systems and bodies given without their masses and inertias). Default: the model
+        registered for the class (:func:`register_torque_model`), else ``None``.
+
+        A torque model is an object with
+
+        * ``joint_names``: tuple of str, one per torque row, each the name of an input or of a state
+          whose rate is an input (:attr:`rate_inputs`): torque row :math:`j` is the torque of the
+          joint that input :math:`i(j)` drives, and its mechanical power is
+          :math:`\\tau_j u_{i(j)}`;
+        * ``unsupported(system) -> str | None``: why it cannot give this system's torques;
+        * ``__call__(system, basis, x0, T, c, s)``: the torques of the motion that input
+          coefficients ``c`` (shape ``(m, basis.n)``, in ``basis``) produce from state ``x0`` in time
+          ``T``, at normalised times ``s`` (shape ``(K,)``, in [0, 1]): ``tau`` of shape ``(p, K)``,
+          or ``(tau, jacobian)`` with ``jacobian`` = :math:`\\partial\\tau/\\partial c`, shape
+          ``(p, K, m * basis.n)`` (flattened ``c``; by forward differences when not given).
+
+        Used by :meth:`PlanResult.torques <acroplan.core.result.PlanResult.torques>`,
+        :meth:`PlanResult.effort <acroplan.core.result.PlanResult.effort>`, ``objective="torque"``
+        and ``tau_max`` (:mod:`acroplan.core.optimal`).
+        """
+        for cls in type(self).__mro__:
+            factory = TORQUE_MODELS.get(cls)
+            if factory is not None:
+                return factory(self)
+        return None
+
     def lumped(self) -> dict[str, float]:
         """Parameter values by name."""
         return {name: float(getattr(self, name)) for name in self.param_names}
@@ -347,3 +412,48 @@ class ControlAffineSystem(abc.ABC):
                                         f"known types are {sorted(_TYPES)} (import the family first)")
             return _TYPES[kind].from_dict(data)
         return cls(**dict(data.get("params", {})))
+
+
+def torque_model_of(system) -> tuple[Any, str | None]:
+    """``(model, None)`` with the system's torque model (:meth:`ControlAffineSystem.torque_model`),
+    or ``(None, why)`` when it has none or the model cannot serve it (its ``unsupported``)."""
+    hook = getattr(system, "torque_model", None)
+    model = hook() if callable(hook) else None
+    if model is None:
+        return None, (f"{type(system).__name__} gives no joint torques (its torque_model() is None: a kinematic "
+                      "model, or a body given without its masses and inertias)")
+    check = getattr(model, "unsupported", None)
+    why = check(system) if callable(check) else None
+    return (None, why) if why else (model, None)
+
+
+def joint_inputs(system, model) -> tuple[int, ...]:
+    """The input that drives each torque row of ``model``: row :math:`j` named ``joint_names[j]``
+    belongs to the input of that name, or to the input that is the rate of the state of that name
+    (:attr:`ControlAffineSystem.rate_inputs`: the acrobot's joint ``"phi"`` is driven by ``u``).
+
+    Returns
+    -------
+    tuple of int, one input index per torque row
+
+    Raises
+    ------
+    InvalidInputError
+        A joint matches no input (the model and the system disagree).
+    """
+    from .errors import InvalidInputError
+
+    names = tuple(getattr(model, "joint_names", ()) or ())
+    inputs = tuple(system.input_names)
+    by_state = {state: inp for inp, state in system.rate_inputs.items()}
+    out = []
+    for name in names:
+        if name in inputs:
+            out.append(inputs.index(name))
+        elif name in by_state and by_state[name] in inputs:
+            out.append(inputs.index(by_state[name]))
+        else:
+            raise InvalidInputError("torque_model.joint_names", f"joint {name!r} is neither an input of "
+                                    f"{type(system).__name__} {list(inputs)} nor a state whose rate is one "
+                                    f"{sorted(by_state)}", "name each torque row after its input or its joint's state")
+    return tuple(out)

@@ -4,6 +4,8 @@
 * :mod:`~.reach`: exact reachable sets with joint and rate limits;
 * :mod:`~.flat`: the flat output: guesses, the three-piece planner, the strategies ``"flat"`` and
   the acrobot's ``"auto"`` (registered on import);
+* :mod:`~.effort`: the joint torque (registered as the physical robot's torque model), the starts
+  of the optimal strategies (registered on import);
 * :mod:`~.nilpotent`: Chapter 4's nilpotentization;
 * :mod:`~.verify`: exact checks with no ODE integrator;
 * :mod:`~.zoo`: random bodies and problems for tests and benchmarks;
@@ -12,6 +14,7 @@
 
 import math
 
+from . import effort  # noqa: F401  (registers the torque model and the optimal strategies' starts)
 from . import flat  # noqa: F401  (registers the "flat" strategy)
 from .model import Acrobot, PhysicalParameters
 from .reach import Reach, reachable_set

@@ -38,11 +38,16 @@ kinetic energy :math:`E = P_0^2/(2h) + a\\dot\\varphi^2/2` (:func:`kinetic_energ
 Euler-Lagrange equations of the full free body (centre of mass and :math:`\\theta` free), and a
 forward simulation of those equations driven by these torques alone against planned motions.
 
-For the optimal strategies of :mod:`acroplan.core.optimal` this module also gives the acrobot's
-torque model, :class:`AcrobotTorque` (:math:`\\tau` and its exact Jacobian in the input
-coefficients, for :class:`~acroplan.core.optimal.TorqueOptimal` and torque limits), and its
-starts, :func:`optimal_starts` (two feasible joint motions from the flat output, one bulging each
-way, registered for :class:`~.model.Acrobot` on import).
+This module also gives the acrobot's torque model, :class:`AcrobotTorque` (:math:`\\tau` and its
+exact Jacobian in the input coefficients), registered on import
+(:func:`~acroplan.core.system.register_torque_model`) as what :meth:`Acrobot.torque_model
+<acroplan.families.acrobot.model.Acrobot.torque_model>` returns for a physical robot: through it
+every plan of such a robot gives its torques, power and effort
+(:meth:`~acroplan.core.result.PlanResult.torques`, :meth:`~acroplan.core.result.PlanResult.effort`;
+:func:`torques` and :func:`effort_summary` here are the joint ``"phi"`` of those), and
+``objective="torque"`` and ``tau_max`` of :func:`acroplan.plan` work. For the optimal strategies of
+:mod:`acroplan.core.optimal` it registers the acrobot's starts, :func:`optimal_starts` (two
+feasible joint motions from the flat output, one bulging each way).
 
 Units: the lumped coefficients are those of the physical body (kg m^2 with SI inputs), so the
 torque is in N m; a lumped-only :class:`~.model.Acrobot` (no ``physical``) is refused, since its
@@ -53,15 +58,15 @@ from __future__ import annotations
 
 import dataclasses
 import functools
-import math
 
 import numpy as np
 import sympy as sp
-from scipy.optimize import brentq, minimize_scalar
 
 from ...core.conditions import hermite_inverse
 from ...core.errors import InvalidInputError
 from ...core.optimal import register_starts
+from ...core.result import JointEffort
+from ...core.system import register_torque_model
 from .model import Acrobot
 
 __all__ = ["TorqueDerivation", "torque_expression", "torque_coefficients", "joint_torque", "kinetic_energy",
@@ -249,16 +254,6 @@ def kinetic_energy(robot: Acrobot, phi, u):
     return 0.5 * robot.P0**2 / robot.h(phi) + 0.5 * a * u * u
 
 
-def _segment_motion(result, seg, t):
-    """``(phi, u, du)`` on ``seg`` at absolute times ``t`` (inside it), from its basis: exact."""
-    basis = result.basis_for(seg)
-    T = seg.t1 - seg.t0
-    s = (np.asarray(t, dtype=float) - seg.t0) / T
-    c = seg.basis_coefficients[0]
-    phi = float(seg.start[1]) + T * (basis.integral(s) @ c)
-    return phi, basis.matrix(s) @ c, (basis.matrix(s, 1) @ c) / T
-
-
 def _check_result(result):
     if not result.segments:
         raise InvalidInputError("result", "has no planned segments", "plan a motion first")
@@ -266,12 +261,12 @@ def _check_result(result):
 
 
 def torques(result, t):
-    """Joint torque and mechanical power of a planned acrobot motion at times ``t``.
-
-    :math:`\\varphi` is the integral of the segment's input (exact in its basis), :math:`u` the
-    input (:meth:`SegmentResult.input`'s series) and :math:`\\dot u` its derivative in the basis
-    (``basis.matrix(s, 1) / T``). At a time shared by two segments the earlier segment's values are
-    used (:math:`\\dot u`, hence :math:`\\tau`, may jump there under ``conditions="free"``).
+    """Joint torque and mechanical power of a planned acrobot motion at times ``t``: the joint
+    ``"phi"`` of :meth:`PlanResult.torques <acroplan.core.result.PlanResult.torques>` (which
+    evaluates :class:`AcrobotTorque` on each segment: :math:`\\varphi` the integral of the
+    segment's input, exact in its basis, :math:`u` the input and :math:`\\dot u` its derivative
+    in the basis). At a time shared by two segments the earlier segment's values are used
+    (:math:`\\dot u`, hence :math:`\\tau`, may jump there under ``conditions="free"``).
 
     Parameters
     ----------
@@ -284,91 +279,27 @@ def torques(result, t):
     -------
     tau, power : numpy.ndarray, shape (N,) (floats for a scalar ``t``)
         :math:`\\tau(t)` and :math:`\\tau(t)\\,u(t)`.
+
+    Raises
+    ------
+    InvalidInputError
+        ``robot.physical`` is missing (a lumped-only robot), or a time is outside the plan.
     """
-    robot = _check_result(result)
+    _check_result(result)
     scalar = np.ndim(t) == 0
-    t = np.atleast_1d(np.asarray(t, dtype=float))
-    lo, hi = result.segments[0].t0, result.segments[-1].t1
-    if not np.all(np.isfinite(t)) or np.any(t < lo) or np.any(t > hi):
-        raise InvalidInputError("t", f"every time must lie in the planned span [{lo}, {hi}]", "give times inside it")
-    bounds = np.array([s.t1 for s in result.segments])
-    which = np.minimum(np.searchsorted(bounds, t, side="left"), len(result.segments) - 1)
-    tau, power = np.empty(t.size), np.empty(t.size)
-    for k, seg in enumerate(result.segments):
-        idx = np.flatnonzero(which == k)
-        if idx.size:
-            phi, u, du = _segment_motion(result, seg, t[idx])
-            tau[idx] = joint_torque(robot, phi, u, du)
-            power[idx] = tau[idx] * u
-    return (float(tau[0]), float(power[0])) if scalar else (tau, power)
+    tau, power = result.torques(t)
+    return (float(tau[0, 0]), float(power[0, 0])) if scalar else (tau[:, 0], power[:, 0])
 
 
-@dataclasses.dataclass(frozen=True)
-class EffortSummary:
-    """The effort of a planned motion at its joint (:func:`effort_summary`).
-
-    Attributes
-    ----------
-    joint : str
-        The joint's state (``"phi"``).
-    duration : float
-    peak_torque : float
-        :math:`\\max_t |\\tau|` (N m).
-    peak_power : float
-        :math:`\\max_t |\\tau u|` (W).
-    positive_work : float
-        :math:`\\int \\max(\\tau u, 0)\\,dt` (J): what a motor that cannot recover energy spends.
-    net_work : float
-        :math:`\\int \\tau u\\,dt`, equal to the change of kinetic energy (J).
-    torque_squared : float
-        :math:`\\int \\tau^2 dt` (N^2 m^2 s).
-    input_squared : float
-        :math:`\\int u^2 dt` (rad^2/s), exact in the basis.
-    """
-
-    joint: str
-    duration: float
-    peak_torque: float
-    peak_power: float
-    positive_work: float
-    net_work: float
-    torque_squared: float
-    input_squared: float
-
-    def to_dict(self) -> dict:
-        """Per joint, plain JSON types: ``{"phi": {"peak_torque": ..., ...}}``."""
-        d = dataclasses.asdict(self)
-        return {d.pop("joint"): d}
+#: The effort of the acrobot's joint: :class:`acroplan.core.result.JointEffort` (``joint`` is
+#: ``"phi"``, ``input`` is ``"u"``).
+EffortSummary = JointEffort
 
 
-def _panels(result, seg) -> int:
-    """Panels of 32 Gauss nodes for a segment: at least 8, and one per radian of joint travel."""
-    T = seg.t1 - seg.t0
-    return int(min(4096, max(8, math.ceil(seg.max_abs_u * T))))
-
-
-def _peak(f, t, values):
-    """:math:`\\max |f|` on [t[0], t[-1]]: the largest of ``|values|`` on the grid ``t``, refined by a
-    bounded scalar search around it."""
-    i = int(np.argmax(np.abs(values)))
-    best = float(abs(values[i]))
-    a, b = t[max(i - 1, 0)], t[min(i + 1, t.size - 1)]
-    if b > a:
-        r = minimize_scalar(lambda x: -abs(float(f(x))), bounds=(a, b), method="bounded",
-                            options={"xatol": 1e-12 * max(1.0, abs(b))})
-        best = max(best, -float(r.fun))
-    return best
-
-
-def effort_summary(result) -> EffortSummary:
+def effort_summary(result) -> JointEffort:
     """Peak torque and power, positive and net work, :math:`\\int\\tau^2` and :math:`\\int u^2` of a
-    planned acrobot motion.
-
-    Integrals by composite Gauss-Legendre quadrature on each segment (32 nodes per panel, at least 8
-    panels and one per radian of joint travel); the positive work integrates :math:`\\tau u` between
-    its sign changes (found on a grid of 64 points per panel and refined by Brent's method); the
-    peaks are the grid maxima refined by a bounded scalar search. :math:`\\int u^2` is exact
-    (:math:`T c^\\top G c`).
+    planned acrobot motion: the joint ``"phi"`` of :meth:`PlanResult.effort
+    <acroplan.core.result.PlanResult.effort>` (its rules: :data:`acroplan.core.result.EFFORT_RULE`).
 
     Parameters
     ----------
@@ -377,52 +308,15 @@ def effort_summary(result) -> EffortSummary:
 
     Returns
     -------
-    EffortSummary
+    JointEffort
+
+    Raises
+    ------
+    InvalidInputError
+        ``robot.physical`` is missing.
     """
-    from ...core.optimal import energy
-
-    robot = _check_result(result)
-    xg, wg = np.polynomial.legendre.leggauss(32)
-    peak_tau = peak_pow = pos = net = tau2 = u2 = 0.0
-    for seg in result.segments:
-        T = seg.t1 - seg.t0
-        basis = result.basis_for(seg)
-        u2 += energy(basis, T, seg.basis_coefficients)
-        P = _panels(result, seg)
-
-        def motion(t, seg=seg):
-            phi, u, du = _segment_motion(result, seg, t)
-            tau = joint_torque(robot, phi, u, du)
-            return tau, tau * u
-
-        # quadrature of tau^2 and tau u
-        edges = np.linspace(seg.t0, seg.t1, P + 1)
-        tq = ((edges[:-1, None] + edges[1:, None]) / 2 + (edges[1:, None] - edges[:-1, None]) / 2 * xg).ravel()
-        wq = np.tile(wg, P) * (T / P) / 2
-        tau_q, pow_q = motion(tq)
-        tau2 += float(np.sum(wq * tau_q**2))
-        net += float(np.sum(wq * pow_q))
-        # positive work: integrate tau u between its sign changes
-        grid = np.linspace(seg.t0, seg.t1, 64 * P + 1)
-        tau_g, pow_g = motion(grid)
-        roots = []
-        for i in np.flatnonzero(np.sign(pow_g[:-1]) * np.sign(pow_g[1:]) < 0):
-            roots.append(brentq(lambda x: float(motion(np.array([x]))[1][0]), grid[i], grid[i + 1], xtol=1e-14))
-        cuts = np.concatenate([[seg.t0], roots, [seg.t1]])
-        for a, b in zip(cuts[:-1], cuts[1:]):
-            if b <= a:
-                continue
-            n_sub = max(1, math.ceil(P * (b - a) / T))
-            e = np.linspace(a, b, n_sub + 1)
-            ts = ((e[:-1, None] + e[1:, None]) / 2 + (e[1:, None] - e[:-1, None]) / 2 * xg).ravel()
-            ws = np.tile(wg, n_sub) * ((b - a) / n_sub) / 2
-            w = float(np.sum(ws * motion(ts)[1]))
-            pos += max(w, 0.0)
-        peak_tau = max(peak_tau, _peak(lambda x: motion(np.array([x]))[0][0], grid, tau_g))
-        peak_pow = max(peak_pow, _peak(lambda x: motion(np.array([x]))[1][0], grid, pow_g))
-    return EffortSummary(joint="phi", duration=float(result.segments[-1].t1 - result.segments[0].t0),
-                         peak_torque=peak_tau, peak_power=peak_pow, positive_work=pos, net_work=net,
-                         torque_squared=tau2, input_squared=u2)
+    _check_result(result)
+    return result.effort()["phi"]
 
 
 # ------------------------------------------------------------------------------------ torque model
@@ -596,3 +490,10 @@ def optimal_starts(interval, basis) -> list:
 
 
 register_starts(Acrobot, optimal_starts)
+
+
+def _acrobot_torque(robot) -> AcrobotTorque:
+    return AcrobotTorque()
+
+
+register_torque_model(Acrobot, _acrobot_torque)  # Acrobot.torque_model(): this, for a physical robot

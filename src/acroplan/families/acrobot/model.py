@@ -335,6 +335,15 @@ class Acrobot(ControlAffineSystem):
 
         return AcrobotAuto()
 
+    def torque_model(self):
+        """The joint torque :math:`\\tau = a(\\varphi)\\ddot\\varphi + b(\\varphi)\\dot\\varphi^2 +
+        c(\\varphi)P_0^2` (:class:`~acroplan.families.acrobot.effort.AcrobotTorque`, registered by
+        :mod:`~acroplan.families.acrobot.effort` on import) when the robot was built from its
+        physical body (:meth:`from_physical`); ``None`` for a lumped-only robot, whose parameters fix
+        the motion but not the torque's scale (any common multiple of ``M1, A1, M2, A2, P0`` gives
+        the same motion)."""
+        return super().torque_model() if self.physical is not None else None
+
     def fill_free(self, x0, x1, guess, duration, limits=None, after=None):
         """A free ``phi`` takes the interpolated value (inside the joint limits); a free ``theta``
         the middle of the values that are reachable from ``x0`` and from which the next waypoint

@@ -1,0 +1,374 @@
+"""Optimal plans and effort through the front doors (issue #13): ``plan(objective=, tau_max=)``,
+``plan_many`` with the same keywords, and the generic torque hook of the core
+(``ControlAffineSystem.torque_model``, ``PlanResult.torques``/``effort``/``evaluate``/``to_dict``).
+
+* closed-form optima: a damped oscillator (min integral of a^2, the controllability Gramian by Van
+  Loan's matrix exponential) and a flywheel with a torque model of the test's own (min integral of
+  tau^2: a cubic joint rate, in closed form);
+* an energy-optimal plan costs no more than the feasible plan, with its KKT residual below the
+  target it reports, and is verified like any plan;
+* torque limits (with rate limits) hold on a dense grid, or the plan says it did not converge;
+* the result's torques equal the acrobot's formula on an independent evaluation of the motion;
+* without a torque model nothing changes, and options that need one are refused by name.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+
+import numpy as np
+import pytest
+import scipy.linalg
+import sympy as sp
+
+import acroplan
+from acroplan.core.errors import InvalidInputError
+from acroplan.core.optimal import KKT_TOL, RTOL, EnergyOptimal, TorqueOptimal, energy
+from acroplan.core.system import ControlAffineSystem
+from acroplan.families.acrobot.effort import effort_summary, joint_torque, torques
+from acroplan.zoo import random_segment
+
+
+def plan_energy(result) -> float:
+    return sum(energy(s.basis, s.t1 - s.t0, s.basis_coefficients) for s in result.segments)
+
+
+def theta_at(robot, theta0, phi0, phiT, T, w):
+    lo, hi = robot.reachable_interval(theta0=theta0, phi0=phi0, phiT=phiT, T=T)
+    return lo + w * (hi - lo)
+
+
+@pytest.fixture(scope="module")
+def body():
+    return acroplan.Acrobot.from_physical(torso_mass=40.0, leg_mass=20.0, torso_inertia=1.8, leg_inertia=1.2,
+                                          torso_length=0.35, leg_length=0.45, angular_momentum=10.0)
+
+
+@pytest.fixture(scope="module")
+def problem(body):
+    T, phi0, phiT = 1.4, -1.2, -2.6
+    return dict(times=[0, T], theta=[0.1, theta_at(body, 0.1, phi0, phiT, T, 0.7)], phi=[phi0, phiT],
+                conditions="free")
+
+
+# ----------------------------------------------------------------------------------------- closed forms
+@dataclasses.dataclass(frozen=True)
+class OptimalTestOscillator(ControlAffineSystem):
+    """q' = v, v' = -w2 q - c v + a: linear, not nilpotent (the optimal input is not a polynomial)."""
+
+    state_names = ("q", "v")
+    input_names = ("a",)
+    param_names = ("w2", "c")
+    w2: float = 4.0
+    c: float = 0.6
+
+    @classmethod
+    def symbolic_fields(cls, x, p):
+        return sp.Matrix([x[1], -p[0] * x[0] - p[1] * x[1]]), sp.Matrix([0, 1])
+
+
+def least_energy(A, B, x0, x1, T) -> float:
+    """min int_0^T |u|^2 dt from x0 to x1 for x' = A x + B u: d^T W^-1 d with d = x1 - e^{AT} x0 and
+    the Gramian W = int_0^T e^{As} B B^T e^{A^T s} ds (Van Loan's block exponential)."""
+    n = A.shape[0]
+    M = np.zeros((2 * n, 2 * n))
+    M[:n, :n], M[:n, n:], M[n:, n:] = -A, B @ B.T, A.T
+    E = scipy.linalg.expm(M * T)
+    eAT = E[n:, n:].T
+    W = eAT @ E[:n, n:]
+    d = np.asarray(x1, float) - eAT @ np.asarray(x0, float)
+    return float(d @ np.linalg.solve(W, d))
+
+
+CASES = [(1.7, (0.3, -0.4), (1.9, 0.8)), (3.0, (0.0, 0.0), (1.0, 0.0)), (5.0, (1.0, 0.0), (-1.0, 0.5))]
+
+
+@pytest.mark.parametrize("T, x0, x1", CASES)
+def test_energy_objective_reaches_the_gramian_optimum_of_a_linear_system(T, x0, x1):
+    """With 14 coefficients the optimum is the closed form's to 1e-8 (measured: at most 4.3e-12);
+    with the ladder (no n_coefficients) within the ladder's rtol, with the change it stopped on."""
+    sysm = OptimalTestOscillator()
+    A, B = np.array([[0.0, 1.0], [-sysm.w2, -sysm.c]]), np.array([[0.0], [1.0]])
+    E = least_energy(A, B, x0, x1, T)
+    kw = dict(times=[0, T], q=[x0[0], x1[0]], v=[x0[1], x1[1]], conditions="free", objective="energy")
+    r = acroplan.plan(sysm, n_coefficients=14, **kw)
+    assert r.success and r.verified, r.message
+    assert plan_energy(r) == pytest.approx(E, rel=1e-8)
+    opt = r.segments[0].optimality
+    assert opt["one_size"] and opt["converged"] and opt["kkt"] <= opt["kkt_tol"] == KKT_TOL
+    assert opt["cost"] == pytest.approx(plan_energy(r), rel=1e-13)
+    ladder = acroplan.plan(sysm, **kw)
+    assert ladder.success, ladder.message
+    lo = ladder.segments[0].optimality
+    assert lo["converged"] and lo["converged_in_basis"] and len(lo["ladder"]) >= 2
+    assert E <= plan_energy(ladder) <= E * (1 + RTOL)
+    assert r.objective == ladder.objective == "energy" and r.to_dict()["objective"] == "energy"
+
+
+@dataclasses.dataclass(frozen=True)
+class OptimalTestFlywheel(ControlAffineSystem):
+    """A joint q driven at rate u (q' = u), and z' = q (so the endpoint constrains the joint's mean);
+    torque tau = I u' (a flywheel of inertia I): a system with a torque model of its own."""
+
+    state_names = ("q", "z")
+    input_names = ("u",)
+    param_names = ("I",)
+    rate_inputs = {"u": "q"}
+    I: float = 2.5
+
+    @classmethod
+    def symbolic_fields(cls, x, p):
+        return sp.Matrix([0, x[0]]), sp.Matrix([1, 0])
+
+
+class FlywheelTorque:
+    """tau = I u'(t) alone (no Jacobian: the core takes finite differences)."""
+
+    joint_names = ("q",)
+
+    def unsupported(self, system):
+        return None if isinstance(system, OptimalTestFlywheel) else "not a flywheel"
+
+    def __call__(self, system, basis, x0, T, c, s):
+        c = np.asarray(c, dtype=float).reshape(1, -1)
+        return system.I * (basis.matrix(np.asarray(s, dtype=float), 1) @ c[0])[None, :] / T
+
+
+acroplan.register_torque_model(OptimalTestFlywheel, lambda system: FlywheelTorque())
+
+
+def flywheel_optimum(I, T, q0, q1, z0, z1):
+    """min int (I u')^2 dt with q(T) = q1, z(T) = z1 and u free at the ends: the Euler-Lagrange
+    equation makes u'' linear, the natural boundary conditions u'(0) = u'(T) = 0, so
+    u = alpha + k (T t^2/2 - t^3/3) with int u = alpha T + k T^4/12 = q1 - q0 and
+    int (T - t) u = alpha T^2/2 + k T^5/40 = z1 - z0 - q0 T; the cost is I^2 k^2 T^5/30 and the
+    peak torque I |k| T^2/4 (at T/2)."""
+    D1, D2 = q1 - q0, z1 - z0 - q0 * T
+    k = -60.0 * (D2 - D1 * T / 2) / T**5
+    alpha = (D1 - k * T**4 / 12) / T
+    return alpha, k, I**2 * k**2 * T**5 / 30, I * abs(k) * T**2 / 4
+
+
+def test_torque_objective_reaches_the_closed_form_optimum_through_the_generic_hook():
+    sysm = OptimalTestFlywheel()
+    T, (q0, q1), (z0, z1) = 1.3, (0.2, 1.1), (0.0, 1.6)
+    alpha, k, cost, peak = flywheel_optimum(sysm.I, T, q0, q1, z0, z1)
+    r = acroplan.plan(sysm, times=[0, T], q=[q0, q1], z=[z0, z1], conditions="free", objective="torque")
+    assert r.success and r.verified, r.message
+    seg = r.segments[0]
+    assert seg.method == "torque-optimal" and seg.optimality["objective"] == "torque"
+    assert seg.optimality["cost"] == pytest.approx(cost, rel=1e-8)
+    assert seg.optimality["kkt"] <= seg.optimality["kkt_tol"] and seg.optimality["converged"]
+    t = np.linspace(0, T, 101)
+    np.testing.assert_allclose(seg.input(t)[0], alpha + k * (T * t**2 / 2 - t**3 / 3), atol=1e-8)
+    # the generic effort and torques of a system the core knows nothing about
+    tau, power = r.torques(t)
+    assert tau.shape == power.shape == (101, 1)
+    np.testing.assert_allclose(tau[:, 0], sysm.I * k * t * (T - t), atol=1e-8 * max(1.0, peak))
+    np.testing.assert_allclose(power[:, 0], tau[:, 0] * seg.input(t)[0], rtol=1e-14)
+    e = r.effort()
+    assert list(e) == ["q"] and e["q"].input == "u"
+    assert e["q"].torque_squared == pytest.approx(cost, rel=1e-8)
+    assert e["q"].peak_torque == pytest.approx(peak, rel=1e-8)
+    assert e["q"].input_squared == pytest.approx(float(np.trapezoid(seg.input(np.linspace(0, T, 200001))[0] ** 2,
+                                                                    np.linspace(0, T, 200001))), rel=1e-8)
+
+
+# ----------------------------------------------------------------------------------------- acrobot plans
+@pytest.mark.parametrize("seed", [3, 4])
+def test_an_energy_optimal_plan_costs_no_more_than_the_feasible_plan(seed):
+    p = random_segment(np.random.default_rng(seed))
+    kw = dict(conditions="free", **p.plan_kwargs())
+    fast = acroplan.plan(p.robot, **kw)
+    opt = acroplan.plan(p.robot, objective="energy", **kw)
+    assert fast.success and opt.success, opt.message
+    assert fast.objective is None and opt.objective == "energy"
+    assert opt.verified and opt.verification == "family"
+    assert max(s.verified_error for s in opt.segments) <= 1e-9
+    assert plan_energy(opt) <= plan_energy(fast) * (1 + 1e-12)
+    d = json.loads(opt.to_json())
+    o = d["segments"][0]["optimality"]
+    assert o["kkt"] <= o["kkt_tol"] == KKT_TOL and o["converged"] and o["converged_in_basis"]
+    assert o["cost"] == pytest.approx(plan_energy(opt), rel=1e-12)
+    assert o["basis_size"] == len(d["segments"][0]["basis_coefficients"]["u"])
+    assert "optimality" not in json.loads(fast.to_json())["segments"][0]
+    assert "energy-optimal" in opt.message and "converged on every interval" in opt.message
+
+
+def test_torque_objective_lowers_the_integral_of_tau_squared(body, problem):
+    fast = acroplan.plan(body, **problem)
+    e_opt = acroplan.plan(body, objective="energy", **problem)
+    t_opt = acroplan.plan(body, objective="torque", **problem)
+    assert fast.success and e_opt.success and t_opt.success, t_opt.message
+    tau2 = {k: r.effort()["phi"].torque_squared for k, r in (("fast", fast), ("energy", e_opt), ("torque", t_opt))}
+    assert tau2["torque"] <= min(tau2["energy"], tau2["fast"]) * (1 + 1e-6)
+    assert plan_energy(e_opt) <= plan_energy(t_opt) * (1 + 1e-9)
+    o = t_opt.segments[0].optimality
+    assert o["objective"] == "torque" and o["cost"] == pytest.approx(tau2["torque"], rel=1e-6)
+    assert o["kkt"] <= o["kkt_tol"]
+
+
+def dense_peak(result, n=20001):
+    t = np.linspace(result.times[0], result.times[-1], n)
+    return float(np.max(np.abs(result.torques(t)[0])))
+
+
+def test_torque_limits_hold_together_with_rate_limits(body, problem):
+    """For each objective, a torque limit 15% below that objective's unlimited peak and a rate limit
+    5% above its largest rate: the limits hold on a dense grid and the torque limit binds."""
+    for objective, limit in (("energy", lambda v: v), ("torque", lambda v: {"phi": v}), (None, lambda v: [v])):
+        free = acroplan.plan(body, objective=objective or "energy", n_coefficients=10, **problem)
+        tau_max, u_max = 0.85 * free.effort()["phi"].peak_torque, 1.05 * free.max_abs_u
+        # one basis size keeps the test short (the ladder under torque limits: tests/test_effort.py)
+        r = acroplan.plan(body, objective=objective, tau_max=limit(tau_max), u_max=u_max, n_coefficients=10,
+                          **problem)
+        assert r.success and r.verified, r.message
+        assert r.objective == (objective or "energy") and r.torque_limits == {"phi": pytest.approx(tau_max)}
+        assert tau_max * (1 - 5e-3) <= dense_peak(r) <= tau_max * (1 + 1e-9)  # binding, and honoured
+        assert r.effort()["phi"].peak_torque <= tau_max * (1 + 1e-9)
+        assert r.max_abs_u <= u_max * (1 + 1e-9)
+        assert r.to_dict()["torque_limits"] == {"phi": pytest.approx(tau_max)}
+        assert r.segments[0].optimality["solver"] == "slsqp"
+        cost = r.segments[0].optimality["cost"]
+        assert cost >= free.segments[0].optimality["cost"] * (1 - 1e-9)  # the limit costs something
+
+
+def test_an_impossible_torque_limit_is_reported_not_hidden(body, problem):
+    free = acroplan.plan(body, objective="energy", **problem)
+    r = acroplan.plan(body, objective="energy", tau_max=0.02 * free.effort()["phi"].peak_torque, n_coefficients=6,
+                      **problem)
+    assert r.status == "not_converged" and not r.success
+    assert "segment 0" in r.message and "max(|tau| - tau_max)" in r.message
+    assert "effort" in r.to_dict() and r.to_dict()["effort"] is None
+
+
+def test_result_torques_equal_the_acrobots_formula(body):
+    """PlanResult.torques (the generic hook) against joint_torque evaluated on the motion rebuilt
+    from the Legendre coefficients by numpy's Legendre class (not the basis code), on a two-segment
+    plan; and the acrobot's torques() and effort_summary() are the same numbers."""
+    t = [0.0, 1.2, 2.5]
+    phi = [-1.0, -2.4, -0.6]
+    th1 = theta_at(body, -0.3, phi[0], phi[1], 1.2, 0.35)
+    th2 = theta_at(body, th1, phi[1], phi[2], 1.3, 0.6)
+    r = acroplan.plan(body, times=t, theta=[-0.3, th1, th2], phi=phi, conditions="free", objective="energy")
+    assert r.success, r.message
+    for seg in r.segments:
+        tt = np.linspace(seg.t0, seg.t1, 401)[1:]  # (a shared time belongs to the earlier segment)
+        T = seg.t1 - seg.t0
+        leg = np.polynomial.legendre.Legendre(seg.basis_coefficients[0], domain=[0, 1])
+        s = (tt - seg.t0) / T
+        ph, u, du = seg.start[1] + T * leg.integ(lbnd=0)(s), leg(s), leg.deriv()(s) / T
+        want = joint_torque(body, ph, u, du)
+        tau, power = r.torques(tt)
+        np.testing.assert_allclose(tau[:, 0], want, rtol=1e-11, atol=1e-11 * np.max(np.abs(want)))
+        np.testing.assert_allclose(power[:, 0], want * u, rtol=1e-11, atol=1e-11 * np.max(np.abs(want * u)))
+        a_tau, a_pow = torques(r, tt)
+        assert np.array_equal(a_tau, tau[:, 0]) and np.array_equal(a_pow, power[:, 0])
+    assert effort_summary(r) == r.effort()["phi"]
+    # evaluate, to_pandas and to_dict carry the same numbers
+    smp = r.evaluate(np.array([0.3, 1.9]))
+    assert smp.joint_names == ("phi",)
+    np.testing.assert_array_equal(smp.tau_phi, r.torques([0.3, 1.9])[0][:, 0])
+    np.testing.assert_array_equal(smp.power_phi, r.torques([0.3, 1.9])[1][:, 0])
+    df = r.to_pandas(per_segment=50)
+    assert list(df.columns) == ["t", "theta", "phi", "u", "tau_phi", "power_phi"]
+    np.testing.assert_array_equal(df["tau_phi"].to_numpy(), r.torques(df["t"].to_numpy())[0][:, 0])
+    block = json.loads(r.to_json())["effort"]
+    e = r.effort()["phi"]
+    assert block["joints"]["phi"]["peak_torque"] == e.peak_torque and "Gauss-Legendre" in block["rule"]
+    assert block["joints"]["phi"]["input_squared"] == pytest.approx(plan_energy(r), rel=1e-12)
+
+
+def test_nothing_changes_without_a_torque_model(body):
+    lumped = acroplan.Acrobot(**body.lumped())
+    assert lumped.torque_model() is None and body.torque_model() is not None
+    kw = dict(times=[0, 1], theta=[0.0, theta_at(lumped, 0.0, -1.0, -2.0, 1.0, 0.5)], phi=[-1.0, -2.0],
+              conditions="free")
+    for system, kwargs in ((lumped, kw), (acroplan.ChainedForm(3),
+                                          dict(times=[0, 1], x1=[0, 0], x2=[0, 0], x3=[0, 0.1], conditions="free"))):
+        r = acroplan.plan(system, **kwargs)
+        assert r.success and not r.has_torques
+        d = r.to_dict()
+        assert "effort" not in d and "torque_limits" not in d and d["objective"] is None
+        smp = r.sample(20)
+        assert smp.torques is None and smp.joint_names == ()
+        assert list(r.to_pandas(20).columns) == ["t", *system.state_names, *system.input_names]
+        with pytest.raises(InvalidInputError) as e:
+            r.torques(0.5)
+        assert e.value.field == "system"
+        with pytest.raises(InvalidInputError):
+            r.plot("effort")
+        # energy-optimal plans need no torques
+        assert acroplan.plan(system, objective="energy", **kwargs).success
+
+
+def test_options_that_need_torques_are_refused_by_name(body, problem):
+    lumped = acroplan.Acrobot(**body.lumped())
+    chain = dict(times=[0, 1], x1=[0, 0], x2=[0, 0], x3=[0, 0.1], conditions="free")
+    cases = [
+        (acroplan.ChainedForm(3), dict(objective="torque", **chain), "objective"),
+        (acroplan.ChainedForm(3), dict(tau_max=3.0, **chain), "tau_max"),
+        (lumped, dict(objective="torque", **problem), "objective"),
+        (lumped, dict(objective="energy", tau_max=3.0, **problem), "tau_max"),
+        (body, dict(objective="time", **problem), "objective"),
+        (body, dict(tau_max=-1.0, **problem), "tau_max"),
+        (body, dict(tau_max=[1.0, 2.0], **problem), "tau_max"),
+        (body, dict(tau_max={"knee": 3.0}, **problem), "tau_max.knee"),
+        (body, dict(objective="energy", method="energy-optimal", **problem), "method"),
+        (body, dict(tau_max=5.0, method=TorqueOptimal(), **problem), "method"),
+    ]
+    for system, kw, field in cases:
+        with pytest.raises(InvalidInputError) as e:
+            acroplan.plan(system, **kw)
+        assert e.value.field == field, (kw, e.value)
+    with pytest.raises(InvalidInputError, match="did you mean 'tau_max'"):
+        acroplan.plan(body, tau_mx=3.0, **problem)
+    with pytest.raises(InvalidInputError) as e:
+        acroplan.plan_many([dict(system=body, **problem)], objective="speed", executor="serial")
+    assert e.value.field == "problems[0].objective"
+
+
+def test_method_with_an_objective_is_the_start_and_an_optimal_method_records_its_objective(body, problem):
+    deform = acroplan.plan(body, method="deform", **problem)
+    r = acroplan.plan(body, method="deform", objective="energy", **problem)
+    assert deform.success and r.success, r.message
+    o = r.segments[0].optimality
+    assert o["start"] == "auto" and o["kkt"] <= o["kkt_tol"]
+    assert plan_energy(r) <= plan_energy(deform) * (1 + 1e-12)
+    by_method = acroplan.plan(body, method=EnergyOptimal(tau_max=30.0), **problem)
+    assert by_method.objective == "energy" and by_method.torque_limits == {"phi": 30.0}
+
+
+def test_plan_many_takes_the_same_keywords(body, problem):
+    rng = np.random.default_rng(7)
+    probs = [dict(system=p.robot, conditions="free", **p.plan_kwargs()) for p in
+             (random_segment(rng) for _ in range(2))] + [dict(system=body, **problem)]
+    many = acroplan.plan_many(probs, objective="torque", executor="serial")
+    for kw, r in zip(probs, many):
+        kw = dict(kw)
+        one = acroplan.plan(kw.pop("system"), objective="torque", **kw)
+        assert r.success and r.objective == "torque" and r.segments[0].method == "torque-optimal"
+        assert np.array_equal(r.segments[0].basis_coefficients, one.segments[0].basis_coefficients)
+    limited = acroplan.plan_many([dict(system=body, **problem)], tau_max=15.0, n_coefficients=10,
+                                 executor="serial")[0]
+    assert limited.success and dense_peak(limited) <= 15.0 * (1 + 1e-9)
+
+
+def test_effort_figure(body, problem):
+    r = acroplan.plan(body, objective="energy", tau_max=18.0, n_coefficients=10, **problem)
+    fig = r.plot("effort", per_segment=60)
+    top, bottom = fig.axes
+    line = top.get_lines()[0]
+    np.testing.assert_allclose(line.get_ydata(), r.torques(line.get_xdata())[0][:, 0], rtol=1e-12)
+    np.testing.assert_allclose(bottom.get_lines()[0].get_ydata(), r.torques(line.get_xdata())[1][:, 0],
+                               rtol=1e-12)
+    limits = sorted({y for ln in top.get_lines() for y in np.atleast_1d(ln.get_ydata())
+                     if ln.get_linestyle() == ":"})
+    assert limits == [-18.0, 18.0]
+    assert "effort" not in r.plot()  # the default figures are unchanged
+    import matplotlib.pyplot as plt
+
+    plt.close("all")
+    assert math.isfinite(r.effort()["phi"].positive_work)
