@@ -14,6 +14,7 @@
 from __future__ import annotations
 
 import dataclasses
+import re
 
 import numpy as np
 import pytest
@@ -326,3 +327,46 @@ def test_torque_model_hook_and_refusals():
     with pytest.raises(InvalidInputError) as e:
         tm(body, Legendre(6), [0.0, 0.0, 0.0], -1.0, np.zeros((2, 6)), NODES)
     assert e.value.field == "T"
+
+
+# ------------------------------------------------------------------------------ optimal plans
+def test_energy_optimal_starts_from_the_shape_guesses_and_finds_the_generic_optimum():
+    from acroplan.core.optimal import FAMILY_STARTS, EnergyOptimal, energy
+    from acroplan.families.planar.effort import optimal_starts
+
+    assert FAMILY_STARTS[PlanarBody] is optimal_starts
+    p = random_segment(np.random.default_rng(31), 3, momentum=True)
+    kw = dict(conditions="free", verify=False, **p.plan_kwargs())
+    fam = acroplan.plan(p.body, method=EnergyOptimal(sizes=(6, 10)), **kw)
+    gen = acroplan.plan(p.body, method=EnergyOptimal(sizes=(6, 10), starts=("auto", "deform")), **kw)
+    feasible = acroplan.plan(p.body, **kw)
+    assert fam.success and gen.success and feasible.success
+    assert re.search(r"; start: (\w+)", fam.segments[0].message).group(1) in ("bump", "tuck", "loop")
+
+    def cost(r):
+        s = r.segments[0]
+        return energy(s.basis, p.T, s.basis_coefficients)
+
+    assert abs(cost(fam) - cost(gen)) <= 1e-8 * cost(gen)
+    assert cost(fam) < cost(feasible)
+
+
+def test_torque_optimal_lowers_the_integral_of_tau_squared():
+    from acroplan.core.optimal import EnergyOptimal, TorqueOptimal
+
+    p = random_segment(np.random.default_rng(8), 3, momentum=True)
+    kw = dict(conditions="free", verify=False, **p.plan_kwargs())
+    tm = p.body.torque_model()
+    xg, wg = np.polynomial.legendre.leggauss(96)
+    s, w = (xg + 1) / 2, wg / 2
+
+    def tau2(r):
+        seg = r.segments[0]
+        tau, _ = tm(p.body, seg.basis, seg.start, p.T, seg.basis_coefficients, s)
+        return p.T * float(np.sum(tau**2, axis=0) @ w)
+
+    e = acroplan.plan(p.body, method=EnergyOptimal(sizes=(6, 10)), **kw)
+    t = acroplan.plan(p.body, method=TorqueOptimal(torque=tm, sizes=(6, 10)), **kw)
+    assert e.success and t.success, t.message
+    assert np.abs(t.segments[0].final_error) <= 1e-9
+    assert tau2(t) < 0.9 * tau2(e)

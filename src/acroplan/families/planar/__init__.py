@@ -7,16 +7,20 @@
   acroplan[bodies]``; it is imported only when one of these is called);
 * :mod:`~.check`: the independent check by Pinocchio (centroidal momentum, forward simulation);
 * :mod:`~.effort`: the joint torques of a motion, by Pinocchio's inverse dynamics of the free body
-  (:class:`PlanarTorque`, :func:`inverse_dynamics`);
+  (:class:`PlanarTorque`, :func:`inverse_dynamics`) and the optimal strategies' starts
+  (:func:`~.effort.optimal_starts`, registered here);
 * :mod:`~.zoo`: :func:`three_rods`, :func:`diver_with_arms`, :func:`planar_space_robot`,
   :func:`random_body`.
 """
 
-from .effort import PlanarTorque, inverse_dynamics
+from ...core.optimal import register_starts
+from .effort import PlanarTorque, inverse_dynamics, optimal_starts
 from .links import Link, LinkTable
 from .model import PlanarBody, momentum_from_definition
 from .urdf import read_link_table, read_urdf, to_urdf
 from .zoo import diver_with_arms, planar_space_robot, random_body, three_rods
+
+register_starts(PlanarBody, optimal_starts)  # the optimal strategies' starts (effort.optimal_starts)
 
 __all__ = ["Link", "LinkTable", "PlanarBody", "momentum_from_definition", "read_link_table", "read_urdf", "to_urdf",
            "three_rods", "diver_with_arms", "planar_space_robot", "random_body", "PlanarTorque", "inverse_dynamics"]

@@ -75,6 +75,10 @@ central finite differences, the torques against the acrobot's closed form
 simulation of the full equations of motion (root free, Pinocchio's ``aba``) driven by these torques
 alone against planned motions.
 
+For the optimal strategies (:mod:`acroplan.core.optimal`) this module also gives the planar
+bodies' starts, :func:`optimal_starts` (the shape guesses of :mod:`~acroplan.families.planar.guess`,
+registered for :class:`~acroplan.families.planar.model.PlanarBody` by the package on import).
+
 Units: those of the link table (kg, m, s give N m). Pinocchio is optional (``pip install
 acroplan[bodies]``) and imported on first use.
 """
@@ -88,10 +92,11 @@ import threading
 import numpy as np
 
 from ...core.errors import InvalidInputError
+from .guess import shape_guesses
 from .links import LinkTable
 from .pin import INSTALL_HINT, PinocchioBody, build_model, require_pinocchio
 
-__all__ = ["InverseDynamics", "inverse_dynamics", "PlanarTorque", "ROOTS"]
+__all__ = ["InverseDynamics", "inverse_dynamics", "PlanarTorque", "ROOTS", "optimal_starts"]
 
 #: The root joints of the Pinocchio model: ``"planar"`` (3 degrees of freedom) or
 #: ``"freeflyer"`` (6, held in the plane).
@@ -347,3 +352,34 @@ class PlanarTorque:
         names = "" if self.joint_names is None else f"joint_names={self.joint_names!r}"
         root = "" if self.root == "planar" else f"root={self.root!r}"
         return f"PlanarTorque({', '.join(x for x in (names, root) if x)})"
+
+
+def optimal_starts(interval, basis) -> list:
+    """Starts for the optimal strategies (:class:`~acroplan.core.optimal.EnergyOptimal`,
+    :class:`~acroplan.core.optimal.TorqueOptimal`) on a planar body: the shape guesses
+    (:func:`~acroplan.families.planar.guess.shape_guesses`: the base joint motion plus a bump, a
+    tuck or a shape loop whose amplitude solves the turn equation), which meet the target up to a
+    quadrature's error, no ODE solved (about 2 ms). Registered for
+    :class:`~acroplan.families.planar.model.PlanarBody` with
+    :func:`acroplan.core.optimal.register_starts` when the package is imported; the strategy falls
+    back on the body's ``method="auto"`` plan when none is found.
+
+    Against the generic starts (``starts=("auto", "deform")``: the body's ``method="auto"`` plan,
+    then path deformation from the minimum-norm input) on the same problems:
+    ``python benchmarks/optimal_planar.py --starts`` (numbers in ``benchmarks/RESULTS.md``).
+
+    Parameters
+    ----------
+    interval : Interval
+        Its system (a planar body), ``x0``, ``x1``, ``T``, input conditions (``ends``) and limits.
+    basis : InputBasis
+
+    Returns
+    -------
+    list of (str, numpy.ndarray of shape (m, basis.n))
+        ``(kind, coefficients)``, best first (compliant with the limits, then the smallest motion);
+        empty when no family brackets the target.
+    """
+    guesses = shape_guesses(interval.system, basis, interval.x0, interval.x1, float(interval.T), interval.ends,
+                            interval.limits)
+    return [(g.kind, g.coefficients) for g in guesses]
