@@ -21,7 +21,9 @@ from acroplan.families.human import (POSITIONS, SagittalBody, de_leva_table, fli
                                      from_yeadon, hip_rate_literature, human_data, human_limits, position)
 from acroplan.families.human import body as body_module
 from acroplan.families.human import deleva as deleva_module
+from acroplan.families.human import examples as examples_module
 from acroplan.families.human import limits as limits_module
+from acroplan.families.human import yeadon_body as yeadon_module
 from acroplan.families.human.examples import platform_dive
 from acroplan.families.human.yeadon_body import load_human, whole_body
 
@@ -305,14 +307,46 @@ def test_platform_dive_momentum_is_the_exact_least_with_a_margin(dive):
     d, _ = dive
     assert d.flight_time == pytest.approx(flight_time(10.0, 0.2), rel=1e-15)
     assert d.least.attained and d.least.success
-    assert d.P0 == pytest.approx(1.10 * d.least.P0, rel=1e-14)
-    # at the least momentum the far end of the exact reachable set is exactly 3.5 somersaults
+    # at the least momentum the far end of the exact reachable set is exactly 3.5 somersaults, reached
+    # only by piking at the full hip rate, holding the deepest pike and opening at the full rate
     least_robot = d.body.two_link(angular_momentum=d.least.P0)
-    reach = reachable_set(least_robot, theta0=0.0, phi0=d.kw["phi"][0], phiT=d.kw["phi"][-1], T=d.flight_time,
+    theta0 = d.kw["theta"][0]
+    assert theta0 == -0.5 * math.pi  # upright at take-off
+    reach = reachable_set(least_robot, theta0=theta0, phi0=d.kw["phi"][0], phiT=d.kw["phi"][-1], T=d.flight_time,
                           limits=d.limits)
-    assert reach.high == pytest.approx(7 * math.pi, abs=1e-9)
-    # the extremal motion pikes at the full hip rate and holds the deepest pike
+    assert reach.high - theta0 == pytest.approx(7 * math.pi, abs=1e-9)
     assert [u for _, u in reach.extremal["high"]] == [12.0, 0.0, -12.0]
+    # the chosen momentum: the reference motion (minimum-jerk ramps at 11 rad/s) turns 3.5 somersaults;
+    # checked by simulating the reference's hip rate (exactly a quartic on each ramp) with the
+    # compiled integrator, independently of the quadrature that chose P0
+    ref = d.reference
+    assert ref.peak_rate == pytest.approx(11.0, rel=1e-14) and ref.peak_rate <= d.limits.input_bound("u")
+
+    def u(t):
+        s_in, s_out = t / ref.ramp, (d.flight_time - t) / ref.ramp
+        du = lambda s: 30 * s**2 - 60 * s**3 + 30 * s**4  # noqa: E731
+        if s_in < 1:
+            return np.array([ref.pike / ref.ramp * du(s_in)])
+        if s_out < 1:
+            return np.array([-ref.pike / ref.ramp * du(s_out)])
+        return np.array([0.0])
+
+    sim = acroplan.simulate(d.robot, times=d.kw["times"], inputs=u, n_coefficients=6, theta=theta0,
+                            phi=d.kw["phi"][0])
+    assert sim.waypoints[-1, 0] - theta0 == pytest.approx(7 * math.pi, abs=1e-9)
+    assert np.allclose(sim.waypoints[:, 0], d.kw["theta"], rtol=0, atol=1e-9)  # the pike waypoints' theta
+    assert sim.waypoints[-1, 1] == pytest.approx(d.kw["phi"][-1], abs=1e-12)
+    assert d.P0 > d.least.P0 and d.margin == pytest.approx(0.149, abs=1e-3)
+
+
+def test_platform_dive_with_a_given_margin(male1):
+    d = platform_dive(male1, margin=0.10, objective=None)
+    assert d.P0 == pytest.approx(1.10 * d.least.P0, rel=1e-14)
+    assert d.reference.ramp == pytest.approx(0.3485, abs=1e-3)  # faster ramps: less momentum
+    assert d.reference.turn_integral(male1, d.flight_time) * d.P0 == pytest.approx(7 * math.pi, abs=1e-9)
+    with pytest.raises(InvalidInputError) as e:
+        platform_dive(male1, margin=-0.1)
+    assert e.value.field == "margin"
 
 
 def test_platform_dive_stays_inside_the_divers_limits(dive):
@@ -333,12 +367,13 @@ def test_platform_dive_stays_inside_the_divers_limits(dive):
     # the rate limit, and the literature's peak hip flexion rate of elite platform divers
     assert np.abs(u).max() <= 12.0 + 1e-9
     assert np.abs(u).max() < hip_rate_literature()[1]
-    # take-off and entry straight
+    # take-off and entry straight, hips at rest
     assert psi[0] == pytest.approx(0.0, abs=1e-12) and psi[-1] == pytest.approx(0.0, abs=1e-12)
+    assert u[0] == pytest.approx(0.0, abs=1e-9) and u[-1] == pytest.approx(0.0, abs=1e-9)
 
 
 # ------------------------------------------------------------------------------------------- docs
-@pytest.mark.parametrize("module", [body_module, deleva_module, limits_module])
+@pytest.mark.parametrize("module", [body_module, deleva_module, limits_module, examples_module, yeadon_module])
 def test_docstring_examples(module):
     failures, _ = doctest.testmod(module, verbose=False)
     assert failures == 0

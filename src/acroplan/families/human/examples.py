@@ -4,7 +4,7 @@
 >>> from acroplan.families.human.examples import platform_dive_pike
 >>> robot, kw = platform_dive_pike(objective=None)      # the default feasible plan
 >>> result = acroplan.plan(robot, **kw)
->>> result.status
+>>> str(result.status)
 'success'
 
 The problem (:func:`platform_dive`)
@@ -24,21 +24,37 @@ The problem (:func:`platform_dive`)
 * **Limits** of a diver in pike (:func:`~acroplan.families.human.limits.human_limits`): hip flexion
   from -30 to 150 degrees, hip rate 12 rad/s.
 * **Angular momentum**: the least :math:`P_0` for 3.5 somersaults in :math:`T` under these limits
-  is exact (:func:`~acroplan.families.acrobot.momentum.least_momentum`: the reachable set's end,
-  attained only by the bang-dwell-bang motion that pikes and opens at the full 12 rad/s and holds
-  the deepest pike in between). A diver takes off with more than that: the plan uses
-  :math:`(1 + \\text{margin})` times it, 10 % by default, which lets the hips move below their top
-  speed and open earlier for the entry.
-* **Waypoints**: take-off straight (hip flexion 0), pike reached at 0.30 s and held (hip flexion
-  0.1 rad inside the limit, so that the spline through the waypoints stays inside it), open from
-  :math:`T - 0.35` s to straight at entry; :math:`\\theta` from 0 to :math:`7\\pi`, free at the
-  pike waypoints (the planner takes the middle of what is reachable).
+  is exact (:func:`~acroplan.families.acrobot.momentum.least_momentum`: the end of the reachable
+  set, attained only by the bang-dwell-bang motion that pikes and opens at the full 12 rad/s and
+  holds the deepest pike in between): 57.2 kg m²/s for ``male1``. No diver moves like that. The
+  margin above it is chosen by a motion a diver could make, the *reference*: minimum-jerk hip
+  ramps (:math:`\\psi = \\psi_p (10 s^3 - 15 s^4 + 6 s^5)`, :math:`s = t/\\tau`) into a pike
+  :math:`\\psi_p` 0.1 rad short of the limit, peaking at 11 rad/s (the lower of the literature's
+  two mean peak hip rates), the same ramp out before entry, the pike held in between. The
+  :math:`P_0` with which the reference turns exactly 3.5 somersaults, 65.7 kg m²/s for ``male1``,
+  is 14.9 % above the least. (``margin=`` instead fixes :math:`P_0` as a multiple of the least and
+  finds the ramp time :math:`\\tau` for which the reference turns 3.5 somersaults.)
+* **Waypoints**: take-off straight (hip flexion 0), pike at :math:`\\tau`, still pike at
+  :math:`T - \\tau`, straight at entry, the hips at rest at take-off and at entry
+  (``conditions="free"``, ``start_rate = end_rate = 0``); :math:`\\theta` from :math:`-\\pi/2`
+  (upright: the legs below the hips, the :math:`x` axis horizontal) to :math:`-\\pi/2 + 7\\pi`
+  (head down) through the reference's values at the pike waypoints (its exact integral
+  :math:`\\theta(t) = -(F(\\varphi(t)) - F(\\varphi_0)) + P_0\\int_0^t dt'/h(\\varphi)`).
+* **Objective**: ``objective="energy"`` (minimum :math:`\\int u^2`) by default. Minimising
+  :math:`\\int u^2` leaves the hip's acceleration free: the energy-optimal hip rates jump near the
+  waypoints, and the joint torques that make them are far beyond a human's
+  (docs/human.md gives the numbers); ``objective="torque"`` (minimum :math:`\\int \\tau^2`) gives a
+  smooth motion a diver could make, ``objective=None`` the fast feasible plan.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import math
+
+import numpy as np
+from scipy.integrate import quad
+from scipy.optimize import brentq
 
 from ...core.errors import InvalidInputError, finite_number
 from ...core.limits import Limits
@@ -47,10 +63,14 @@ from ..acrobot.momentum import MomentumBound, least_momentum
 from .body import SagittalBody
 from .limits import human_limits, position
 
-__all__ = ["flight_time", "PlatformDive", "platform_dive", "platform_dive_pike", "GRAVITY"]
+__all__ = ["flight_time", "minimum_jerk", "ReferenceMotion", "PlatformDive", "platform_dive", "platform_dive_pike",
+           "GRAVITY", "THETA0"]
 
 #: Standard gravity (m/s²).
 GRAVITY = 9.81
+
+#: The take-off's :math:`\\theta`: the line from the hips to the legs' centre of mass points down.
+THETA0 = -0.5 * math.pi
 
 
 def flight_time(platform: float = 10.0, rise: float = 0.2, g: float = GRAVITY) -> float:
@@ -86,6 +106,62 @@ def flight_time(platform: float = 10.0, rise: float = 0.2, g: float = GRAVITY) -
     return math.sqrt(2.0 * r / g) + math.sqrt(2.0 * (H + r) / g)
 
 
+def minimum_jerk(s):
+    """:math:`10 s^3 - 15 s^4 + 6 s^5` on :math:`[0, 1]` (0 and 1 outside): a rest-to-rest ramp
+    whose rate peaks at :math:`15/8` of its mean at :math:`s = 1/2`."""
+    s = np.clip(np.asarray(s, dtype=float), 0.0, 1.0)
+    return s**3 * (10.0 - 15.0 * s + 6.0 * s**2)
+
+
+@dataclasses.dataclass(frozen=True)
+class ReferenceMotion:
+    """The diver's reference hip motion (module docstring): minimum-jerk ramps of duration
+    :math:`\\tau` from straight to the pike :math:`\\psi_p` and back before entry.
+
+    Attributes
+    ----------
+    pike : float
+        :math:`\\psi_p` (rad).
+    ramp : float
+        :math:`\\tau` (s).
+    duration : float
+        :math:`T` (s).
+    """
+
+    pike: float
+    ramp: float
+    duration: float
+
+    def hip_flexion(self, t):
+        """:math:`\\psi(t)` (rad), array_like ``t`` in :math:`[0, T]`."""
+        t = np.asarray(t, dtype=float)
+        return self.pike * minimum_jerk(np.minimum(t, self.duration - t) / self.ramp)
+
+    @property
+    def peak_rate(self) -> float:
+        """:math:`15\\psi_p / (8\\tau)` (rad/s)."""
+        return 1.875 * self.pike / self.ramp
+
+    def turn_integral(self, body: SagittalBody, t: float) -> float:
+        """:math:`\\int_0^t dt'/h(\\varphi(t'))` of the two-link body (unit :math:`P_0`), by adaptive
+        quadrature (scipy ``quad``, tolerance 1e-13) split at the ramps' ends."""
+        robot = body.two_link(angular_momentum=1.0)
+        f = lambda x: 1.0 / float(robot.h(body.phi(float(self.hip_flexion(x)))))  # noqa: E731
+        pts = sorted(p for p in (self.ramp, self.duration - self.ramp) if 0.0 < p < t)
+        total, lo = 0.0, 0.0
+        for hi in pts + [t]:
+            total += quad(f, lo, hi, epsabs=1e-13, epsrel=1e-13, limit=200)[0]
+            lo = hi
+        return total
+
+    def theta(self, body: SagittalBody, P0: float, t: float) -> float:
+        """:math:`\\theta(t) = -(F(\\varphi(t)) - F(\\varphi(0))) + P_0 \\int_0^t dt'/h` from
+        :math:`\\theta(0) = 0`."""
+        robot = body.two_link(angular_momentum=P0)
+        phi0, phit = body.phi(float(self.hip_flexion(0.0))), body.phi(float(self.hip_flexion(t)))
+        return -(float(robot.F(phit)) - float(robot.F(phi0))) + P0 * self.turn_integral(body, t)
+
+
 @dataclasses.dataclass(frozen=True)
 class PlatformDive:
     """A platform dive for the two-link body, with how it was found (:func:`platform_dive`).
@@ -101,10 +177,8 @@ class PlatformDive:
     flight_time : float
     least : MomentumBound
         The least :math:`P_0` for the turn under the limits (exact).
-    margin : float
-        :math:`P_0` is ``(1 + margin) * least.P0``.
-    hip_flexion : tuple of float
-        The waypoints' hip flexion (rad).
+    reference : ReferenceMotion
+        The hip motion that sets :math:`P_0` and the pike waypoints' :math:`\\theta`.
     """
 
     body: SagittalBody
@@ -113,16 +187,20 @@ class PlatformDive:
     limits: Limits
     flight_time: float
     least: MomentumBound
-    margin: float
-    hip_flexion: tuple[float, ...]
+    reference: ReferenceMotion
 
     @property
     def P0(self) -> float:
         return self.robot.P0
 
+    @property
+    def margin(self) -> float:
+        """:math:`P_0` above the least, as a fraction."""
+        return self.P0 / self.least.P0 - 1.0
+
 
 def platform_dive(body: SagittalBody | None = None, *, somersaults: float = 3.5, platform: float = 10.0,
-                  rise: float = 0.2, margin: float = 0.10, pike_time: float = 0.30, open_time: float = 0.35,
+                  rise: float = 0.2, ramp_rate: float = 11.0, margin: float | None = None,
                   objective: str | None = "energy") -> PlatformDive:
     """A forward platform dive in pike for the two-link body (module docstring).
 
@@ -135,14 +213,14 @@ def platform_dive(body: SagittalBody | None = None, *, somersaults: float = 3.5,
         Forward somersaults, :math:`\\Delta\\theta = 2\\pi n`.
     platform, rise : float
         :func:`flight_time`'s :math:`H` and :math:`r` (m).
-    margin : float
-        :math:`P_0` above the least, as a fraction (0.10: 10 % more), > 0.
-    pike_time : float
-        When the pike is reached (s after take-off).
-    open_time : float
-        How long before entry the opening starts (s).
+    ramp_rate : float
+        The reference's peak hip rate (rad/s): its ramp time is :math:`\\tau = 15\\psi_p/(8 u)`, and
+        :math:`P_0` the momentum with which it turns exactly ``somersaults``.
+    margin : float, optional
+        Instead: :math:`P_0 = (1 + \\text{margin})` times the least (> 0), and :math:`\\tau` the ramp
+        time with which the reference turns exactly ``somersaults`` (``ramp_rate`` unused).
     objective : {"energy", "torque"} or None
-        Passed to :func:`acroplan.plan` (``None``: leave it out, the default feasible plan).
+        Passed to :func:`acroplan.plan` (``None``: left out, the default feasible plan).
 
     Returns
     -------
@@ -155,33 +233,54 @@ def platform_dive(body: SagittalBody | None = None, *, somersaults: float = 3.5,
     n = finite_number("somersaults", somersaults)
     if not n > 0:
         raise InvalidInputError("somersaults", f"must be > 0, got {n:g}", "give for example 3.5")
-    margin = finite_number("margin", margin)
-    if not margin > 0:
-        raise InvalidInputError("margin", f"must be > 0, got {margin:g}: at the least momentum only the "
-                                "bang-dwell-bang motion at the rate limits turns far enough, and no smooth one does",
-                                "give for example 0.10")
     T = flight_time(platform, rise)
-    t_in, t_out = finite_number("pike_time", pike_time), T - finite_number("open_time", open_time)
-    if not 0 < t_in < t_out < T:
-        raise InvalidInputError("pike_time", f"the pike at {t_in:g} s and the opening at {t_out:g} s must be in order "
-                                f"inside the flight of {T:.4g} s", "shorten pike_time or open_time")
     limits = human_limits(body, "pike", links=2)
-    lo, hi = limits.bounds("phi")
-    psi_pike = position("pike").hip[1] - 0.1
-    psi = (0.0, psi_pike, psi_pike, 0.0)
-    phi = [float(body.phi(p)) for p in psi]
+    u_max = limits.input_bound("u")
+    psi_p = position("pike").hip[1] - 0.1
     thetaT = 2.0 * math.pi * n
-    least = least_momentum(body.two_link(angular_momentum=1.0), theta0=0.0, thetaT=thetaT, phi0=phi[0], phiT=phi[-1],
+    phi0 = phiT = float(body.phi(0.0))
+    least = least_momentum(body.two_link(angular_momentum=1.0), theta0=0.0, thetaT=thetaT, phi0=phi0, phiT=phiT,
                            T=T, limits=limits)
     if not least.success:  # pragma: no cover - a pike always turns forwards with enough momentum
         raise InvalidInputError("somersaults", least.message, "lower the somersaults or raise the platform")
-    robot = body.two_link(angular_momentum=(1.0 + margin) * least.P0)
-    kw = dict(times=[0.0, t_in, t_out, T], theta=[0.0, None, None, thetaT], phi=phi, limits=limits,
-              conditions="spline")
+    if margin is None:
+        rate = finite_number("ramp_rate", ramp_rate)
+        if not 0 < rate:
+            raise InvalidInputError("ramp_rate", f"must be > 0, got {rate:g}", f"give for example 11 (<= {u_max:g})")
+        ref = ReferenceMotion(psi_p, 1.875 * psi_p / rate, T)
+        if not 2.0 * ref.ramp < T:
+            raise InvalidInputError("ramp_rate", f"ramps of {ref.ramp:.3g} s do not fit twice in the flight of "
+                                    f"{T:.4g} s", "raise ramp_rate")
+        P0 = thetaT / ref.turn_integral(body, T)  # F(phi(T)) = F(phi(0)): straight at both ends
+    else:
+        margin = finite_number("margin", margin)
+        if not margin > 0:
+            raise InvalidInputError("margin", f"must be > 0, got {margin:g}: at the least momentum only the "
+                                    "bang-dwell-bang motion at the rate limits turns far enough, and no smooth one does",
+                                    "give for example 0.15")
+        P0 = (1.0 + margin) * least.P0
+
+        def short(tau):
+            return P0 * ReferenceMotion(psi_p, tau, T).turn_integral(body, T) - thetaT
+
+        hi = 0.5 * T * (1.0 - 1e-9)
+        if short(hi) > 0:
+            raise InvalidInputError("margin", f"{margin:g} is so large that the reference turns more than "
+                                    f"{n:g} somersaults even with the slowest ramps", "lower the margin")
+        lo = 1e-3
+        if short(lo) < 0:  # pragma: no cover - margin > 0 and the fastest ramp is near the extremal
+            raise InvalidInputError("margin", f"{margin:g} is too small for a smooth motion", "raise the margin")
+        ref = ReferenceMotion(psi_p, brentq(short, lo, hi, xtol=1e-13), T)
+    robot = body.two_link(angular_momentum=P0)
+    t_in, t_out = ref.ramp, T - ref.ramp
+    # theta0 = -pi/2: the legs point down at take-off (the x axis is horizontal), the head up
+    theta = [THETA0, THETA0 + ref.theta(body, P0, t_in), THETA0 + ref.theta(body, P0, t_out), THETA0 + thetaT]
+    phi = [phi0, float(body.phi(psi_p)), float(body.phi(psi_p)), phiT]
+    kw = dict(times=[0.0, t_in, t_out, T], theta=theta, phi=phi, limits=limits, conditions="free",
+              start_rate=0.0, end_rate=0.0)
     if objective is not None:
         kw["objective"] = objective
-    return PlatformDive(body=body, robot=robot, kw=kw, limits=limits, flight_time=T, least=least, margin=margin,
-                        hip_flexion=psi)
+    return PlatformDive(body=body, robot=robot, kw=kw, limits=limits, flight_time=T, least=least, reference=ref)
 
 
 def platform_dive_pike(body: SagittalBody | None = None, **options) -> tuple[Acrobot, dict]:
