@@ -23,7 +23,7 @@ import numpy as np
 from ..core.errors import EXIT_INFEASIBLE, EXIT_INVALID, EXIT_NOT_CONVERGED, EXIT_SUCCESS, InvalidInputError
 from . import examples as _examples
 from .output import OutputFolder, check_entry_name, check_out_dir
-from .problem import load_problem
+from .problem import load_problem, load_simulation
 
 EXIT_BY_STATUS = {"success": EXIT_SUCCESS, "infeasible": EXIT_INFEASIBLE, "not_converged": EXIT_NOT_CONVERGED}
 FORMATS = ("png", "pdf")
@@ -73,6 +73,36 @@ def _json_text(doc: dict, **kwargs) -> str:
 
 def _write_json(path: Path, doc: dict) -> None:
     path.write_text(_json_text(doc, indent=2) + "\n", encoding="utf-8")
+
+
+def _solution_doc(result, simulation=None) -> dict:
+    """``result.to_dict()`` with, after ``system``, the list ``inputs``: each input's name and the
+    joint (state) whose rate it is, ``[{"name": "u_shoulder", "joint": "shoulder"}, ...]`` (a body's
+    link table is in ``system.links``); for a simulation, how each input was given."""
+    d = result.to_dict()
+    system = result.system
+    rates = dict(getattr(system, "rate_inputs", {}) or {})
+    inputs = [{"name": n, "joint": rates.get(n)} for n in system.input_names]
+    out = {}
+    for k, v in d.items():
+        out[k] = v
+        if k == "system":
+            out["inputs"] = inputs
+    out.setdefault("inputs", inputs)
+    if simulation is not None:
+        out["simulate"] = {"motion": dict(simulation.motion),
+                           "note": "spline: the clamped cubic spline through the file's joint angles (its rate is "
+                                   "exact in 3 Legendre coefficients); coefficients: the file's Legendre "
+                                   "coefficients of the rate"}
+    return out
+
+
+def _verify_method(system) -> str:
+    """How the command line checks a motion independently: a planar body by its own check
+    (Pinocchio's centroidal map), any other system by the DOP853 re-simulation (``"ode"``)."""
+    from ..families.planar.model import PlanarBody
+
+    return "family" if isinstance(system, PlanarBody) else "ode"
 
 
 def _formats(text: str) -> tuple[str, ...]:
@@ -164,6 +194,8 @@ def main(debug):
       acroplan examples                                  # the bundled problems
       acroplan plan --example pike-dive --out pike       # Chapter 3
       acroplan nilpotent --example chapter4 --out ch4    # Chapter 4
+      acroplan plan --example diver-somersault --out diver --animate    # a planar body
+      acroplan simulate --example space-robot-arm-loop --out loop       # what an arm loop does
       acroplan init my-dive && acroplan plan my-dive.toml --out my-dive-out --animate
 
     Exit codes: 0 success, 2 invalid input, 3 infeasible (with proof), 4 not converged.
@@ -216,7 +248,8 @@ def examples_cmd(show):
 
 STARTER = '''# acroplan problem file: plan a motion of the free-flying acrobot through waypoints.
 # Run it with:  acroplan plan {name}.toml --out {name}-out --animate
-# Reference: docs/problem-files.md
+# Reference: docs/problem-files.md. For a planar body of any number of links (a [body] table:
+# a URDF file or link tables) start from an example: acroplan init NAME --example three-rods-turn
 
 [robot]                        # the body (SI units, or any consistent set) ...
 torso_mass = 40.0              # M  (> 0)
@@ -251,11 +284,13 @@ conditions = "free"            # "free" (u continuous) or "spline" (the text's s
 @click.option("--example", metavar="EXAMPLE", help="Start from a bundled example (acroplan examples lists them).")
 @click.option("--force", is_flag=True, help="Overwrite an existing file.")
 def init_cmd(name, example, force):
-    """Write a commented starter problem file NAME.toml (or a copy of a bundled example).
+    """Write a commented starter problem file NAME.toml (or a copy of a bundled example, with the
+    files it names: the diver's URDF beside it).
 
     \b
     Examples:
       acroplan init my-dive && acroplan plan my-dive.toml --out my-dive-out
+      acroplan init my-diver --example diver-somersault     # also writes diver.urdf
       acroplan init my-ch4 --example chapter4 && acroplan nilpotent my-ch4.toml --out ch4
     """
     path = Path(name if name.endswith(".toml") else f"{name}.toml")
@@ -263,11 +298,19 @@ def init_cmd(name, example, force):
         _fail(f"{path}: exists; choose another name or add --force")
     try:
         text = STARTER.format(name=path.stem) if example is None else _examples.text(example)
+        extra = {} if example is None else _examples.files(example)
+        cmd = "plan" if example is None else _examples.command(example)
     except InvalidInputError as e:
         _fail(str(e))
+    for fname in extra:
+        if (path.parent / fname).exists() and not force:
+            _fail(f"{path.parent / fname}: exists (the example's {fname}, which {path.name} names); choose another "
+                  "folder or add --force")
+    for fname, body in extra.items():
+        (path.parent / fname).write_text(body, encoding="utf-8")
     path.write_text(text, encoding="utf-8")
-    cmd = "nilpotent" if example is not None and "[nilpotent]" in text else "plan"
-    click.echo(f"wrote {path}; run: acroplan {cmd} {path} --out {path.stem}-out")
+    also = "".join(f" and {path.parent / f}" for f in extra)
+    click.echo(f"wrote {path}{also}; run: acroplan {cmd} {path} --out {path.stem}-out")
 
 
 @main.command("plan")
@@ -284,13 +327,17 @@ def plan_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do_ani
 
     \b
     Writes to OUT:
-      solution.json      robot, waypoints, segments (power-basis and Legendre coefficients),
+      solution.json      system (a body's link table), inputs (the joint each input drives),
+                         waypoints, segments (Legendre and power-basis coefficients per input),
                          status, diagnostics
-      trajectory.csv     t,theta,phi,u with 200 samples per segment
-      input.png          u(t), the text's Fig. 1
-      states.png         theta(t) above phi(t), waypoints marked, the text's Fig. 2
+      trajectory.csv     t, theta, every joint angle, every rate (t,theta,phi,u for the
+                         acrobot), 200 samples per segment
+      input.png          the joint rates u(t), the text's Fig. 1
+      states.png         theta(t) and each joint angle, waypoints marked, the text's Fig. 2
       continuation.png   target path against what was reached, smallest singular value
-    On exit code 3 (infeasible) or 4 (not converged) only solution.json is written.
+    On exit code 3 (infeasible) or 4 (not converged) only solution.json is written. A planar
+    body ([body] table) is checked independently by Pinocchio, the acrobot by a DOP853
+    re-simulation.
 
     PROBLEM may also be a folder of problem files, or a file of many problems ([[problem]] tables,
     each with an optional name): they are planned on all cores, each into OUT/NAME/, with
@@ -308,6 +355,7 @@ def plan_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do_ani
     \b
     Examples:
       acroplan plan --example pike-dive --out pike-dive-out
+      acroplan plan --example three-rods-turn --out rods --animate
       acroplan plan my-dive.toml --out my-dive-out --force --format png,pdf --animate
       acroplan plan many-dives/ --out results --no-plots
     """
@@ -323,12 +371,13 @@ def plan_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do_ani
         with OutputFolder(out, force) as folder:
             update, close = _progress(len(prob.times) - 1, "segments")
             try:
-                # the command line re-simulates with DOP853 (verify="ode"): 10 ms do not matter here
-                result = prob.solve(verify="ode", progress=update)
+                # the command line re-simulates with DOP853 (verify="ode"): 10 ms do not matter here;
+                # a planar body is checked by Pinocchio (its independent check)
+                result = prob.solve(verify=_verify_method(prob.system), progress=update)
             finally:
                 close()
             with folder.write() as tmp:
-                _write_json(tmp / "solution.json", result.to_dict())
+                _write_json(tmp / "solution.json", _solution_doc(result))
                 if result.success:
                     _write_csv(result, tmp / "trajectory.csv")
                     if not no_plots:
@@ -405,7 +454,7 @@ def _batch_entries(path: Path):
                                     " (names must differ, also in case)", "rename the duplicates")
         seen[name.lower()] = i
         try:
-            entries.append((name, parse_problem(entry, name=name), None))
+            entries.append((name, parse_problem(entry, name=name, base=path.parent), None))
         except InvalidInputError as e:
             raise InvalidInputError(f"problem[{i}].{e.field}", e.problem, e.fix) from None
     return entries
@@ -443,7 +492,7 @@ def _plan_batch(path, out, force, quiet, as_json, no_plots, fmt):
                     r = results[name]
                     sub = tmp / name
                     sub.mkdir()
-                    _write_json(sub / "solution.json", r.to_dict())
+                    _write_json(sub / "solution.json", _solution_doc(r))
                     if r.success:
                         _write_csv(r, sub / "trajectory.csv")
                         if not no_plots:
@@ -477,47 +526,154 @@ def _write_csv(result, path: Path, per_segment: int = 200) -> None:
     np.savetxt(path, data, delimiter=",", header="t," + ",".join(names), comments="", fmt="%.17g")
 
 
+@main.command("simulate")
+@click.argument("problem", required=False, type=click.Path(dir_okay=False, path_type=Path))
+@click.option("--example", metavar="NAME", help="Simulate a bundled example instead of a PROBLEM file.")
+@common
+@click.option("--no-plots", is_flag=True, help="Skip the figures.")
+@click.option("--format", "fmt", default="png", show_default=True, help="Figure formats: png, pdf or png,pdf.")
+@click.option("--animate", "do_animate", is_flag=True, help="Also write motion.gif and strobe.png.")
+def simulate_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do_animate):
+    """The motion that the joint motions of PROBLEM's [simulate] table produce.
+
+    \b
+    [simulate] gives times, the initial theta, and per joint either its angles at the times (a
+    clamped cubic spline through them: at rest at both ends) or its initial angle with its
+    rate's Legendre coefficients per segment (u_<joint> = [[...], ...]; the acrobot's is u).
+    The motion is computed by the compiled integrator (as acroplan.simulate) and checked
+    independently: a planar body by Pinocchio, the acrobot by a DOP853 re-simulation.
+
+    \b
+    Writes to OUT the same files as acroplan plan: solution.json (with the joint each input
+    drives, and how each was given), trajectory.csv, input.png, states.png. Exit code 0, or
+    4 when the independent check disagrees (only solution.json is written then).
+
+    \b
+    Examples:
+      acroplan simulate --example space-robot-arm-loop --out loop --animate
+      acroplan simulate my-arm-circle.toml --out circle --no-plots
+    """
+    try:
+        if (problem is None) == (example is None):
+            raise InvalidInputError("PROBLEM", "give either a problem file or --example NAME, not both or neither",
+                                    "for example: --example space-robot-arm-loop")
+        sim = _examples.load_simulation(example) if example is not None else load_simulation(problem)
+        fmts = _check_outputs(out, force, fmt, "sim-out", [problem])
+        with OutputFolder(out, force) as folder:
+            try:
+                result = sim.run(verify=_verify_method(sim.system))
+            except InvalidInputError as e:
+                if e.field.startswith("inputs["):  # simulate()'s field: name the file's
+                    raise InvalidInputError(f"simulate (segment {e.field[7:].split(']')[0]})", e.problem, e.fix) \
+                        from None
+                raise
+            with folder.write() as tmp:
+                _write_json(tmp / "solution.json", _solution_doc(result, simulation=sim))
+                if result.success:
+                    _write_csv(result, tmp / "trajectory.csv")
+                    if not no_plots:
+                        _save(result.plot(), tmp, fmts)
+                    if do_animate:
+                        _write_animation(tmp)
+    except InvalidInputError as e:
+        _fail(str(e))
+    code = EXIT_SUCCESS if result.success else EXIT_NOT_CONVERGED
+    end = {n: float(v) for n, v in zip(result.system.state_names, result.waypoints[-1])}
+    summary = {"command": "simulate", "status": result.status.value, "message": result.message, "out": str(out),
+               "segments": len(result.segments), "end": end,
+               "max_verified_error": max((s.verified_error for s in result.segments
+                                          if s.verified_error is not None), default=None)}
+    ends = ", ".join(f"{n} = {v:.9g}" for n, v in end.items())
+    lines = [result.message, f"at t = {result.times[-1]:g}: {ends}", f"wrote {out}/"] if code == EXIT_SUCCESS \
+        else [result.message, f"diagnostics written to {out / 'solution.json'}"]
+    _report(summary, as_json, quiet, lines, code)
+
+
 @main.command("reach")
 @click.argument("problem", required=False, type=click.Path(dir_okay=False, path_type=Path))
 @click.option("--example", metavar="NAME", help="Use a bundled example instead of a PROBLEM file.")
 @common
 @click.option("--format", "fmt", default="png", show_default=True, help="Figure formats: png, pdf or png,pdf.")
 def reach_cmd(problem, example, out, force, quiet, as_json, fmt):
-    """Write the exact reachable interval of theta(T) for every segment of PROBLEM.
+    """Write what can be proven about theta(T) for every segment of PROBLEM.
+
+    \b
+    The acrobot, and any two-link body (which is one): the exact reachable interval of theta(T).
+    A planar body of three or more links has no exact reachable set; when every joint has a
+    rate limit, the root's turn is bounded, |theta(T) - theta(0)| <= B, and a target outside the
+    bound is proven unreachable (one inside is not proven reachable). Without rate limits on
+    every joint nothing is known: exit 2 with that message.
 
     \b
     Writes to OUT:
-      reach.json   per segment: the interval without limits and with the problem's limits,
-                   the target, and whether it is reachable
-      reach.png    the reachable band of theta(T) over phi(T) for each segment, target marked
-    Exit code 0 when every target is reachable, 3 when one is not (the outputs are written).
+      reach.json   per segment: the interval (or bound) without and with the problem's limits,
+                   the target, and whether it is reachable (null: not known)
+      reach.png    the acrobot: the reachable band of theta(T) over phi(T) per segment;
+                   a body: each segment's interval, target marked
+    Exit code 0 when no target is proven unreachable, 3 when one is (the outputs are written).
 
     \b
-    Example:
+    Examples:
       acroplan reach --example pike-dive-limited --out reach-out
+      acroplan reach --example space-robot-turn --out bound-out
     """
+    from ..families.acrobot.model import Acrobot
     from ..families.acrobot.plots import plot_reach
 
     try:
         prob = _load(problem, example)
         fmts = _check_outputs(out, force, fmt, "reach-out", [problem])
+        rows = prob.reach()  # refuses a body it can say nothing about, before the folder is taken
         with OutputFolder(out, force) as folder:
-            rows = prob.reach()
             with folder.write() as tmp:
                 _write_json(tmp / "reach.json", {"segments": rows})
-                _save({"reach": plot_reach(prob)}, tmp, fmts)
+                fig = plot_reach(prob) if isinstance(prob.system, Acrobot) else _plot_intervals(prob, rows)
+                _save({"reach": fig}, tmp, fmts)
     except InvalidInputError as e:
         _fail(str(e))
     lines = []
     for r in rows:
         iv = r["interval_with_limits"]
-        state = "reachable" if r["reachable"] else "NOT reachable"
+        if r["reachable"] is None:
+            state = "inside the bound (not proven reachable)"
+        else:
+            state = "reachable" if r["reachable"] else "NOT reachable"
         ends = "none" if iv is None else f"[{iv[0]:.9g}, {iv[1]:.9g}]"
-        lines.append(f"segment {r['index']} [{r['t0']:g}, {r['t1']:g}]: theta(T) in {ends}; target "
-                     f"{r['target_theta']:.9g} {state}")
-    ok = all(r["reachable"] for r in rows)
+        what = "theta(T) in" if "bound" not in r else f"|theta(T) - theta(0)| <= {r['bound']:.9g}: theta(T) in"
+        lines.append(f"segment {r['index']} [{r['t0']:g}, {r['t1']:g}]: {what} {ends}; target "
+                     f"{r['target_theta']:.9g} {state}" + (f" ({r['empty_reason']})" if r["reachable"] is False
+                                                           and r.get("empty_reason") and "bound" in r else ""))
+    ok = all(r["reachable"] is not False for r in rows)
     _report({"command": "reach", "reachable": ok, "segments": rows, "out": str(out)}, as_json, quiet,
             lines, EXIT_SUCCESS if ok else EXIT_INFEASIBLE)
+
+
+def _plot_intervals(prob, rows):
+    """A body's reach: per segment, the interval of theta(T) (without limits, hatched; with them,
+    solid) and the target (a star)."""
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(max(4.5, 1.3 * len(rows) + 2), 3.8), constrained_layout=True)
+    for r in rows:
+        k = r["index"]
+        if r.get("interval"):
+            lo, hi = r["interval"]
+            ax.bar(k, hi - lo, bottom=lo, width=0.55, facecolor="none", edgecolor="C0", hatch="///",
+                   label="reachable (no limits)" if k == 0 else None)
+        if r.get("interval_with_limits"):
+            lo, hi = r["interval_with_limits"]
+            label = ("bound under the rate limits" if "bound" in r else "reachable within limits") if k == 0 else None
+            ax.bar(k, hi - lo, bottom=lo, width=0.35, color="C2", alpha=0.5, label=label)
+        ax.plot([k], [r["target_theta"]], marker="*", ms=13, ls="none",
+                color="C3" if r["reachable"] is False else "k", label="target" if k == 0 else None, zorder=5)
+    ax.set_xticks([r["index"] for r in rows],
+                  [f"{r['index']}: [{r['t0']:g}, {r['t1']:g}] s" for r in rows], fontsize=8)
+    ax.set_xlabel("segment")
+    ax.set_ylabel("θ(T) [rad]")
+    ax.set_title(f"{prob.name or 'problem'}: what is reachable of θ(T)", fontsize=10)
+    ax.grid(alpha=0.3, axis="y")
+    ax.legend(fontsize=8)
+    return fig
 
 
 @main.command("nilpotent")
@@ -626,25 +782,28 @@ def _write_animation(folder: Path, *, speed: float = 1.0, fps: int = 25) -> int:
 
     sol_path = folder / "solution.json"
     if not sol_path.is_file():
-        raise InvalidInputError(str(folder), "holds no solution.json", "give a folder written by acroplan plan or "
-                                "acroplan nilpotent")
+        raise InvalidInputError(str(folder), "holds no solution.json", "give a folder written by acroplan plan, "
+                                "simulate or nilpotent")
     try:
         sol = json.loads(sol_path.read_text(encoding="utf-8"))
-        geom = geometry_of(sol["system"])
+        body = isinstance(sol["system"], dict) and sol["system"].get("type") == "PlanarBody"
+        geom = None if body else geometry_of(sol["system"])
     except (json.JSONDecodeError, UnicodeDecodeError, KeyError, TypeError, ValueError) as e:
         raise InvalidInputError(str(sol_path), f"is corrupt ({type(e).__name__}: {e})",
                                 "plan again to rewrite it") from None
     if sol.get("status") != "success" or not (folder / "trajectory.csv").is_file():
         raise InvalidInputError(str(folder), f"holds no successful motion (status {sol.get('status')!r})",
                                 "animate a folder whose plan succeeded")
+    if not (speed > 0 and np.isfinite(speed)):
+        raise InvalidInputError("--speed", f"must be a positive number, got {speed}", "give for example 1 or 0.5")
+    if body:
+        return _write_body_animation(folder, sol_path, speed=speed, fps=fps)
     try:
         data = np.loadtxt(folder / "trajectory.csv", delimiter=",", skiprows=1, ndmin=2)
         t, theta, phi, u = data[:, 0], data[:, 1], data[:, 2], data[:, 3]
     except (ValueError, IndexError) as e:
         raise InvalidInputError(str(folder / "trajectory.csv"), f"is corrupt ({e})", "plan again to rewrite it") \
             from None
-    if not (speed > 0 and np.isfinite(speed)):
-        raise InvalidInputError("--speed", f"must be a positive number, got {speed}", "give for example 1 or 0.5")
     tmp_gif, tmp_mp4, tmp_png = folder / ".motion.tmp.gif", folder / ".motion.tmp.mp4", folder / ".strobe.tmp.png"
     try:
         n = animate(t, theta, phi, u, geom, tmp_gif, speed=speed, fps=fps, mp4_path=tmp_mp4)
@@ -663,19 +822,46 @@ def _write_animation(folder: Path, *, speed: float = 1.0, fps: int = 25) -> int:
     return n
 
 
+def _write_body_animation(folder: Path, sol_path: Path, *, speed: float, fps: int) -> int:
+    """A planar body's motion.gif (+ motion.mp4 with ffmpeg) and strobe.png, from the exact result
+    that solution.json records (:func:`~acroplan.io.results.load_result`)."""
+    import os
+
+    from ..families.planar.drawing import animate, strobe
+    from .results import load_result
+
+    result = load_result(sol_path)
+    tmp_gif, tmp_mp4, tmp_png = folder / ".motion.tmp.gif", folder / ".motion.tmp.mp4", folder / ".strobe.tmp.png"
+    try:
+        n = animate(result, tmp_gif, speed=speed, fps=fps, mp4_path=tmp_mp4)
+        fig = strobe(result, poses=9, title=f"{result.system.n_links} links: theta {result.waypoints[0][0]:.3g} -> "
+                     f"{result.waypoints[-1][0]:.3g} rad in {result.times[-1] - result.times[0]:.3g} s")
+        fig.savefig(tmp_png, dpi=120)
+        os.replace(tmp_gif, folder / "motion.gif")
+        os.replace(tmp_png, folder / "strobe.png")
+        if tmp_mp4.exists():
+            os.replace(tmp_mp4, folder / "motion.mp4")
+    finally:
+        for f in (tmp_gif, tmp_mp4, tmp_png):
+            f.unlink(missing_ok=True)
+    return n
+
+
 @main.command("animate")
 @click.argument("folder", type=click.Path(file_okay=False, path_type=Path))
 @click.option("--speed", type=float, default=1.0, show_default=True, help="Playback speed (1 = real time).")
 @click.option("--fps", type=click.IntRange(1, 100), default=25, show_default=True, help="Frames per second.")
 @click.option("--quiet", "-q", is_flag=True, help="Print nothing on success.")
 def animate_cmd(folder, speed, fps, quiet):
-    """Animate the motion saved in FOLDER (by acroplan plan or nilpotent).
+    """Animate the motion saved in FOLDER (by acroplan plan, simulate or nilpotent).
 
     \b
     Writes FOLDER/motion.gif (and motion.mp4 when ffmpeg is installed) and FOLDER/strobe.png.
-    The body is drawn to scale in its centre-of-mass frame (a body given only by lumped parameters
-    gets a representative geometry: equal masses, L = l = sqrt|A1|). A motion longer than
-    1500 frames is played faster, with a warning.
+    The body is drawn to scale in its centre-of-mass frame (an acrobot given only by lumped
+    parameters gets a representative geometry: equal masses, L = l = sqrt|A1|); a planar body
+    with every link drawn, the root thicker with a square at its frame origin, the joints as
+    circles, theta as a red arrow. A motion longer than 1500 frames is played faster, with a
+    warning.
 
     \b
     Example:

@@ -359,7 +359,8 @@ class Simulation:
         from ..simulation import simulate
 
         if verify != "family":
-            return simulate(self.system, verify=bool(verify), **self.simulate_kwargs())
+            res = simulate(self.system, verify=bool(verify), **self.simulate_kwargs())
+            return dataclasses.replace(res, verification="ode") if res.verified and res.verification is None else res
         from ..core.result import PlanResult, Status
         from ..core.verify import verify_plan
 
@@ -848,7 +849,8 @@ def _rate_option(field, v, system):
         out = {}
         for k, x in v.items():
             if k not in system.input_names:
-                raise InvalidInputError(f"{field}.{_short(k, 60)}", "is not an input",
+                shown = k if len(k) <= 60 and k.isprintable() else _short(k, 60)
+                raise InvalidInputError(f"{field}.{shown}", "is not an input",
                                         f"inputs are {list(system.input_names)}")
             out[k] = _number(f"{field}.{k}", x, MAX_BODY, "rates")
         return out
@@ -923,6 +925,14 @@ def parse_problem(data: dict, name: str = "", base=None) -> Problem:
     for key, parse in OPTION_PARSERS.items():
         if key in opts:
             options[key] = parse(f"options.{key}", opts[key], system)
+    if not acrobot and options.pop("degrees", False):
+        # a body's angles and rates are turned into radians here (its limits were, in parse_body),
+        # so that the Problem and the plan hold radians whatever the system declares as angles
+        waypoints = {k: tuple(None if v is None else math.radians(v) for v in vals) for k, vals in waypoints.items()}
+        for key in ("start_rate", "end_rate"):
+            if key in options:
+                v = options[key]
+                options[key] = {k: math.radians(x) for k, x in v.items()} if isinstance(v, dict) else math.radians(v)
     problem = Problem(system, times, waypoints, conditions, options, name)
     # the meaning (lengths, order, ranges, limits against waypoints) is checked by plan()'s own
     # validation, once, with the fields named as the file names them

@@ -1,5 +1,12 @@
 """Drawings of planar bodies: a strobe of a planned motion (:func:`strobe`, saved by :func:`save_strobe`),
-and the link table's conventions (:func:`conventions_figure`).
+an animation (:func:`animate`: an animated GIF through matplotlib's PillowWriter, headless), and the
+link table's conventions (:func:`conventions_figure`).
+
+Every link is drawn as in :func:`link_segments` (from its joint to each child's joint; a leaf on
+through its centre of mass to as far again), the root thicker with its frame origin marked by a
+square, the other joints by circles, and :math:`\\theta` by a short red arrow along the root frame's
+:math:`x` axis; the picture is in the centre-of-mass frame (the centre of mass at the origin,
+marked +).
 
 The figures in ``docs/images/planar-*.png`` are made by ``python tests/test_planar_planning.py
 docs/images`` (it plans the bundled examples; a family module may not call the front door).
@@ -12,7 +19,10 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["strobe", "save_strobe", "link_segments", "conventions_figure"]
+__all__ = ["strobe", "save_strobe", "animate", "link_segments", "conventions_figure", "MAX_FRAMES"]
+
+#: Frame cap: a longer motion is played faster, with a warning, rather than filling the disk.
+MAX_FRAMES = 1500
 
 
 def link_segments(body, state) -> list[tuple[np.ndarray, np.ndarray, int]]:
@@ -108,6 +118,107 @@ def save_strobe(result, path, **kwargs) -> None:
     """:func:`strobe` saved as an image (format from the file name)."""
     fig = strobe(result, **kwargs)
     fig.savefig(str(path))
+
+
+def _frame_times(t0: float, t1: float, speed: float, fps: int, max_frames: int) -> np.ndarray:
+    import warnings
+
+    n = max(2, int(round((t1 - t0) / speed * fps)) + 1)
+    if n > max_frames:
+        warnings.warn(f"a {t1 - t0:g} s motion at speed {speed:g} needs {n} frames; capped at {max_frames} "
+                      f"(played {n / max_frames:.3g} times faster)", stacklevel=3)
+        n = max_frames
+    return np.linspace(t0, t1, n)
+
+
+def animate(result, path, *, speed: float = 1.0, fps: int = 25, max_frames: int = MAX_FRAMES, mp4_path=None) -> int:
+    """Write an animated GIF (and an MP4 when ffmpeg is on the PATH) of a planar body's motion.
+
+    The states at the frame times come from the result itself (:meth:`PlanResult.evaluate
+    <acroplan.core.result.PlanResult.evaluate>`: exact, not interpolated between samples). Every
+    link is drawn (:func:`link_segments`), the root thicker with a square at its frame origin,
+    the joints as circles, :math:`\\theta` as a red arrow on the root; the time, :math:`\\theta` and the
+    joint angles are written in a corner.
+
+    Parameters
+    ----------
+    result : PlanResult
+        A plan or simulation of a :class:`~acroplan.families.planar.model.PlanarBody`.
+    path : path of the GIF
+    speed : float
+        Playback speed (1 = real time), > 0.
+    fps : int
+        Frames per second.
+    max_frames : int
+        A motion needing more frames is played faster (a warning says so).
+    mp4_path : path, optional
+
+    Returns
+    -------
+    int
+        The number of frames.
+    """
+    import shutil
+
+    from matplotlib.animation import FFMpegWriter, FuncAnimation, PillowWriter
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    body = result.system
+    L = body.links
+    tf = _frame_times(float(result.times[0]), float(result.times[-1]), speed, fps, max_frames)
+    S = np.asarray(result.evaluate(tf, **_no_effort(result)).states)
+    frames = [link_segments(body, S[:, k]) for k in range(tf.size)]
+    joints_at = [body.joint_positions(S[:, k]) for k in range(tf.size)]
+    ext = 1.1 * max(float(np.max(np.abs(np.array([p for sg in frames for s in sg for p in s[:2]])))), 1e-9)
+    fig = Figure(figsize=(5.0, 5.0), dpi=100, layout="constrained")
+    FigureCanvasAgg(fig)
+    ax = fig.add_subplot()
+    ax.set_xlim(-ext, ext)
+    ax.set_ylim(-ext, ext)
+    ax.set_aspect("equal")
+    ax.grid(alpha=0.25)
+    ax.tick_params(labelsize=9)
+    ax.set_xlabel("x, centre-of-mass frame", fontsize=10)
+    ax.set_ylabel("y", fontsize=10)
+    root = L.root
+    palette = ("C1", "C2", "C4", "C5", "C6", "C8", "C9")  # no red: red is theta's arrow
+    lines = [ax.plot([], [], "-", lw=7 if i == root else 4, solid_capstyle="round",
+                     color="C0" if i == root else palette[i % len(palette)])[0] for _, _, i in frames[0]]
+    others = [i for i in range(len(L)) if i != root]
+    joint_dots, = ax.plot([], [], "o", ms=6, mfc="white", mec="k", mew=1.5, label="joints")
+    root_dot, = ax.plot([], [], "s", ms=7, color="k", label=f"root ({L[root].name})")
+    arrow, = ax.plot([], [], "-", color="tab:red", lw=1.5, label="theta (root's x axis)", zorder=4)
+    ax.plot([0], [0], "+", color="0.4", ms=10)
+    names = body.state_names
+    text = ax.text(0.02, 0.98, "", transform=ax.transAxes, va="top", family="monospace", fontsize=9)
+    ax.legend(loc="lower right", fontsize=8)
+
+    def draw(k):
+        for line, (a, b, _) in zip(lines, frames[k]):
+            line.set_data([a[0], b[0]], [a[1], b[1]])
+        J = joints_at[k]
+        joint_dots.set_data(J[others, 0], J[others, 1])
+        root_dot.set_data([J[root, 0]], [J[root, 1]])
+        th = S[0, k]
+        arrow.set_data([J[root, 0], J[root, 0] + 0.3 * ext * np.cos(th)],
+                       [J[root, 1], J[root, 1] + 0.3 * ext * np.sin(th)])
+        text.set_text(f"t = {tf[k]:8.3f} s\n" + "\n".join(f"{n:>{max(map(len, names))}} = {S[i, k]:7.3f}"
+                                                          for i, n in enumerate(names)))
+        return (*lines, joint_dots, root_dot, arrow, text)
+
+    anim = FuncAnimation(fig, draw, frames=tf.size, blit=False)
+    anim.save(str(path), writer=PillowWriter(fps=fps))
+    if mp4_path is not None and shutil.which("ffmpeg"):
+        anim.save(str(mp4_path), writer=FFMpegWriter(fps=fps))
+    return int(tf.size)
+
+
+def _no_effort(result) -> dict:
+    """``effort=False`` for :meth:`PlanResult.evaluate` where it takes it (no torques needed to draw)."""
+    import inspect
+
+    return {"effort": False} if "effort" in inspect.signature(result.evaluate).parameters else {}
 
 
 def conventions_figure():
