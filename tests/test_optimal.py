@@ -372,3 +372,37 @@ def test_effort_figure(body, problem):
 
     plt.close("all")
     assert math.isfinite(r.effort()["phi"].positive_work)
+
+
+def test_conditions_default_to_free_with_an_objective_and_pinned_ends_are_reported_not_converged():
+    """With objective the default conditions are "free" (the least integral of u^2 exists); under
+    spline conditions (u, u' pinned) it is an infimum no input attains: the ladder keeps falling to
+    30 coefficients, reported as not converged, with a large torque at the pinned ends."""
+    rng = np.random.default_rng(2024)
+    p = [random_segment(rng) for _ in range(2)][1]
+    fast = acroplan.plan(p.robot, **p.plan_kwargs())
+    free = acroplan.plan(p.robot, objective="energy", **p.plan_kwargs())
+    pinned = acroplan.plan(p.robot, objective="energy", conditions="spline", **p.plan_kwargs())
+    assert fast.conditions == "spline" and free.conditions == "free" and pinned.conditions == "spline"
+    assert free.success and pinned.success, pinned.message
+    assert free.segments[0].optimality["converged"]
+    o = pinned.segments[0].optimality
+    assert not o["converged"] and not o["converged_in_basis"] and o["ladder"][-1][0] == 30
+    costs = [c for _, c in o["ladder"]]
+    assert all(b < a for a, b in zip(costs, costs[1:]))  # still falling
+    assert "NOT converged on interval(s) [0]" in pinned.message
+    assert plan_energy(free) < plan_energy(pinned)
+    assert pinned.effort()["phi"].peak_torque > 20 * free.effort()["phi"].peak_torque
+
+
+def test_the_sqp_step_with_no_freedom_left_on_the_constraints():
+    """As many independent constraints as unknowns (spline conditions at 6 coefficients leave 2 for
+    the 2 endpoint equations) and a Hessian not positive definite: the step is the constraints'
+    (this raised on an empty reduced Hessian before)."""
+    from acroplan.core.optimal import _step
+
+    W, g = -np.eye(2), np.array([1.0, 1.0])
+    A, h = np.array([[2.0, 1.0], [0.0, 1.0]]), np.array([0.1, -0.2])
+    p, lam = _step(W, g, h, A, np.eye(2))
+    np.testing.assert_allclose(A @ p, -h, rtol=1e-14)
+    np.testing.assert_allclose(W @ p + A.T @ lam, -g, rtol=1e-13)

@@ -54,7 +54,9 @@ def _failed(kwargs: dict[str, Any], why: str) -> PlanResult:
     times = np.asarray(kwargs["times"], dtype=float)
     X = np.stack([np.asarray(kwargs[name], dtype=float) for name in system.state_names], axis=1)
     return PlanResult(status=Status.NOT_CONVERGED, message=f"not converged: {why}", system=system, times=times,
-                      waypoints=X, conditions=kwargs.get("conditions", "spline"),
+                      waypoints=X, conditions=kwargs.get("conditions") or ("free" if kwargs.get("objective")
+                                                                           or kwargs.get("tau_max") is not None
+                                                                           else "spline"),
                       basis=make_basis(kwargs.get("basis", "legendre"), kwargs.get("n_coefficients") or 6))
 
 
@@ -102,7 +104,9 @@ def plan_many(problems: Iterable, *, executor="process", workers: int | None = N
     progress : callable, optional
         Called as ``progress(done, total)`` as problems finish (for a progress bar).
     **options
-        :func:`acroplan.plan` keywords applied to every problem (a problem's own win).
+        :func:`acroplan.plan` keywords applied to every problem (a problem's own win), for example
+        ``objective="energy"`` or ``tau_max=50.0`` for optimal plans of every problem (each
+        validated, with the problem's system, before any work starts).
 
     Returns
     -------

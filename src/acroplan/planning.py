@@ -165,7 +165,7 @@ class PlanRequest:
     torque_limits: dict | None = None
 
     @classmethod
-    def build(cls, system, *, times, conditions: str = "spline", method="auto", basis="legendre",
+    def build(cls, system, *, times, conditions: str | None = None, method="auto", basis="legendre",
               n_coefficients: int | None = None, limits: Limits | None = None, u_max: float | None = None,
               state_bounds=None, input_bounds=None, verify: bool | str = True, tol: float = 1e-10,
               max_evaluations: int = 2000, time_limit: float | None = TIME_LIMIT, start_rate=None,
@@ -227,8 +227,11 @@ class PlanRequest:
             input_bounds = None if not input_bounds else {
                 k: _deg(f"input_bounds.{k}", v, system.rate_inputs.get(k) in system.angle_states)
                 for k, v in dict(input_bounds).items()}
-        check_conditions(conditions, system)
+        asked = objective is not None or tau_max is not None
         strategy, objective, torque_limits = _optimal_strategy(system, method, objective, tau_max)
+        if conditions is None:  # optimal plans leave the end inputs free: pinned, the optimum is not attained
+            conditions = "free" if asked else "spline"
+        check_conditions(conditions, system)
         sizes = None if n_coefficients is None else (_whole("n_coefficients", n_coefficients, 6, MAX_COEFFICIENTS),)
         b = make_basis(basis, sizes[0] if sizes else DEFAULT_SIZE)
         if not (isinstance(tol, (int, float)) and not isinstance(tol, bool) and math.isfinite(tol) and tol > 0):
@@ -348,7 +351,7 @@ def _limits_by_joint(model, vec):
     return {str(n): float(v) for n, v in zip(names, vec) if math.isfinite(v)}
 
 
-def plan(system: ControlAffineSystem, *, times, conditions: str = "spline", method="auto", basis="legendre",
+def plan(system: ControlAffineSystem, *, times, conditions: str | None = None, method="auto", basis="legendre",
          n_coefficients: int | None = None, limits: Limits | None = None, u_max: float | None = None,
          state_bounds=None, input_bounds=None, verify: bool | str = True, tol: float = 1e-10,
          max_evaluations: int = 2000, time_limit: float | None = TIME_LIMIT, start_rate=None, end_rate=None,
@@ -368,8 +371,13 @@ def plan(system: ControlAffineSystem, *, times, conditions: str = "spline", meth
         free there (the system chooses it: :meth:`~ControlAffineSystem.fill_free`; the result's
         waypoints hold the values chosen). ``NAME_min=``, ``NAME_max=`` bound a state whose rate
         is an input (``phi_min``, ``phi_max`` for the acrobot's joint).
-    conditions : {"spline", "free"}
-        Input conditions (:mod:`acroplan.core.conditions`). ``"spline"`` needs every input to be
+    conditions : {"spline", "free"}, optional
+        Input conditions (:mod:`acroplan.core.conditions`); default ``"spline"``, or ``"free"`` with
+        ``objective`` (or ``tau_max``): the least :math:`\int u^2` with the input's values pinned
+        at the waypoints (the spline's u and u', or ``start_rate``/``end_rate``), and the least
+        :math:`\int\tau^2` with u' pinned, are infima no input attains (the optimum in the basis
+        grows boundary layers as the basis grows, and the ladder reports it not converged).
+        ``"spline"`` needs every input to be
         the rate of a state (:attr:`ControlAffineSystem.rate_inputs`).
     method : str or Strategy
         ``"auto"`` (the system's own choice), a registered strategy (``"deform"``, the text's path

@@ -1,5 +1,11 @@
 """Optimal plans: the minimum-energy and the minimum-torque input on each waypoint interval.
 
+The front doors reach them by ``objective="energy"`` or ``"torque"`` (and ``tau_max=``) of
+:func:`acroplan.plan` and :func:`acroplan.plan_many` (:func:`objective_strategy`); they are also
+registered strategies, ``method="energy-optimal"`` and ``"torque-optimal"``. Each segment of an
+optimal plan carries its diagnostics (:meth:`EnergyOptimal.diagnostics`) as
+:attr:`SegmentResult.optimality <acroplan.core.result.SegmentResult.optimality>`.
+
 Where path deformation (:mod:`~acroplan.core.continuation`) finds *an* input that reaches the
 target, the strategies here find the best one within the input basis, for one of two costs:
 
@@ -495,6 +501,9 @@ def _step(W, g, h, A, H, convex_only=False):
     except np.linalg.LinAlgError:
         if convex_only:
             return None
+    if q >= N:  # no freedom left on the constraints: the step is theirs (least squares if over-determined)
+        p = -np.linalg.lstsq(A, h, rcond=None)[0]
+        return p, -np.linalg.lstsq(A.T, W @ p + g, rcond=None)[0]
     Q, R = np.linalg.qr(A.T, mode="complete")
     Y, Zr, R = Q[:, :q], Q[:, q:], R[:q, :q]
     dR = np.abs(np.diag(R))
@@ -1293,7 +1302,7 @@ OBJECTIVES = {"energy": EnergyOptimal, "torque": TorqueOptimal}
 def objective_strategy(objective: str, **kwargs) -> EnergyOptimal:
     """The optimal strategy for ``objective`` (``"energy"``: :class:`EnergyOptimal`, ``"torque"``:
     :class:`TorqueOptimal`), built with ``kwargs`` (``tau_max``, ``torque``, ``sizes``, ``rtol``,
-    ``starts``, ``kkt_tol``).
+    ``starts``, ``kkt_tol``, ``feasible``).
 
     Raises
     ------
