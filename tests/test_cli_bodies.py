@@ -14,7 +14,7 @@ from acroplan.families.planar import diver_with_arms, planar_space_robot, three_
 from acroplan.families.planar.examples import EXAMPLES
 from acroplan.io import examples as bundled
 from acroplan.io.cli import main
-from acroplan.io.problem import load_problem, load_simulation, parse_problem
+from acroplan.io.problem import load_problem, load_simulation, parse_problem, parse_simulation
 from acroplan.io.results import load_result
 
 pytest.importorskip("pinocchio")
@@ -388,7 +388,9 @@ def test_reach_for_bodies(tmp_path):
     assert res.exit_code == 2 and "exact reachable sets exist for the two-link body only" in res.output
     assert "limits.u_q1" in res.output and not (tmp_path / "a").exists()
     # rate limits on every joint: the bound, and a target beyond it is proven unreachable
-    prob = parse_problem(__import__("tomllib").loads(RODS.format(P0=0.0) + PLAN))
+    import tomllib
+
+    prob = parse_problem(tomllib.loads(RODS.format(P0=0.0) + PLAN))
     B = prob.system.turn_bound(np.array([0.0, 1.0, 1.0]), np.array([0.4, 1.0, 1.0]), 3.0, prob.limits)
     res = run(["reach", write(tmp_path, RODS.format(P0=0.0) + PLAN), "--out", tmp_path / "b", "--json"])
     assert res.exit_code == 0, res.output
@@ -450,3 +452,21 @@ def test_examples_list_the_bodies():
     res = run(["examples"])
     for name in ("diver-somersault", "space-robot-turn", "three-rods-turn", "space-robot-arm-loop"):
         assert name in res.output
+
+
+def test_the_body_files_in_the_docs_are_valid(tmp_path):
+    import pathlib
+    import tomllib
+
+    root = pathlib.Path(__file__).parents[1]
+    text = (root / "docs" / "problem-files.md").read_text(encoding="utf-8")
+    blocks = [b for b in re.findall(r"```toml\n(.*?)```", text, re.S) if "[body]" in b or "[simulate]" in b]
+    assert len(blocks) == 3
+    full, urdf, sim = blocks
+    prob = parse_problem(tomllib.loads(full))
+    assert prob.system.links.joint_names == ("q1", "q2") and prob.limits.input_bound("u_q1") == 2.0
+    (tmp_path / "diver.urdf").write_text(bundled.files("diver-somersault")["diver.urdf"])
+    assert parse_problem(tomllib.loads(urdf), base=tmp_path).system.links.joint_names == ("hip", "knee", "shoulder")
+    body = bundled.text("space-robot-arm-loop").split("[simulate]")[0]
+    s = parse_simulation(tomllib.loads(body + sim))
+    assert s.motion == {"u_shoulder": "spline", "u_elbow": "coefficients"} and len(s.inputs) == 4
