@@ -754,7 +754,13 @@ class PlanResult:
                 change = np.flatnonzero(np.sign(pow_g[j, :-1]) * np.sign(pow_g[j, 1:]) < 0)
                 roots = {}
                 for i in change:
-                    r = brentq(lambda x, j=j: float(motion(x)[1][j, 0]), grid[i], grid[i + 1], xtol=1e-14)
+                    f = (lambda x, j=j: float(motion(x)[1][j, 0]))
+                    fa, fb = f(grid[i]), f(grid[i + 1])
+                    if fa * fb < 0:
+                        r = brentq(f, grid[i], grid[i + 1], xtol=1e-14)
+                    else:  # the power is within rounding of zero at an end (a point evaluation need not
+                        # round as the batch did): that end is the root
+                        r = grid[i] if abs(fa) <= abs(fb) else grid[i + 1]
                     roots.setdefault(min(int(i // 33), P - 1), []).append(r)
                 for k in range(P):
                     if k not in roots:
