@@ -47,6 +47,7 @@ def test_example_pike_dive_writes_everything(tmp_path):
     sol = json.loads((out / "solution.json").read_text())
     assert sol["status"] == "success" and sol["verified"] is True
     assert sol["system"]["params"]["M1"] == pytest.approx(4021 / 4920, rel=1e-15)
+    assert sol["inputs"] == [{"name": "u", "joint": "phi"}]  # the joint the input drives
     assert len(sol["segments"]) == 5 and len(sol["segments"][0]["coefficients"]["u"]) == 6
     assert max(s["verified_error"] for s in sol["segments"]) < 1e-9
     with open(out / "trajectory.csv") as f:

@@ -470,3 +470,27 @@ def test_the_body_files_in_the_docs_are_valid(tmp_path):
     body = bundled.text("space-robot-arm-loop").split("[simulate]")[0]
     s = parse_simulation(tomllib.loads(body + sim))
     assert s.motion == {"u_shoulder": "spline", "u_elbow": "coefficients"} and len(s.inputs) == 4
+
+
+def test_batch_of_body_files_reads_urdfs_beside_them(tmp_path):
+    import csv
+
+    folder = tmp_path / "many"
+    folder.mkdir()
+    (folder / "rods.urdf").write_text(to_urdf(three_rods()))
+    write(folder, '[body]\nurdf = "rods.urdf"\nangular_momentum = 0.0\n' + PLAN, "a.toml")
+    write(folder, RODS.format(P0=0.0) + PLAN.replace("theta = [0.0, 0.4]", "theta = [0.0, 400.0]"), "b.toml")
+    out = tmp_path / "out"
+    res = run(["plan", folder, "--out", out, "--no-plots"])
+    assert res.exit_code == 3, res.output  # b's turn is beyond the rate limits' bound: proven
+    rows = list(csv.DictReader(open(out / "summary.csv")))
+    assert [(r["name"], r["status"]) for r in rows] == [("a", "success"), ("b", "infeasible")]
+    sol = json.loads((out / "a" / "solution.json").read_text())
+    assert sol["inputs"][0] == {"name": "u_q1", "joint": "q1"} and float(rows[0]["max_verified_error"]) <= 1e-9
+    many = "".join(f'[[problem]]\nname = "{n}"\n' + ('[problem.body]\nurdf = "rods.urdf"\nangular_momentum = 0.0\n'
+                                                     + PLAN).replace("[plan]", "[problem.plan]")
+                   .replace("[limits]", "[problem.limits]").replace("[options]", "[problem.options]")
+                   for n in ("x", "y"))
+    res = run(["plan", write(folder, many, "many.toml"), "--out", tmp_path / "o2", "--no-plots", "--json"])
+    assert res.exit_code == 0, res.output
+    assert json.loads(res.output)["counts"] == {"success": 2}

@@ -16,6 +16,11 @@
   limits of 0.5 rad/s;
 * :func:`three_rods_turn`: three equal rods at zero momentum turn by 0.4 rad in 3 s by one shape
   loop, starting and ending in the same shape, with :math:`|u| \\le 2` rad/s.
+
+The same problems are bundled as problem files, under the same names (``acroplan plan --example
+diver-somersault``: the diver through a URDF file, the others through link tables;
+``acroplan/io/data/``); ``tests/test_cli_bodies.py`` checks that the files give these bodies (lumped
+parameters to 1e-12), waypoints and limits.
 """
 
 from __future__ import annotations
