@@ -1,0 +1,211 @@
+"""The independent check of spatial bodies, by Pinocchio: nothing here uses the sympy fields.
+
+* :func:`pinocchio_momentum_map`: :math:`\\mathbb{I}(s)` and :math:`A(s)` read from Pinocchio's
+  centroidal momentum map :math:`A_G(q)` (``computeCentroidalMap``, world frame, at the centre of
+  mass): at the root attitude :math:`R`, its angular rows are :math:`R\\,\\mathbb{I}(s)` in the
+  root's angular-velocity columns and :math:`R\\,A(s)` in the joint columns;
+* :func:`root_twist`: the root's twist :math:`\\nu = (v, \\Omega)` (root frame) that gives the
+  centroidal momentum :math:`h_G = (0, L)` with the joint rates :math:`u`:
+
+  .. math::  A_{G,\\mathrm{root}}(q)\\,\\nu = (0, L) - A_{G,\\mathrm{joints}}(q)\\,u ,
+
+  six equations in six unknowns (the centre of mass at rest, the angular momentum :math:`L`);
+* :func:`simulate_with_pinocchio`: a forward simulation driven by that twist alone,
+  :math:`\\dot q = \\tfrac12 q \\otimes (0, \\Omega)`, :math:`\\dot s = u(t)`, scipy's DOP853 at
+  rtol = atol = 3e-14 and at least 16 steps, as :mod:`acroplan.core.verify` does;
+* :func:`pinocchio_errors`: the check ``plan(verify=True)`` uses for spatial bodies. The joint
+  angles are the exact integrals of the planned inputs (integrated in their basis), so only the
+  attitude is integrated (DOP853, the quaternion renormalised at the end: its norm drifts by about
+  1e-14); each segment's error is :math:`\\max(\\angle(q_{target}^{-1} q_{check}),\\ \\max_j |s_j -
+  s_{j,target}|)`, the segments chained from the first waypoint.
+
+Pinocchio is optional (``pip install acroplan[bodies]``) and imported on first use.
+"""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from ...core.errors import InvalidInputError
+from ..planar.pin import require_pinocchio
+from . import rotations as rot
+from .links import SpatialLinkTable
+from .pin import SpatialPinocchioBody, build_model
+
+__all__ = ["pinocchio_body", "pinocchio_momentum_map", "root_twist", "simulate_with_pinocchio", "pinocchio_segment",
+           "pinocchio_errors", "state_error", "RTOL", "ATOL"]
+
+RTOL = 3e-14
+ATOL = 3e-14
+
+
+@functools.lru_cache(maxsize=64)
+def _cached(table: SpatialLinkTable) -> SpatialPinocchioBody:
+    return build_model(table)
+
+
+def pinocchio_body(body) -> SpatialPinocchioBody:
+    """The Pinocchio model of ``body``'s link table (cached per table)."""
+    table = getattr(body, "links", body)
+    return _cached(table if isinstance(table, SpatialLinkTable) else SpatialLinkTable(table))
+
+
+def pinocchio_momentum_map(body, shape):
+    """:math:`\\mathbb{I}(s)` and :math:`A(s)` from Pinocchio's centroidal map at the identity attitude.
+
+    Returns
+    -------
+    I : numpy.ndarray, shape (3, 3)
+    A : numpy.ndarray, shape (3, m)
+    """
+    pin = require_pinocchio()
+    pb = pinocchio_body(body)
+    x = np.concatenate([[1.0, 0.0, 0.0, 0.0], np.asarray(shape, dtype=float)])
+    Ag = pin.computeCentroidalMap(pb.model, pb.model.createData(), pb.configuration(x))
+    return Ag[3:6, 3:6].copy(), Ag[3:6, pb.idx_v].copy()
+
+
+class _Twist:
+    """:math:`\\Omega(q, s, u)` from Pinocchio's centroidal map (module docstring)."""
+
+    def __init__(self, body):
+        self.pin = require_pinocchio()
+        self.pb = pinocchio_body(body)
+        self.data = self.pb.model.createData()
+        self.h = np.concatenate([np.zeros(3), np.asarray(body.L, dtype=float)])
+        self.iq = self.pb.idx_q
+        self.iv = self.pb.idx_v
+        self.q = np.zeros(self.pb.model.nq)
+
+    def __call__(self, quat, s, u):
+        q = self.q
+        n = np.sqrt(quat @ quat)
+        q[3:6] = quat[1:] / n
+        q[6] = quat[0] / n
+        q[self.iq] = s
+        Ag = self.pin.computeCentroidalMap(self.pb.model, self.data, q)
+        nu = np.linalg.solve(Ag[:, :6], self.h - Ag[:, self.iv] @ u)
+        return nu[3:6]
+
+
+def root_twist(body, state, u) -> np.ndarray:
+    """The root's angular velocity :math:`\\Omega` (root frame) by Pinocchio (module docstring), shape (3,)."""
+    x = np.asarray(state, dtype=float)
+    return _Twist(body)(x[:4], x[4:], np.asarray(u, dtype=float).reshape(-1))
+
+
+def simulate_with_pinocchio(body, x0, t0: float, t1: float, u_of_t, rtol: float = RTOL, atol: float = ATOL,
+                            t_eval=None):
+    """Forward simulation of a spatial body driven by Pinocchio's centroidal map (module docstring).
+
+    Parameters
+    ----------
+    body : SpatialBody
+        Its link table and ``L`` are used; its sympy fields are not.
+    x0 : array_like, shape (4 + m,)
+    t0, t1 : float
+    u_of_t : callable
+        ``u_of_t(t)``: the joint rates at absolute time ``t``, shape ``(m,)`` or ``(m, 1)``.
+    t_eval : array_like, optional
+        Times to report (default: ``t1`` only).
+
+    Returns
+    -------
+    scipy.integrate.OdeResult
+        ``.t`` absolute times, ``.y`` shape (4 + m, len(t)).
+    """
+    twist = _Twist(body)
+    m = len(twist.iv)
+    t0, t1 = float(t0), float(t1)
+    if not t1 > t0:
+        raise InvalidInputError("t1", f"must be > t0, got t0 = {t0}, t1 = {t1}", "give an interval forward in time")
+
+    def fun(tau, x):
+        u = np.asarray(u_of_t(t0 + tau), dtype=float).reshape(m)
+        w = twist(x[:4], x[4:], u)
+        return np.concatenate([0.5 * rot.xi(x[:4]) @ w, u])
+
+    T = t1 - t0
+    te = None if t_eval is None else np.asarray(t_eval, dtype=float) - t0
+    sol = solve_ivp(fun, (0.0, T), np.asarray(x0, dtype=float), method="DOP853", rtol=rtol, atol=atol,
+                    max_step=T / 16, t_eval=te if te is not None else [T])
+    if not sol.success:
+        raise RuntimeError(f"the Pinocchio-driven simulation failed: {sol.message}")
+    sol.t = sol.t + t0
+    return sol
+
+
+def pinocchio_segment(body, x0, T: float, basis, coefficients, *, twist=None):
+    """One segment of the Pinocchio-driven motion (module docstring): the joints exactly, the attitude
+    by DOP853.
+
+    Parameters
+    ----------
+    body : SpatialBody
+    x0 : array_like, shape (4 + m,)
+    T : float
+    basis : InputBasis
+    coefficients : array_like, shape (m, basis.n)
+        The joint rates in ``basis`` on :math:`\\sigma = (t - t_0)/T`.
+
+    Returns
+    -------
+    numpy.ndarray, shape (4 + m,)
+        The state at the segment's end (the quaternion normalised).
+    """
+    twist = twist or _Twist(body)
+    c = np.asarray(coefficients, dtype=float)
+    x0 = np.asarray(x0, dtype=float)
+    s0 = x0[4:]
+    ct = c.T.copy()
+
+    def fun(tau, q):
+        sig = tau / T
+        u = (basis.matrix(sig) @ ct)[0]
+        s = s0 + T * (basis.integral(sig) @ ct)[0]
+        return 0.5 * rot.xi(q) @ twist(q, s, u)
+
+    sol = solve_ivp(fun, (0.0, T), x0[:4] / np.linalg.norm(x0[:4]), method="DOP853", rtol=RTOL, atol=ATOL,
+                    max_step=T / 16, t_eval=[T])
+    if not sol.success:
+        raise RuntimeError(f"the Pinocchio-driven simulation failed: {sol.message}")
+    q = sol.y[:, -1]
+    sT = s0 + T * (basis.integral([1.0]) @ ct)[0]
+    return np.concatenate([q / np.linalg.norm(q), sT])
+
+
+def pinocchio_errors(body, x0, segments) -> np.ndarray:
+    """The independent check of a spatial body's plan by Pinocchio (module docstring).
+
+    Parameters
+    ----------
+    body : SpatialBody
+    x0 : array_like, shape (4 + m,)
+    segments : sequence of SegmentResult
+
+    Returns
+    -------
+    numpy.ndarray, shape (len(segments),)
+        Each segment's :math:`\\max(\\angle(q_{target}^{-1} q),\\ \\max_j |s_j - s_{j,target}|)`.
+    """
+    from ...core.basis import Legendre
+
+    twist = _Twist(body)
+    x = np.asarray(x0, dtype=float)
+    out = []
+    for seg in segments:
+        basis = seg.basis if seg.basis is not None else Legendre(seg.basis_coefficients.shape[1])
+        x = pinocchio_segment(body, x, seg.t1 - seg.t0, basis, seg.basis_coefficients, twist=twist)
+        out.append(state_error(x, seg.target))
+    return np.array(out)
+
+
+def state_error(x, target) -> float:
+    """:math:`\\max(\\angle(q^{-1} q_{target}),\\ \\max_j |s_j - s_{j,target}|)` of two states."""
+    x = np.asarray(x, dtype=float)
+    target = np.asarray(target, dtype=float)
+    ang = rot.angle_between(x[:4] / np.linalg.norm(x[:4]), target[:4] / np.linalg.norm(target[:4]))
+    return float(max(ang, float(np.max(np.abs(x[4:] - target[4:]))) if x.size > 4 else 0.0))

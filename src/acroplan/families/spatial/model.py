@@ -1,0 +1,703 @@
+"""Free-floating bodies in 3-D with any number of links: :class:`SpatialBody`.
+
+A body is a tree of :math:`n` rigid links (:mod:`~acroplan.families.spatial.links`) joined by
+revolute joints with any axes, flying freely: no external force or torque acts, so its centre of
+mass :math:`c` moves uniformly (taken at rest) and its angular momentum about :math:`c`, the vector
+:math:`L` (inertial frame), is constant.
+
+State and input
+---------------
+:math:`x = (q, s)`: :math:`q = [q_w, q_x, q_y, q_z]` the unit quaternion of the root's attitude
+(state names ``qw, qx, qy, qz``; :mod:`~acroplan.families.spatial.rotations` for the conventions)
+and :math:`s = (s_1, \\dots, s_m)` the joint angles (the *shape*), named by their joints. The
+inputs are the joint rates :math:`u = \\dot s` (``u_<joint>``).
+
+The momentum map
+----------------
+In the root's frame, with :math:`\\Omega` the root's angular velocity (body frame), the angular
+momentum about the centre of mass is
+
+.. math::  R(q)^\\top L = \\mathbb{I}(s)\\,\\Omega + A(s)\\,u ,                              \\qquad (1)
+
+:math:`\\mathbb{I}(s)` (3 x 3) the *locked inertia* (the body frozen in shape :math:`s`, about its
+centre of mass, in the root frame) and :math:`A(s)` (3 x m) the *coupling*. Conservation of
+:math:`L` gives the state equation
+
+.. math::  \\Omega = \\mathbb{I}(s)^{-1}\\big(R(q)^\\top L - A(s)\\,u\\big) ,\\qquad
+           \\dot q = \\tfrac12\\, q \\otimes (0, \\Omega) ,\\qquad \\dot s = u .               \\qquad (2)
+
+It is control-affine with drift: :math:`f = (\\tfrac12 \\Xi(q) \\mathbb{I}^{-1} R^\\top L, 0)`,
+:math:`g_j = (-\\tfrac12 \\Xi(q) \\mathbb{I}^{-1} A_j, e_j)`. :math:`\\mathbb{I}^{-1}` is written as
+:math:`\\mathrm{adj}(\\mathbb{I})/\\det \\mathbb{I}`. :math:`|q|` is a first integral of (2)
+(:math:`\\tfrac{d}{dt}|q|^2 = q \\cdot \\Xi(q)\\Omega = 0`), kept by the integrator to rounding.
+
+*Derivation (barycentric vectors, as for planar bodies).* Let :math:`R_k(s)` be link :math:`k`'s
+orientation in the root frame, :math:`c_k` its centre of mass and :math:`j_h` the joint of a child
+:math:`h` in its frame. The position of link :math:`i`'s centre of mass relative to :math:`c` is a
+sum of rotated constant vectors, :math:`\\rho_i = \\sum_k R_k b_{ik}`, :math:`b_{ik} = e_{ik} -
+g_k/M`, with :math:`e_{ik} = c_k` (:math:`i = k`), :math:`j_h` (:math:`i` below the child
+:math:`h` of :math:`k`), else 0, and :math:`g_k = m_k c_k + \\sum_{h} S_h j_h` (:math:`S_h` the
+mass of the subtree of :math:`h`, :math:`M` the total). With the link angular velocities
+:math:`\\omega_l`, :math:`\\dot\\rho_i = \\sum_l \\omega_l \\times R_l b_{il}` and
+:math:`a \\times (\\omega \\times b) = ((a\\cdot b)\\mathbb{1} - b a^\\top)\\omega`, the momentum is
+
+.. math::  h = \\sum_i R_i J_i R_i^\\top \\omega_i + m_i \\rho_i \\times \\dot\\rho_i = \\sum_l Q_l\\, \\omega_l ,
+           \\qquad Q_l = R_l J_l R_l^\\top + \\sum_k \\big(\\mathrm{tr}(M_{kl})\\,\\mathbb{1} - M_{kl}^\\top\\big) ,
+
+:math:`M_{kl} = R_k E_{kl} R_l^\\top`, :math:`E_{kl} = \\sum_i m_i b_{ik} b_{il}^\\top` constant and,
+in closed form, of rank one off the diagonal:
+
+* :math:`E_{kk} = m_k c_k c_k^\\top + \\sum_h S_h j_h j_h^\\top - g_k g_k^\\top / M`;
+* :math:`k` a proper ancestor of :math:`l`, :math:`h` the child of :math:`k` towards :math:`l`:
+  :math:`E_{kl} = w_h g_l^\\top`, :math:`w_h = j_h - g_k/M`; :math:`E_{lk} = E_{kl}^\\top`;
+* neither an ancestor of the other: :math:`E_{kl} = -g_k g_l^\\top / M`.
+
+So :math:`M_{kl} = x\\,y^\\top` with root-frame vectors (:math:`x = R_k w_h`, :math:`y = R_l g_l`, ...)
+and :math:`(\\mathrm{tr}(M)\\mathbb{1} - M^\\top)\\,v = (x\\cdot y)\\,v - y\\,(x \\cdot v)`. Since
+:math:`\\omega_l = \\Omega + \\sum_{j \\in \\mathrm{path}(l)} a_j u_j` (:math:`a_j` joint :math:`j`'s axis
+in the root frame),
+
+.. math::  \\mathbb{I}(s) = \\sum_l Q_l ,\\qquad A_j(s) = \\Big(\\sum_{l \\in \\mathrm{subtree}(j)} Q_l\\Big)\\, a_j .
+
+Only rotations :math:`R_k(s)` enter; positions are folded into the constants.
+
+Parameters (runtime values of the compiled integrator)
+------------------------------------------------------
+Each non-root link gets a frame whose :math:`z` axis is its joint axis (a constant turn
+:math:`C_k` of the link's own frame), so that :math:`R_k = R_{parent} R^0_k R_z(s_k)` with a constant
+:math:`R^0_k`. The runtime parameters are ``Lx, Ly, Lz, Minv``, per link ``g<k>_{x,y,z}`` and the
+six entries ``J<k>_{xx,xy,xz,yy,yz,zz}`` of :math:`J_k + \\mathrm{tr}(E_{kk})\\mathbb{1} - E_{kk}`, per
+non-root link the nine entries ``R<k>_<ij>`` of :math:`R^0_k` and ``w<k>_{x,y,z}`` (table indices
+:math:`k`), all in those frames (:func:`lumped_parameters`). The symbolic fields depend only on the
+topology (:attr:`SpatialBody.structure_key` ``= ("spatial", parents)``): one compilation serves
+every body of that topology, whatever its masses, inertias, geometry, axes, names and :math:`L`.
+
+Compilation uses heyoka's compact mode (the fields of a 3-link body have about 750 nodes and
+about 4900 with the variational equations; full mode took over 15 minutes to compile them,
+compact mode 0.4-4 s; 5 links, 10 coefficients: 13,900 nodes, about 7 s cold, 40 ms per
+propagation). The tests check (1) against Pinocchio's centroidal map at random shapes to 1e-12.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import threading
+from typing import Any, Hashable, Mapping
+
+import numpy as np
+import sympy as sp
+
+from ...core.errors import InvalidInputError
+from ...core.system import ControlAffineSystem, Infeasibility
+from . import rotations as rot
+from ._compile import install as _install_compact
+from .links import QUATERNION_NAMES, SpatialLink, SpatialLinkTable
+
+__all__ = ["SpatialBody", "lumped_parameters", "generic_symbols", "axis_rotation", "NORM_TOL"]
+
+#: how far from 1 the norm of a waypoint's quaternion may be (larger: refused as a typing error)
+NORM_TOL = 1e-9
+
+
+# ---------------------------------------------------------------------- the tree
+def _tree(parents: tuple[int, ...]):
+    """children, ancestors (self first), subtree (self first) per link."""
+    n = len(parents)
+    children = [tuple(k for k in range(n) if parents[k] == i) for i in range(n)]
+    ancestors = []
+    for i in range(n):
+        a = [i]
+        while parents[a[-1]] != -1:
+            a.append(parents[a[-1]])
+        ancestors.append(tuple(a))
+    subtree = [tuple(k for k in range(n) if i in ancestors[k]) for i in range(n)]
+    return children, ancestors, subtree
+
+
+def axis_rotation(axis, angle) -> np.ndarray:
+    """:math:`\\mathrm{Rot}(a, \\varphi)` (Rodrigues), shape (3, 3), for a unit axis ``a``."""
+    a = np.asarray(axis, dtype=float)
+    c, s = math.cos(angle), math.sin(angle)
+    K = np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
+    return np.eye(3) + s * K + (1.0 - c) * (K @ K)
+
+
+def _to_z(b) -> np.ndarray:
+    """A rotation :math:`C` with :math:`C e_z = b` (unit ``b``)."""
+    b = np.asarray(b, dtype=float)
+    ez = np.array([0.0, 0.0, 1.0])
+    v = np.cross(ez, b)
+    s, c = float(np.linalg.norm(v)), float(b @ ez)
+    if s < 1e-15:
+        return np.eye(3) if c > 0 else np.diag([1.0, -1.0, -1.0])
+    return axis_rotation(v / s, math.atan2(s, c))
+
+
+_SYM = ("xx", "xy", "xz", "yy", "yz", "zz")
+_SYM_IDX = ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))
+
+
+def generic_symbols(parents):
+    """The compiled state and parameter symbols of a topology (module docstring): states
+    ``qw, qx, qy, qz, s1, ...``; parameters ``Lx, Ly, Lz, Minv``, ``g<k>_x...``, ``J<k>_xx...``,
+    ``R<k>_00...`` and ``w<k>_x...`` (non-root ``k``)."""
+    n = len(parents)
+    x = tuple(sp.Symbol(s, real=True) for s in QUATERNION_NAMES) + tuple(sp.Symbol(f"s{j}", real=True)
+                                                                        for j in range(1, n))
+    names = ["Lx", "Ly", "Lz", "Minv"]
+    for k in range(n):
+        names += [f"g{k}_{a}" for a in "xyz"] + [f"J{k}_{e}" for e in _SYM]
+    for k in range(n):
+        if parents[k] != -1:
+            names += [f"R{k}_{i}{j}" for i in range(3) for j in range(3)] + [f"w{k}_{a}" for a in "xyz"]
+    return x, tuple(sp.Symbol(s, real=True) for s in names)
+
+
+def lumped_parameters(links: SpatialLinkTable, L) -> tuple[float, ...]:
+    """The compiled parameters of a link table and momentum ``L`` (module docstring), in
+    :func:`generic_symbols`' order."""
+    n = len(links)
+    parents = links.parents
+    children, ancestors, subtree = _tree(parents)
+    m = np.array([k.mass for k in links])
+    M = float(m.sum())
+    S = [float(m[list(subtree[i])].sum()) for i in range(n)]
+    # each link's constant turn C_k: its z axis along the joint axis (in the link's own frame)
+    C = []
+    for k, link in enumerate(links):
+        if parents[k] == -1:
+            C.append(np.eye(3))
+        else:
+            b = link.rotation_matrix.T @ np.asarray(link.axis)  # the axis in the child's own frame
+            C.append(_to_z(b))
+    com = [C[k].T @ np.asarray(links[k].com) for k in range(n)]
+    jpos = [None] * n  # child h's joint in its parent's (primed) frame
+    for h in range(n):
+        if parents[h] != -1:
+            jpos[h] = C[parents[h]].T @ np.asarray(links[h].joint)
+    g = []
+    for k in range(n):
+        v = m[k] * com[k]
+        for h in children[k]:
+            v = v + S[h] * jpos[h]
+        g.append(v)
+    out = [float(v) for v in np.asarray(L, dtype=float)] + [1.0 / M]
+    for k in range(n):
+        E = m[k] * np.outer(com[k], com[k]) - np.outer(g[k], g[k]) / M
+        for h in children[k]:
+            E = E + S[h] * np.outer(jpos[h], jpos[h])
+        Jk = C[k].T @ links[k].inertia_matrix @ C[k] + np.trace(E) * np.eye(3) - E
+        out += [float(v) for v in g[k]] + [float(Jk[i, j]) for i, j in _SYM_IDX]
+    for k in range(n):
+        p = parents[k]
+        if p != -1:
+            R0 = C[p].T @ links[k].rotation_matrix @ C[k]
+            w = jpos[k] - g[p] / M
+            out += [float(v) for v in R0.ravel()] + [float(v) for v in w]
+    return tuple(out)
+
+
+# ---------------------------------------------------------------------- the symbolic map
+_MAPS: dict[Hashable, tuple] = {}
+_LOCK = threading.Lock()
+
+
+def _symbolic_map(parents):
+    """``(x, p, I, A, R)`` in the compiled symbols, cached per topology: ``I`` a 3 x 3 sympy Matrix,
+    ``A`` a list of m column Matrices, ``R`` the links' orientations in the root frame."""
+    out = _MAPS.get(parents)
+    if out is not None:
+        return out
+    n = len(parents)
+    children, ancestors, subtree = _tree(parents)
+    x, p = generic_symbols(parents)
+    it = iter(p)
+    Lv = sp.Matrix([next(it) for _ in range(3)])
+    Minv = next(it)
+    g, J = [], []
+    for k in range(n):
+        g.append(sp.Matrix([next(it) for _ in range(3)]))
+        e = [next(it) for _ in range(6)]
+        J.append(sp.Matrix([[e[0], e[1], e[2]], [e[1], e[3], e[4]], [e[2], e[4], e[5]]]))
+    R0, w = {}, {}
+    for k in range(n):
+        if parents[k] != -1:
+            R0[k] = sp.Matrix(3, 3, [next(it) for _ in range(9)])
+            w[k] = sp.Matrix([next(it) for _ in range(3)])
+    joints = [k for k in range(n) if parents[k] != -1]
+    svar = {k: x[4 + j] for j, k in enumerate(joints)}
+    R = [None] * n
+    order = [parents.index(-1)]
+    for i in order:
+        order.extend(children[i])
+    for k in order:
+        if parents[k] == -1:
+            R[k] = sp.eye(3)
+            continue
+        B = R0[k] if parents[parents[k]] == -1 else R[parents[k]] * R0[k]
+        c, s = sp.cos(svar[k]), sp.sin(svar[k])
+        R[k] = sp.Matrix.hstack(B[:, 0] * c + B[:, 1] * s, -B[:, 0] * s + B[:, 1] * c, B[:, 2])
+    G = [R[k] * g[k] for k in range(n)]
+    V = {h: R[parents[h]] * w[h] for h in joints}
+
+    def pair(k, l):  # noqa: E741  M_kl = x y^T
+        if k in ancestors[l]:
+            return V[ancestors[l][ancestors[l].index(k) - 1]], G[l]
+        if l in ancestors[k]:
+            return G[k], V[ancestors[k][ancestors[k].index(l) - 1]]
+        return G[k], -Minv * G[l]
+
+    pairs = {(k, l): pair(k, l) for k in range(n) for l in range(n) if k != l}  # noqa: E741
+    dots = {kl: xy[0].dot(xy[1]) for kl, xy in pairs.items()}
+    RJ = [R[l] * J[l] for l in range(n)]
+    I = sp.zeros(3, 3)  # noqa: E741
+    for l in range(n):  # noqa: E741
+        I += RJ[l] * R[l].T
+    for k in range(n):
+        for l in range(k + 1, n):  # noqa: E741
+            xv, yv = pairs[k, l]
+            I += 2 * dots[k, l] * sp.eye(3) - (yv * xv.T + xv * yv.T)
+    A = []
+    for j in joints:
+        a = R[j][:, 2]
+        col = sp.zeros(3, 1)
+        for l in subtree[j]:  # noqa: E741
+            col += RJ[l] * (R[l].T * a)
+            for k in range(n):
+                if k != l:
+                    xv, yv = pairs[k, l]
+                    col += dots[k, l] * a - yv * xv.dot(a)
+        A.append(col)
+    out = (x, p, I, A, R)
+    with _LOCK:
+        out = _MAPS.setdefault(parents, out)
+    return out
+
+
+def _fields(parents):
+    """The fields (f, G) of (2) in the compiled symbols."""
+    x, p, I, A, _ = _symbolic_map(parents)  # noqa: E741
+    qw, qx, qy, qz = x[:4]
+    Lv = sp.Matrix(p[:3])
+    a00 = I[1, 1] * I[2, 2] - I[1, 2] ** 2
+    a01 = I[0, 2] * I[1, 2] - I[0, 1] * I[2, 2]
+    a02 = I[0, 1] * I[1, 2] - I[0, 2] * I[1, 1]
+    a11 = I[0, 0] * I[2, 2] - I[0, 2] ** 2
+    a12 = I[0, 2] * I[0, 1] - I[0, 0] * I[1, 2]
+    a22 = I[0, 0] * I[1, 1] - I[0, 1] ** 2
+    adj = sp.Matrix([[a00, a01, a02], [a01, a11, a12], [a02, a12, a22]])
+    inv_det = 1 / (I[0, 0] * a00 + I[0, 1] * a01 + I[0, 2] * a02)
+    Rq = sp.Matrix([[qw**2 + qx**2 - qy**2 - qz**2, 2 * (qx * qy - qw * qz), 2 * (qx * qz + qw * qy)],
+                    [2 * (qx * qy + qw * qz), qw**2 - qx**2 + qy**2 - qz**2, 2 * (qy * qz - qw * qx)],
+                    [2 * (qx * qz - qw * qy), 2 * (qy * qz + qw * qx), qw**2 - qx**2 - qy**2 + qz**2]])
+    Xi = sp.Matrix([[-qx, -qy, -qz], [qw, -qz, qy], [qz, qw, -qx], [-qy, qx, qw]]) / 2
+    nx, m = len(x), len(A)
+    f = sp.zeros(nx, 1)
+    f[:4, 0] = Xi * (adj * (Rq.T * Lv) * inv_det)
+    Gm = sp.zeros(nx, m)
+    for j, Aj in enumerate(A):
+        Gm[:4, j] = Xi * (adj * Aj * (-inv_det))
+        Gm[4 + j, j] = 1
+    return f, Gm
+
+
+_NUMERIC_MAPS: dict[Hashable, Any] = {}
+
+
+def _numeric_map(parents):
+    """``fn(s, p) -> (I entries (9), A entries (3 m))``, lambdified with common subexpressions."""
+    fn = _NUMERIC_MAPS.get(parents)
+    if fn is None:
+        x, p, I, A, _ = _symbolic_map(parents)  # noqa: E741
+        exprs = list(I) + [e for col in A for e in col]
+        fn = sp.lambdify((x[4:], p), exprs, modules="numpy", cse=True)
+        with _LOCK:
+            fn = _NUMERIC_MAPS.setdefault(parents, fn)
+    return fn
+
+
+# ---------------------------------------------------------------------- the body
+@dataclasses.dataclass(frozen=True)
+class SpatialBody(ControlAffineSystem):
+    """A free-floating body in 3-D (module docstring for the model).
+
+    Parameters
+    ----------
+    links : SpatialLinkTable or sequence of SpatialLink
+    L : (float, float, float)
+        The angular momentum about the centre of mass, inertial frame (kg m^2/s).
+
+    Attributes
+    ----------
+    state_names : tuple of str
+        ``("qw", "qx", "qy", "qz", <joint names>...)``.
+    input_names : tuple of str
+        ``("u_<joint>", ...)``.
+    param_names : tuple of str
+        The compiled parameters (:func:`lumped_parameters`).
+
+    Examples
+    --------
+    >>> from acroplan.families.spatial import SpatialBody, SpatialLink
+    >>> body = SpatialBody([SpatialLink("a", None, 1.0, (0.1, 0.1, 0.1)),
+    ...                     SpatialLink("b", "a", 1.0, (0.1, 0.1, 0.1), joint=(1.0, 0.0, 0.0), axis=(0, 0, 1))])
+    >>> body.state_names, body.input_names
+    (('qw', 'qx', 'qy', 'qz', 'b'), ('u_b',))
+    >>> I, A = body.momentum_map([0.0])   # two unit masses 1 m apart: m d^2 / 4 = 0.25 about y and z
+    >>> [round(v, 12) for v in np.diag(I)]
+    [0.2, 0.45, 0.45]
+    """
+
+    links: SpatialLinkTable
+    L: tuple = (0.0, 0.0, 0.0)
+
+    #: compile with heyoka's compact mode (module docstring)
+    compact_mode = True
+
+    def __post_init__(self):
+        object.__setattr__(self, "links", SpatialLinkTable(self.links))
+        Lv = self.L
+        try:
+            Lt = tuple(float(v) for v in np.asarray(Lv, dtype=float).reshape(-1))
+        except (TypeError, ValueError):
+            raise InvalidInputError("L", f"must be three numbers (Lx, Ly, Lz), got {Lv!r}",
+                                    "give the angular momentum vector, for example (0, 0, 0)") from None
+        if len(Lt) != 3 or not all(math.isfinite(v) for v in Lt):
+            raise InvalidInputError("L", f"must be three finite numbers (Lx, Ly, Lz), got {Lv!r}",
+                                    "give the angular momentum vector, for example (0, 0, 0)")
+        object.__setattr__(self, "L", Lt)
+        if len(self.links) < 2:
+            raise InvalidInputError("links", "has one link: a single rigid body has no joint to move",
+                                    "give at least two links")
+        I0, _ = self.momentum_map(np.zeros(self.n_links - 1))
+        ev = np.linalg.eigvalsh(I0)
+        if not ev[0] > 1e-12 * max(1.0, ev[-1]):
+            raise InvalidInputError("links", f"the locked inertia at the zero shape is singular (principal moments "
+                                    f"{ev.tolist()})", "give the links inertia, or mass off one line")
+
+    # ------------------------------------------------------------------ structure and names
+    @property
+    def structure_key(self):
+        """``("spatial", parents)``: the topology. Names, axes and values are runtime."""
+        return ("spatial", self.links.parents)
+
+    @property
+    def state_names(self):
+        return QUATERNION_NAMES + self.links.joint_names
+
+    @property
+    def input_names(self):
+        return tuple(f"u_{j}" for j in self.links.joint_names)
+
+    @property
+    def rate_inputs(self):
+        return {f"u_{j}": j for j in self.links.joint_names}
+
+    @property
+    def angle_states(self):
+        return self.links.joint_names
+
+    @property
+    def param_names(self):
+        return tuple(str(s) for s in generic_symbols(self.links.parents)[1])
+
+    @property
+    def _param_tuple(self) -> tuple:
+        cached = self.__dict__.get("_acroplan_params")
+        if cached is None:
+            cached = lumped_parameters(self.links, self.L)
+            object.__setattr__(self, "_acroplan_params", cached)
+        return cached
+
+    @property
+    def n_links(self) -> int:
+        return len(self.links)
+
+    @property
+    def angular_momentum(self) -> np.ndarray:
+        """:math:`L`, shape (3,)."""
+        return np.array(self.L)
+
+    def symbols(self):
+        """The compiled state and parameter symbols (:func:`generic_symbols`)."""
+        return generic_symbols(self.links.parents)
+
+    def symbolic_fields(self, x, p):
+        """:math:`f`, :math:`G` of (2) in the compiled symbols; shapes (4 + m, 1), (4 + m, m)."""
+        f, G = _fields(self.links.parents)
+        x0, p0 = generic_symbols(self.links.parents)
+        sub = {s: t for s, t in zip(x0 + p0, tuple(x) + tuple(p)) if s != t}
+        if sub:
+            f, G = f.xreplace(sub), G.xreplace(sub)
+        return f, G
+
+    def symbolic_momentum_map(self):
+        """:math:`\\mathbb{I}(s)` (3 x 3 sympy Matrix) and :math:`A(s)` (list of m columns) in the
+        compiled symbols."""
+        _, _, I, A, _ = _symbolic_map(self.links.parents)  # noqa: E741
+        return I, A
+
+    def _numeric(self):
+        """The right-hand side for the core's DOP853 re-simulation (``verify="ode"``): (2) evaluated
+        from the lambdified symbolic :math:`\\mathbb{I}(s)`, :math:`A(s)` with a linear solve for
+        :math:`\\Omega` (not the adjugate the compiled fields use, and not heyoka). Lambdifying the
+        whole fields would print their deep expression as a tree; with common subexpressions it took
+        about 30 s for four links."""
+        parents = self.links.parents
+        m = len(parents) - 1
+
+        def fn(x, u, p):
+            x = np.asarray(x, dtype=float)
+            u = np.asarray(u, dtype=float)
+            vals = _numeric_map(parents)(tuple(x[4:]), p)
+            rest = x.shape[1:]
+            arr = np.array([np.broadcast_to(np.asarray(v, dtype=float), rest) for v in vals])
+            I = np.moveaxis(arr[:9].reshape((3, 3) + rest), (0, 1), (-2, -1))  # noqa: E741
+            A = np.moveaxis(arr[9:].reshape((m, 3) + rest), (0, 1), (-1, -2))
+            q = x[:4]
+            w, a, b, c = q
+            Lv = np.asarray(p[:3], dtype=float)
+            RtL = np.stack([(w * w + a * a - b * b - c * c) * Lv[0] + 2 * (a * b + w * c) * Lv[1]
+                            + 2 * (a * c - w * b) * Lv[2],
+                            2 * (a * b - w * c) * Lv[0] + (w * w - a * a + b * b - c * c) * Lv[1]
+                            + 2 * (b * c + w * a) * Lv[2],
+                            2 * (a * c + w * b) * Lv[0] + 2 * (b * c - w * a) * Lv[1]
+                            + (w * w - a * a - b * b + c * c) * Lv[2]], axis=-1)
+            rhs = RtL - np.einsum("...ij,j...->...i", A, u)
+            om = np.linalg.solve(I, rhs[..., None])[..., 0]
+            o = np.moveaxis(om, -1, 0)
+            qd = 0.5 * np.stack([-a * o[0] - b * o[1] - c * o[2], w * o[0] - c * o[1] + b * o[2],
+                                 c * o[0] + w * o[1] - a * o[2], -b * o[0] + a * o[1] + w * o[2]])
+            return list(qd) + list(np.broadcast_to(u, (m,) + rest))
+
+        return fn
+
+    # ------------------------------------------------------------------ the state space: SO(3) x R^m
+    @property
+    def ndx(self) -> int:
+        """3 + m: a rotation vector and the joint angles."""
+        return 3 + self.n_links - 1
+
+    def diff(self, x0, x1) -> np.ndarray:
+        """:math:`(\\log(q_0^{-1} \\otimes q_1),\\ s_1 - s_0)`: the rotation vector in the frame of
+        :math:`q_0` (angle in :math:`[0, \\pi]`), then the joint differences; shape (3 + m,)."""
+        x0 = np.asarray(x0, dtype=float)
+        x1 = np.asarray(x1, dtype=float)
+        q0, q1 = x0[:4], x1[:4]
+        q0 = q0 / math.sqrt(float(q0 @ q0))
+        q1 = q1 / math.sqrt(float(q1 @ q1))
+        return np.concatenate([rot.log(rot.qmul(rot.qconj(q0), q1)), x1[4:] - x0[4:]])
+
+    def retract(self, x, dx) -> np.ndarray:
+        """:math:`(q \\otimes \\exp(v),\\ s + \\delta s)` for ``dx = (v, \\delta s)``; shape (4 + m,)."""
+        x = np.asarray(x, dtype=float)
+        dx = np.asarray(dx, dtype=float)
+        return np.concatenate([rot.qmul(x[:4], rot.exp(dx[:3])), x[4:] + dx[3:]])
+
+    def tangent_jacobian(self, x, J) -> np.ndarray:
+        """Rows of the rotation vector: :math:`\\delta v = 2\\,\\mathrm{vec}(q^{-1} \\otimes \\delta q)`
+        for a unit :math:`q`; the joint rows unchanged. ``J`` (4 + m, k) -> (3 + m, k)."""
+        w, a, b, c = (float(v) for v in np.asarray(x, dtype=float)[:4])
+        Lq = 2.0 * np.array([[-a, w, c, -b], [-b, -c, w, a], [-c, b, -a, w]])
+        J = np.asarray(J, dtype=float)
+        return np.concatenate([Lq @ J[:4], J[4:]], axis=0)
+
+    # ------------------------------------------------------------------ numeric helpers
+    def _shape(self, shape) -> np.ndarray:
+        s = np.asarray(shape, dtype=float)
+        if s.shape[:1] != (self.n_links - 1,):
+            raise InvalidInputError("shape", f"must hold the {self.n_links - 1} joint angle(s) "
+                                    f"{list(self.links.joint_names)}, got shape {s.shape}", "give one angle per joint")
+        return s
+
+    def momentum_map(self, shape) -> tuple[np.ndarray, np.ndarray]:
+        """:math:`\\mathbb{I}(s)` and :math:`A(s)` of (1), at one shape or many.
+
+        Parameters
+        ----------
+        shape : array_like, shape (m,) or (m, N)
+
+        Returns
+        -------
+        I : numpy.ndarray, shape (3, 3) or (3, 3, N)
+        A : numpy.ndarray, shape (3, m) or (3, m, N)
+        """
+        s = self._shape(shape)
+        m = self.n_links - 1
+        vals = _numeric_map(self.links.parents)(tuple(s), self._param_tuple)
+        rest = s.shape[1:]
+        arr = np.array([np.broadcast_to(np.asarray(v, dtype=float), rest) for v in vals])
+        I = arr[:9].reshape((3, 3) + rest)  # noqa: E741
+        A = arr[9:].reshape((m, 3) + rest).swapaxes(0, 1)
+        return I, A
+
+    def locked_inertia(self, shape) -> np.ndarray:
+        """:math:`\\mathbb{I}(s)` (root frame, about the centre of mass), shape (3, 3) or (3, 3, N)."""
+        return self.momentum_map(shape)[0]
+
+    def angular_velocity(self, state, u) -> np.ndarray:
+        """:math:`\\Omega = \\mathbb{I}^{-1}(R^\\top L - A u)` (root frame), shape (3,)."""
+        x = np.asarray(state, dtype=float)
+        I, A = self.momentum_map(x[4:])  # noqa: E741
+        R = rot.to_matrix(x[:4] / np.linalg.norm(x[:4]))
+        return np.linalg.solve(I, R.T @ self.angular_momentum - A @ np.asarray(u, dtype=float))
+
+    def momentum(self, state, omega, u) -> np.ndarray:
+        """The angular momentum :math:`L = R(q)(\\mathbb{I}\\Omega + A u)` (inertial), shape (3,)."""
+        x = np.asarray(state, dtype=float)
+        I, A = self.momentum_map(x[4:])  # noqa: E741
+        return rot.to_matrix(x[:4]) @ (I @ np.asarray(omega, dtype=float) + A @ np.asarray(u, dtype=float))
+
+    def link_poses(self, state):
+        """Every link's orientation and position in the inertial frame, the centre of mass at the
+        origin (plain kinematics of the link table, for drawings and checks).
+
+        Parameters
+        ----------
+        state : array_like, shape (4 + m,)
+
+        Returns
+        -------
+        rotations : numpy.ndarray, shape (n_links, 3, 3)
+            Link frame to inertial.
+        origins : numpy.ndarray, shape (n_links, 3)
+            Each link frame's origin (its joint; the root's reference point).
+        coms : numpy.ndarray, shape (n_links, 3)
+            Each link's centre of mass.
+        """
+        x = np.asarray(state, dtype=float)
+        if x.shape != (self.n_states,):
+            raise InvalidInputError("state", f"must have shape ({self.n_states},) {list(self.state_names)}, got "
+                                    f"{x.shape}", "give the quaternion and every joint angle")
+        T = self.links
+        n = len(T)
+        Rs = np.zeros((n, 3, 3))
+        org = np.zeros((n, 3))
+        q = x[:4] / np.linalg.norm(x[:4])
+        for i in T.topological_order():
+            p = T.parents[i]
+            if p == -1:
+                Rs[i] = rot.to_matrix(q)
+                continue
+            link = T[i]
+            s = x[4 + T.joints.index(i)]
+            Rs[i] = Rs[p] @ axis_rotation(link.axis, s) @ link.rotation_matrix
+            org[i] = org[p] + Rs[p] @ np.asarray(link.joint)
+        coms = org + np.einsum("kij,kj->ki", Rs, np.array([link.com for link in T]))
+        mass = np.array([link.mass for link in T])
+        c = mass @ coms / mass.sum()
+        return Rs, org - c, coms - c
+
+    def joint_limits(self):
+        """The table's joint limits as a :class:`~acroplan.core.limits.Limits`, or ``None``."""
+        from ...core.limits import Limits
+
+        states, inputs = {}, {}
+        for i, name in zip(self.links.joints, self.links.joint_names):
+            link = self.links[i]
+            if link.lower is not None or link.upper is not None:
+                states[name] = (link.lower, link.upper)
+            if link.velocity is not None:
+                inputs[f"u_{name}"] = link.velocity
+        if not states and not inputs:
+            return None
+        return Limits(states, inputs)
+
+    def default_limits(self):
+        """The table's (or the URDF's) joint limits, honoured by :func:`acroplan.plan` unless the
+        call gives limits of its own (``limits=Limits()`` switches them off)."""
+        return self.joint_limits()
+
+    # ------------------------------------------------------------------ planning hooks
+    def check_segment(self, x0, x1, duration, limits=None):
+        """Checks of one segment: the waypoints' quaternions must be unit (to :data:`NORM_TOL`;
+        raises :class:`InvalidInputError` otherwise, naming ``attitude``); under limits, the joint
+        ends must lie in the joint limits and a rate-limited joint cannot move more than
+        :math:`\\bar u_j T`. Otherwise ``None`` (the segment may be feasible)."""
+        for end, x in (("start", x0), ("end", x1)):
+            nq = float(np.linalg.norm(np.asarray(x, dtype=float)[:4]))
+            if abs(nq - 1.0) > NORM_TOL:
+                raise InvalidInputError("attitude", f"the {end} quaternion (qw, qx, qy, qz) of a segment has norm "
+                                        f"{nq:.12g}, not 1", "give unit quaternions (acroplan.families.spatial."
+                                        "rotations.as_quaternion normalises and converts other forms)")
+        if limits is None or not limits.active:
+            return None
+        names = self.links.joint_names
+        x0 = np.asarray(x0, dtype=float)
+        x1 = np.asarray(x1, dtype=float)
+        T = float(duration)
+        lim = f" under {limits.describe()}"
+        for j, name in enumerate(names):
+            lo, hi = limits.bounds(name)
+            for end, v in ((f"{name}(0)", x0[4 + j]), (f"{name}(T)", x1[4 + j])):
+                if not lo <= v <= hi:
+                    return Infeasibility(f"no joint motion is possible{lim}: {end} = {v:.12g} is outside the joint "
+                                         f"limits [{lo:.12g}, {hi:.12g}]", name, None)
+            U = limits.input_bound(f"u_{name}")
+            if U is not None and abs(x1[4 + j] - x0[4 + j]) > U * T * (1 + 1e-15):
+                return Infeasibility(f"no joint motion is possible{lim}: {name} must move "
+                                     f"{abs(x1[4 + j] - x0[4 + j]):.12g} rad in T = {T:.12g} s, but u_{name} is "
+                                     f"limited to {U:.12g} rad/s", name, None)
+        return None
+
+    @property
+    def family_check(self) -> str:
+        """The name of :meth:`family_errors`' check."""
+        try:
+            import pinocchio  # noqa: F401
+        except ImportError:
+            return "scipy DOP853 re-simulation (Pinocchio is not installed)"
+        return "Pinocchio centroidal simulation"
+
+    def family_errors(self, x0, segments):
+        """The independent check by Pinocchio (:func:`~acroplan.families.spatial.check.pinocchio_errors`):
+        the planned inputs chained from ``x0`` through a motion driven by Pinocchio's centroidal map
+        alone. Without Pinocchio, the core's DOP853 re-simulation of the model's own fields.
+
+        Returns
+        -------
+        numpy.ndarray, shape (len(segments),)
+            Each segment's :math:`\\max(\\angle(q^{-1} q_{target}), \\max_j |s_j - s_{j,target}|)`.
+        """
+        try:
+            import pinocchio  # noqa: F401
+        except ImportError:
+            from ...core.verify import simulate_segment
+            from .check import state_error
+
+            x, out = np.asarray(x0, dtype=float), []
+            for seg in segments:
+                x = simulate_segment(self, x, seg.t0, seg.t1, seg.input).y[:, -1]
+                out.append(state_error(x, seg.target))
+            return np.array(out)
+        from .check import pinocchio_errors
+
+        return pinocchio_errors(self, x0, segments)
+
+    def auto_strategy(self):
+        """``method="auto"``: path deformation from shape loops that meet the target
+        (:class:`~acroplan.families.spatial.strategy.SpatialAuto`)."""
+        from .strategy import SpatialAuto
+
+        return SpatialAuto()
+
+    # ------------------------------------------------------------------ records
+    def to_dict(self) -> dict[str, Any]:
+        """Type, lumped parameters, ``L``, the topology and the link table (:meth:`from_dict`)."""
+        out = super().to_dict()
+        out["L"] = list(self.L)
+        out["parents"] = list(self.links.parents)
+        out["links"] = self.links.to_dicts()
+        return out
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "SpatialBody":
+        """Rebuild from :meth:`to_dict`'s output (``links`` and ``L``)."""
+        if not isinstance(d, Mapping) or "links" not in d:
+            raise InvalidInputError("links", "is missing", "give the link table (a list of link tables)")
+        return cls(SpatialLinkTable(d["links"]), L=tuple(d.get("L", (0.0, 0.0, 0.0))))
+
+
+_ = SpatialLink  # re-exported through the package
+_install_compact()

@@ -1,0 +1,111 @@
+"""Pinocchio glue: the Pinocchio model of a spatial link table (free-flyer root), and its
+configuration and velocity vectors.
+
+Pinocchio (PyPI ``pin``) is optional (the extra ``bodies``) and imported on first use
+(:func:`~acroplan.families.planar.pin.require_pinocchio`).
+
+The model: a ``JointModelFreeFlyer`` root (configuration :math:`(p, q_x, q_y, q_z, q_w)`, velocity
+:math:`(v, \\omega)` in the root frame), then per non-root link a revolute joint placed at
+``SE3(rotation, joint)`` in its parent's joint frame, about the axis :math:`R_{fixed}^\\top a` of
+the child's frame (``JointModelRX``/``RY``/``RZ`` when it is a coordinate axis, else
+``JointModelRevoluteUnaligned``), so that the child's frame is
+:math:`R_{fixed}\\,\\mathrm{Rot}(R_{fixed}^\\top a, s) = \\mathrm{Rot}(a, s)\\,R_{fixed}` as in the link
+table's convention; each link carries ``Inertia(mass, com, inertia)``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from ...core.errors import InvalidInputError
+from ..planar.pin import require_pinocchio
+from .links import SpatialLinkTable
+
+__all__ = ["SpatialPinocchioBody", "build_model"]
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class SpatialPinocchioBody:
+    """A Pinocchio model of a spatial link table, and where each joint sits in ``q`` and ``v``.
+
+    Attributes
+    ----------
+    model : pinocchio.Model
+    links : SpatialLinkTable
+    joint_ids : tuple of int, length n_links
+        Pinocchio joint index of each link (table order); the root's is the free flyer.
+    """
+
+    model: object
+    links: SpatialLinkTable
+    joint_ids: tuple[int, ...]
+
+    @property
+    def idx_q(self) -> list[int]:
+        """Positions of the joint angles (state order) in Pinocchio's ``q``."""
+        return [self.model.joints[self.joint_ids[i]].idx_q for i in self.links.joints]
+
+    @property
+    def idx_v(self) -> list[int]:
+        """Columns of the joint rates (state order) in ``v`` and the centroidal map."""
+        return [self.model.joints[self.joint_ids[i]].idx_v for i in self.links.joints]
+
+    def configuration(self, state) -> np.ndarray:
+        """Pinocchio's ``q`` for the state :math:`(q_w, q_x, q_y, q_z, s)`, the root at the origin.
+
+        Returns
+        -------
+        numpy.ndarray, shape (model.nq,)
+        """
+        x = np.asarray(state, dtype=float)
+        q = np.zeros(self.model.nq)
+        w, a, b, c = x[:4] / np.linalg.norm(x[:4])
+        q[3:7] = (a, b, c, w)
+        q[self.idx_q] = x[4:]
+        return q
+
+
+def _axis_joint(pin, axis):
+    for k, name in enumerate(("RX", "RY", "RZ")):
+        e = np.zeros(3)
+        e[k] = 1.0
+        if np.allclose(axis, e, atol=0.0, rtol=0.0):
+            return getattr(pin, f"JointModel{name}")()
+    return pin.JointModelRevoluteUnaligned(np.asarray(axis, dtype=float))
+
+
+def build_model(links) -> SpatialPinocchioBody:
+    """The Pinocchio model of a spatial link table (module docstring).
+
+    Parameters
+    ----------
+    links : SpatialLinkTable, sequence of SpatialLink, or SpatialBody
+
+    Returns
+    -------
+    SpatialPinocchioBody
+    """
+    pin = require_pinocchio()
+    table = getattr(links, "links", links)
+    table = table if isinstance(table, SpatialLinkTable) else SpatialLinkTable(table)
+    model = pin.Model()
+    model.name = "spatial_body"
+    ids = [0] * len(table)
+    for i in table.topological_order():
+        link = table[i]
+        if i == table.root:
+            jid = model.addJoint(0, pin.JointModelFreeFlyer(), pin.SE3.Identity(), "root_joint")
+        else:
+            Rf = link.rotation_matrix
+            placement = pin.SE3(Rf, np.asarray(link.joint, dtype=float))
+            name = table.joint_names[table.joints.index(i)]
+            jid = model.addJoint(ids[table.parents[i]], _axis_joint(pin, Rf.T @ np.asarray(link.axis)), placement, name)
+        model.appendBodyToJoint(jid, pin.Inertia(link.mass, np.asarray(link.com, dtype=float), link.inertia_matrix),
+                                pin.SE3.Identity())
+        ids[i] = jid
+    if model.nv != 6 + len(table.joints):
+        raise InvalidInputError("links", f"the Pinocchio model has {model.nv} velocity coordinates, expected "
+                                f"{6 + len(table.joints)}", "report this: every joint must be revolute")
+    return SpatialPinocchioBody(model, table, tuple(ids))
