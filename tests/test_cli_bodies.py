@@ -316,12 +316,14 @@ NONPLANAR = to_urdf(three_rods()).replace('<axis xyz="0 0 1"/>', '<axis xyz="1 0
 @pytest.mark.parametrize("text, match", [
     (RODS.format(P0=0.0).replace("angular_momentum = 0.0", "") + PLAN, r"^body\.angular_momentum: is missing"),
     (RODS.format(P0="nan") + PLAN, r"^body\.angular_momentum: must be finite"),
-    (RODS.format(P0=0.0).replace('"q1"\nmass = 1.0', '"q1"\nmass = -1.0') + PLAN, r"^body\.link\[1\]\.mass: must be > 0"),
+    (RODS.format(P0=0.0).replace('"q1"\nmass = 1.0', '"q1"\nmass = -1.0') + PLAN,
+     r"^body\.link\[1\]\.mass: must be > 0"),
     (RODS.format(P0=0.0).replace("mass = 1.0", "masss = 1.0", 1) + PLAN,
      r"^body\.link\[0\]\.masss: is not a known key; did you mean 'mass'\?"),
     (RODS.format(P0=0.0).replace('parent = "rod2"', 'parent = "rod9"') + PLAN,
      r"^body\.link\[2\]\.parent: 'rod9' is not the name of a link"),
-    (RODS.format(P0=0.0).replace('com = [0.5, 0.0]', 'com = [0.5]', 1) + PLAN, r"^body\.link\[0\]\.com: must be a pair"),
+    (RODS.format(P0=0.0).replace('com = [0.5, 0.0]', 'com = [0.5]', 1) + PLAN,
+     r"^body\.link\[0\]\.com: must be a pair"),
     (RODS.format(P0=0.0).replace('inertia = "1/12"', 'inertia = "1/0"', 1) + PLAN,
      r"^body\.link\[0\]\.inertia: '1/0' divides by zero"),
     (RODS.format(P0=0.0).replace('joint_name = "q2"', 'joint_name = "q1"') + PLAN,
@@ -348,6 +350,9 @@ NONPLANAR = to_urdf(three_rods()).replace('<axis xyz="0 0 1"/>', '<axis xyz="1 0
     (RODS.format(P0=0.0) + PLAN.replace("start_rate = 0.0", "start_rate = {u_q7 = 0.0}"),
      r"^options\.start_rate\.u_q7: is not an input"),
     (RODS.format(P0=0.0) + SIM, r"^plan: table is missing.*acroplan simulate"),
+    ("[body]\nangular_momentum = 0.0\n" + '[[body.link]]\nname = "a0"\nmass = 1.0\ninertia = 0.1\n' +
+     "".join(f'[[body.link]]\nname = "a{k}"\nparent = "a{k - 1}"\nmass = 1.0\ninertia = 0.1\n' for k in range(1, 17))
+     + PLAN, r"^body\.link: has 17 links, more than 16"),
 ])
 def test_bad_body_files_exit_2_naming_the_field(tmp_path, text, match):
     (tmp_path / "bad.urdf").write_text(NONPLANAR)
