@@ -221,45 +221,58 @@ def inverse_dynamics(body, q, u, du, *, root: str = "planar", derivatives: bool 
     model, data = pb.model, _data(pb)
     rc, jc = pb.root_columns, pb.joint_columns
     nv = model.nv
-    nr = nv - m
-    h0 = np.array([0.0, 0.0, float(body.P0)])
-    cfg = pb.configuration(np.zeros(m + 1))
+    root_rows = [i for i in range(nv) if i not in set(jc)]
     iq = [model.joints[pb.joint_ids[i]].idx_q for i in table.joints]
-    tau = np.empty((m, K))
-    resid = np.empty((nr, K))
-    nu, dnu = np.empty((3, K)), np.empty((3, K))
-    partials = np.empty((m, K, 3 * m)) if derivatives else None
-    v, a = np.zeros(nv), np.zeros(nv)
-    eye = np.eye(m)
+    cfg = np.repeat(pb.configuration(np.zeros(m + 1))[None, :], K, axis=0)
+    cfg[:, iq] = Q.T
+    Ut, DUt = U.T, DU.T  # (K, m)
+    # (1): the root's twist from the momentum, Pinocchio's centroidal map at every node
+    A = np.empty((K, 3, nv))
     for k in range(K):
-        cfg[iq] = Q[:, k]
-        v[jc], a[jc] = U[:, k], DU[:, k]
-        Ag = pin.computeCentroidalMap(model, data, cfg)[_ROWS]
-        Arr, Arj = Ag[:, rc], Ag[:, jc]
-        v[rc] = np.linalg.solve(Arr, h0 - Arj @ U[:, k])  # (1)
-        dAg = pin.computeCentroidalMapTimeVariation(model, data, cfg, v)[_ROWS]
-        a[rc] = -np.linalg.solve(Arr, Arj @ DU[:, k] + dAg @ v)  # (2)
-        F = pin.rnea(model, data, cfg, v, a)
-        tau[:, k] = F[jc]
-        resid[:, k] = np.delete(F, jc)
-        nu[:, k], dnu[:, k] = v[rc], a[rc]
-        if derivatives:
-            dh_dq, dhd_dq, dhd_dv, _ = pin.computeCentroidalDynamicsDerivatives(model, data, cfg, v, a)
-            dF_dq, dF_dv, M = pin.computeRNEADerivatives(model, data, cfg, v, a)
-            M = np.triu(M) + np.triu(M, 1).T  # Pinocchio fills the upper triangle
-            # d(q, v, a) / d(q_joints, u, du): shapes (nv, 3m)
-            dq = np.zeros((nv, 3 * m))
-            dq[jc, :m] = eye
-            dv = np.zeros((nv, 3 * m))
-            dv[jc, m:2 * m] = eye
-            dv[rc, :m] = -np.linalg.solve(Arr, dh_dq[_ROWS][:, jc])
-            dv[rc, m:2 * m] = -np.linalg.solve(Arr, Arj)
-            da = np.zeros((nv, 3 * m))
-            da[jc, 2 * m:] = eye
-            da[rc] = -np.linalg.solve(Arr, dhd_dq[_ROWS] @ dq + dhd_dv[_ROWS] @ dv + Arj @ da[jc])
-            partials[:, k, :] = (dF_dq @ dq + dF_dv @ dv + M @ da)[jc]
-    theta_col = 2  # omega among (vx, vy, omega)
-    return InverseDynamics(tau, resid, nu[theta_col].copy(), dnu[theta_col].copy(), nu, dnu, partials)
+        A[k] = pin.computeCentroidalMap(model, data, cfg[k])[_ROWS]
+    Arr, Arj = A[:, :, rc], A[:, :, jc]  # (K, 3, 3), (K, 3, m)
+    h0 = np.array([0.0, 0.0, float(body.P0)])
+    V = np.zeros((K, nv))
+    V[:, jc] = Ut
+    V[:, rc] = np.linalg.solve(Arr, (h0[None, :] - np.einsum("kij,kj->ki", Arj, Ut))[:, :, None])[:, :, 0]
+    # (2): the root's acceleration from the time variation of the map
+    bias = np.empty((K, 3))
+    for k in range(K):
+        bias[k] = pin.computeCentroidalMapTimeVariation(model, data, cfg[k], V[k])[_ROWS] @ V[k]
+    Acc = np.zeros((K, nv))
+    Acc[:, jc] = DUt
+    Acc[:, rc] = -np.linalg.solve(Arr, (np.einsum("kij,kj->ki", Arj, DUt) + bias)[:, :, None])[:, :, 0]
+    # the generalised forces, joints and root
+    F = np.empty((K, nv))
+    for k in range(K):
+        F[k] = pin.rnea(model, data, cfg[k], V[k], Acc[k])
+    partials = None
+    if derivatives:
+        Hq = np.empty((K, 3, nv))  # d h_G / dq (planar rows)
+        Dq, Dv = np.empty((K, 3, nv)), np.empty((K, 3, nv))  # d hdot_G / dq, dv
+        Fq, Fv, M = np.empty((K, nv, nv)), np.empty((K, nv, nv)), np.empty((K, nv, nv))
+        for k in range(K):
+            dh_dq, dhd_dq, dhd_dv, _ = pin.computeCentroidalDynamicsDerivatives(model, data, cfg[k], V[k], Acc[k])
+            Hq[k], Dq[k], Dv[k] = dh_dq[_ROWS], dhd_dq[_ROWS], dhd_dv[_ROWS]
+            dF_dq, dF_dv, dF_da = pin.computeRNEADerivatives(model, data, cfg[k], V[k], Acc[k])
+            Fq[k], Fv[k], M[k] = dF_dq, dF_dv, dF_da
+        M = np.triu(M) + np.swapaxes(np.triu(M, 1), 1, 2)  # Pinocchio fills the upper triangle
+        # d(q, v, a) / d(q_joints, u, du), columns (q, u, du) of m each
+        eye = np.eye(m)
+        dq = np.zeros((nv, 3 * m))
+        dq[jc, :m] = eye
+        dv = np.zeros((K, nv, 3 * m))
+        dv[:, jc, m:2 * m] = eye
+        dv[:, rc, :m] = -np.linalg.solve(Arr, Hq[:, :, jc])
+        dv[:, rc, m:2 * m] = -np.linalg.solve(Arr, Arj)
+        da = np.zeros((K, nv, 3 * m))
+        da[:, jc, 2 * m:] = eye
+        da[:, rc, :] = -np.linalg.solve(Arr, Dq @ dq + Dv @ dv + Arj @ da[:, jc, :])
+        J = Fq[:, jc, :] @ dq + Fv[:, jc, :] @ dv + M[:, jc, :] @ da  # (K, m, 3m)
+        partials = np.ascontiguousarray(np.swapaxes(J, 0, 1))
+    nu, dnu = V[:, rc].T.copy(), Acc[:, rc].T.copy()  # (vx, vy, omega) and its rate
+    return InverseDynamics(F[:, jc].T.copy(), F[:, root_rows].T.copy(), nu[2].copy(), dnu[2].copy(), nu, dnu,
+                           partials)
 
 
 @functools.lru_cache(maxsize=64)
