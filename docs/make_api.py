@@ -32,8 +32,11 @@ SECTIONS = [
                                                  "resimulate"]),
     ("Lie algebra tools", lie, ["bracket", "hall_basis", "hall_count", "evaluate", "derived_distributions",
                                 "growth_vector", "larc", "is_nilpotent", "is_exact", "frobenius"]),
-    ("Sweeps", importlib.import_module("acroplan.sweep"), ["sweep", "Sweep", "least_momentum",
-                                                           "acrobot_joint_torque"]),
+    ("Effort and optimal plans", acroplan, ["EnergyOptimal", "TorqueOptimal", "JointEffort",
+                                            "register_torque_model"]),
+    ("Least angular momentum", importlib.import_module("acroplan.families.acrobot.momentum"),
+     ["least_momentum", "MomentumBound", "somersault_table", "SomersaultTable"]),
+    ("Sweeps", importlib.import_module("acroplan.sweep"), ["sweep", "Sweep", "least_momentum"]),
     ("Sweeps", acroplan, ["run_sweep", "open_sweep", "load_sweep", "draw_map", "SweepSummary"]),
     ("Errors", acroplan, ["InvalidInputError"]),
 ]

@@ -23,7 +23,7 @@ from acroplan.core import backend
 from acroplan.core.errors import InvalidInputError
 from acroplan.io import store as st
 from acroplan.planning import PlanRequest
-from acroplan.sweep import acrobot_joint_torque, least_momentum, message_code, sweep
+from acroplan.sweep import least_momentum, message_code, sweep
 
 ROOT = pathlib.Path(__file__).parents[1]
 BODY = dict(torso_mass=40.0, leg_mass=20.0, torso_inertia=1.8, leg_inertia=1.2, torso_length=0.35, leg_length=0.45,
@@ -225,20 +225,26 @@ def test_least_momentum_says_why_when_there_is_none():
     assert math.isnan(least_momentum(unicycle)[0])
 
 
-def test_the_joint_torque_is_the_rate_of_the_kinetic_energy():
+def test_the_recorded_peak_torque_is_the_torque_model_of_the_plan():
+    """peak_torque is the system's torque model (the same as PlanResult.torques) on 65 points per
+    segment, and NaN for a system without one."""
+    from acroplan.sweep import TORQUE_SAMPLES, _metrics
+
     robot = _robot()
     res = acroplan.plan(robot, times=[0, 1.2], theta=[0, 2.5], phi=[-math.pi, -2.0], conditions="free")
-    seg = res.segments[0]
-    t = np.linspace(seg.t0, seg.t1, 20001)
-    u = seg.input(t)[0]
-    du = np.gradient(u, t)
-    phi = res.evaluate(t).phi
-    h, k = robot.h(phi), robot.k(phi)
-    thd = (robot.P0 - k * u) / h
-    energy = 0.5 * (h * thd ** 2 + 2 * k * thd * u + robot.M2 * u ** 2)
-    tau = acrobot_joint_torque(robot, phi, u, du)
-    power = np.gradient(energy, t)
-    assert np.max(np.abs(power - tau * u)[5:-5]) <= 1e-5 * np.max(np.abs(tau * u))
+    assert res.success
+    _, _, peak = _metrics(res)
+    s = np.linspace(0.0, 1.0, TORQUE_SAMPLES)
+    best = 0.0
+    for seg in res.segments:
+        tau, _ = res.torques(seg.t0 + s * (seg.t1 - seg.t0))
+        best = max(best, float(np.max(np.abs(tau))))
+    assert peak == pytest.approx(best, rel=1e-12) and peak > 0
+    dense, _ = res.torques(np.linspace(0, 1.2, 20001))
+    assert best <= np.max(np.abs(dense)) <= best * 1.01
+    lumped = acroplan.Acrobot(robot.M1, robot.A1, robot.M2, robot.A2, robot.P0)
+    assert math.isnan(_metrics(acroplan.plan(lumped, times=[0, 1.2], theta=[0, 2.5], phi=[-math.pi, -2.0],
+                                             conditions="free"))[2])
 
 
 # ---------------------------------------------------------------------------------------------- points

@@ -42,8 +42,9 @@ What a point records
 ``status`` (0 success, 1 infeasible, 2 not converged, 3 invalid point; -1 not computed), ``message``
 (a code: the CRC-32 of the message with its numbers replaced by ``#``; the store keeps the table),
 ``effort`` (the integral of the sum of squared inputs over the plan), ``peak_rate`` (max |u|,
-exact), ``peak_torque`` (the acrobot's joint torque, max |tau| on 65 points per segment; NaN for
-other systems), ``final_error`` and ``verified_error`` (the worst segment's), ``evaluations``,
+exact), ``peak_torque`` (the largest joint torque of the system's torque model, max |tau| on 65 points
+per segment; NaN for a system without one: kinematic systems, an acrobot given by lumped
+parameters only), ``final_error`` and ``verified_error`` (the worst segment's), ``evaluations``,
 ``segments``, ``seconds`` (wall time of the point), and each derived quantity asked for. With
 ``plan=False`` only the derived quantities are computed, and ``status`` is theirs.
 
@@ -76,7 +77,7 @@ from .core import backend
 from .core.basis import InputBasis
 from .core.errors import InvalidInputError
 from .core.limits import Limits
-from .core.system import ControlAffineSystem
+from .core.system import ControlAffineSystem, torque_model_of
 from .families.acrobot.momentum import least_momentum as _least
 from .families.acrobot.model import Acrobot
 from .families.acrobot.reach import reachable_set
@@ -84,7 +85,7 @@ from .planning import PlanRequest
 from .planning import plan as _plan
 
 __all__ = ["Sweep", "sweep", "DERIVED", "STATUS_CODES", "FORMAT", "message_code", "message_template",
-           "least_momentum", "acrobot_joint_torque", "run_chunk", "warm_worker", "resolve_field", "from_definition",
+           "least_momentum", "run_chunk", "warm_worker", "resolve_field", "from_definition",
            "canonical_json"]
 
 #: Version of the definition's canonical form and of the store's layout.
@@ -490,31 +491,6 @@ DERIVED: dict[str, Derived] = {
 
 
 # ---------------------------------------------------------------------------------------------- metrics
-def acrobot_joint_torque(robot: Acrobot, phi, u, udot) -> np.ndarray:
-    """The joint torque that drives the acrobot's joint along ``phi(t)`` with rate ``u`` and
-    acceleration ``udot`` (arrays), in flight (no external force or torque).
-
-    The kinetic energy in the centre-of-mass frame is
-    :math:`E = \\tfrac12 (h\\dot\\theta^2 + 2k\\dot\\theta\\dot\\varphi + M_2\\dot\\varphi^2)` with
-    :math:`h, k` of text eq. (2); theta is cyclic (:math:`P_0 = h\\dot\\theta + k\\dot\\varphi`), and
-    Lagrange's equation for phi gives
-
-    .. math::  \\tau = k\\,\\ddot\\theta + M_2\\,\\dot u - \\tfrac12 h'(\\varphi)\\,\\dot\\theta^2 ,\\qquad
-               \\dot\\theta = \\frac{P_0 - k u}{h},\\quad
-               \\ddot\\theta = \\frac{-k' u^2 - k\\dot u}{h} - \\frac{(P_0 - k u)\\,h' u}{h^2} .
-
-    In the units of the lumped parameters (kg m^2 and rad/s: N m). The power :math:`\\tau u` is the
-    rate of change of :math:`E` (``tests/test_sweep.py``).
-    """
-    phi, u, udot = (np.asarray(a, dtype=float) for a in (phi, u, udot))
-    c, s = np.cos(phi), np.sin(phi)
-    h, dh = robot.M1 + robot.A1 * c, -robot.A1 * s
-    k, dk = robot.M2 + robot.A2 * c, -robot.A2 * s
-    thd = (robot.P0 - k * u) / h
-    thdd = (-dk * u * u - k * udot) / h - (robot.P0 - k * u) * dh * u / (h * h)
-    return k * thdd + robot.M2 * udot - 0.5 * dh * thd * thd
-
-
 @functools.cache
 def _grid(basis_cls, n):
     """Values, derivatives and integrals of the basis on TORQUE_SAMPLES points of [0, 1]."""
@@ -570,10 +546,13 @@ def _peak_legendre(c, values) -> float:
 def _metrics(result) -> tuple[float, float, float]:
     """``(effort, peak_rate, peak_torque)`` of a successful plan: the effort exactly (Gram matrix of
     the basis), the peak rate exactly (:func:`_peak_legendre`, or the segment's own extremes for
-    another basis), the torque on :data:`TORQUE_SAMPLES` points per segment."""
+    another basis), the largest joint torque of the system's torque model
+    (:meth:`~acroplan.core.system.ControlAffineSystem.torque_model`, the same torques as
+    :meth:`PlanResult.torques <acroplan.core.result.PlanResult.torques>`) on
+    :data:`TORQUE_SAMPLES` points per segment; NaN for a system without one."""
     effort, peak, torque = 0.0, 0.0, math.nan
-    acro = isinstance(result.system, Acrobot)
-    if acro:
+    model, _ = torque_model_of(result.system)
+    if model is not None:
         torque = 0.0
     for seg in result.segments:
         basis = result.basis_for(seg)
@@ -585,15 +564,15 @@ def _metrics(result) -> tuple[float, float, float]:
         else:
             G = _gram(type(basis), basis.n)
             effort += T * float(np.einsum("ji,ik,jk->", C, G, C))
-        _, V, D, Ig = _grid(type(basis), basis.n)
+        s, V, _, _ = _grid(type(basis), basis.n)
         U = C @ V.T
         if legendre:
             peak = max(peak, max(_peak_legendre(C[j], U[j]) for j in range(C.shape[0])))
         else:
             peak = max(peak, seg.max_abs_u)
-        if acro:
-            c = C[0]
-            tau = acrobot_joint_torque(result.system, seg.start[1] + T * (Ig @ c), U[0], (D @ c) / T)
+        if model is not None:
+            out = model(result.system, basis, np.asarray(seg.start, dtype=float), T, C, s)
+            tau = out[0] if isinstance(out, tuple) else out
             torque = max(torque, float(np.max(np.abs(tau))))
     return effort, peak, torque
 

@@ -83,10 +83,11 @@ def _flatten(table: Mapping, prefix: str = "") -> dict:
     return out
 
 
-def parse_sweep(data: dict, name: str = "") -> _sw.Sweep:
+def parse_sweep(data: dict, name: str = "", base=None) -> _sw.Sweep:
     """A :class:`~acroplan.sweep.Sweep` from a parsed TOML document: the problem file's tables
-    (``[robot]``, ``[plan]``, ``[limits]``, ``[options]``) and a ``[sweep]`` table with
-    ``[sweep.grid]`` or ``[sweep.sample]`` (docs/sweeps.md)."""
+    (``[robot]`` or ``[body]``, ``[plan]``, ``[limits]``, ``[options]``) and a ``[sweep]`` table with
+    ``[sweep.grid]`` or ``[sweep.sample]`` (docs/sweeps.md). ``base`` is the file's folder: a URDF
+    named in ``[body]`` is read relative to it."""
     if not isinstance(data, dict):
         raise InvalidInputError("<file>", "must be a TOML document", "see docs/sweeps.md")
     if "sweep" not in data:
@@ -94,7 +95,7 @@ def parse_sweep(data: dict, name: str = "") -> _sw.Sweep:
                                 "(docs/sweeps.md)")
     table = data["sweep"]
     _check_keys("sweep", table, SWEEP_KEYS)
-    problem = parse_problem({k: v for k, v in data.items() if k != "sweep"}, name=name)
+    problem = parse_problem({k: v for k, v in data.items() if k != "sweep"}, name=name, base=base)
     extra = table.get("options", {})
     _check_keys("sweep.options", extra, tuple(k for k in _sw._PLAN_KEYWORDS
                                               if k not in ("times", "limits", "state_bounds")))
@@ -141,7 +142,7 @@ def parse_sweep(data: dict, name: str = "") -> _sw.Sweep:
 
 def load_sweep(path) -> _sw.Sweep:
     """Read and validate a sweep file (a problem file with a ``[sweep]`` table)."""
-    return parse_sweep(load_toml(path), name=Path(path).stem)
+    return parse_sweep(load_toml(path), name=Path(path).stem, base=Path(path).parent)
 
 
 # ================================================================================================ the store
