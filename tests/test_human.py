@@ -18,11 +18,13 @@ import acroplan
 from acroplan.core.errors import InvalidInputError
 from acroplan.families.acrobot.reach import reachable_set
 from acroplan.families.human import (POSITIONS, SagittalBody, de_leva_table, flight_time, from_height_mass,
-                                     from_yeadon, hip_rate_literature, human_data, human_limits, position)
+                                     from_yeadon, hip_rate_literature, hip_torque_literature, human_data,
+                                     human_limits, least_momentum_table, position)
 from acroplan.families.human import body as body_module
 from acroplan.families.human import deleva as deleva_module
 from acroplan.families.human import examples as examples_module
 from acroplan.families.human import limits as limits_module
+from acroplan.families.human import momentum as momentum_module
 from acroplan.families.human import yeadon_body as yeadon_module
 from acroplan.families.human.examples import platform_dive
 from acroplan.families.human.yeadon_body import load_human, whole_body
@@ -235,7 +237,7 @@ def test_limits_data_have_sources_or_are_marked_estimates():
     data = human_data()
     sources = data["sources"]
     n = 0
-    for group in ("hip", "knee", "shoulder", "rates"):
+    for group in ("hip", "knee", "shoulder", "rates", "torques"):
         for name, entry in data[group].items():
             n += 1
             assert entry["estimate"] or entry["source"] in sources, (group, name)
@@ -245,6 +247,9 @@ def test_limits_data_have_sources_or_are_marked_estimates():
     assert hip_rate_literature() == (11.0, 12.8)  # Murtaugh (2000); Murtaugh & Miller (2001)
     assert data["rates"]["hip"]["source"] == "Murtaugh2000"
     assert data["hip"]["extension"]["value"] == 30.0 and not data["hip"]["extension"]["estimate"]  # AAOS
+    # an elite gymnast's largest isometric hip torques, one hip (Jackson 2010, tabulated by Millard et al. 2019)
+    assert (data["torques"]["hip_flexion"]["value"], data["torques"]["hip_extension"]["value"]) == (157.3, 175.7)
+    assert hip_torque_literature() == (314.6, 351.4) and hip_torque_literature(both=False) == (157.3, 175.7)
 
 
 def test_positions_map_to_two_and_three_part_limits(male1):
@@ -292,15 +297,60 @@ def test_flight_time_is_the_fall_from_the_rise():
 
 ENERGY = "objective" in inspect.signature(acroplan.plan).parameters  # plan(objective=) is issue #13's
 
+# (objective, through_pike): the default problem energy-optimal (the default) and feasible, and the
+# four-waypoint reference problem's feasible plan (its energy-optimal plan is the boundary layers of
+# docs/human.md, not a human motion)
+DIVES = [("energy", False), (None, False), (None, True)]
 
-@pytest.fixture(scope="module", params=[None, "energy"])
-def dive(request, male1):
-    """The dive planned as the feasible plan (objective=None) and as the energy-optimal one (once
-    plan() has the keyword)."""
-    if request.param == "energy" and not ENERGY:
-        pytest.skip("acroplan.plan has no objective= yet")
-    d = platform_dive(male1, objective=request.param)
-    return d, acroplan.plan(d.robot, **d.kw)
+
+@pytest.fixture(scope="module")
+def planned(male1):
+    """The dives planned once each, on first use: ``planned(objective, through_pike)``."""
+    cache = {}
+
+    def get(objective, through):
+        if objective is not None and not ENERGY:
+            pytest.skip("acroplan.plan has no objective= yet")
+        if (objective, through) not in cache:
+            d = platform_dive(male1, objective=objective, through_pike=through)
+            cache[objective, through] = d, acroplan.plan(d.robot, **d.kw)
+        return cache[objective, through]
+
+    return get
+
+
+@pytest.fixture(params=DIVES, ids=["default", "default-feasible", "through-pike-feasible"])
+def dive(request, planned):
+    return planned(*request.param)
+
+
+@pytest.fixture
+def default_dive(planned):
+    return planned("energy", False)
+
+
+@pytest.fixture
+def reference_dive(planned):
+    return planned(None, True)
+
+
+def test_platform_dive_default_problem(male1):
+    """What a user gets without options: two waypoints (take-off and entry straight at the hips), the
+    hip rates free at both, the pike's limits, energy-optimal; through_pike=True is the reference
+    problem with the hips at rest at take-off and entry."""
+    d = platform_dive(male1)
+    assert d.kw["times"] == [0.0, d.flight_time] and not d.through_pike
+    assert d.kw["theta"] == [-0.5 * math.pi, -0.5 * math.pi + 7 * math.pi]
+    assert d.kw["phi"] == [male1.phi(0.0)] * 2
+    assert d.kw["conditions"] == "free" and d.kw["objective"] == "energy"
+    assert "start_rate" not in d.kw and "end_rate" not in d.kw
+    assert d.kw["limits"] == human_limits(male1, "pike")
+    ref = platform_dive(male1, through_pike=True)
+    assert len(ref.kw["times"]) == 4 and ref.kw["start_rate"] == ref.kw["end_rate"] == 0.0
+    assert ref.P0 == d.P0  # the same momentum, set by the same reference motion
+    with pytest.raises(InvalidInputError) as e:
+        platform_dive(male1, through_pike="yes")
+    assert e.value.field == "through_pike"
 
 
 def test_platform_dive_momentum_is_the_exact_least_with_a_margin(dive):
@@ -331,10 +381,11 @@ def test_platform_dive_momentum_is_the_exact_least_with_a_margin(dive):
             return np.array([-ref.pike / ref.ramp * du(s_out)])
         return np.array([0.0])
 
-    sim = acroplan.simulate(d.robot, times=d.kw["times"], inputs=u, n_coefficients=6, theta=theta0,
-                            phi=d.kw["phi"][0])
+    times = [0.0, ref.ramp, d.flight_time - ref.ramp, d.flight_time]
+    sim = acroplan.simulate(d.robot, times=times, inputs=u, n_coefficients=6, theta=theta0, phi=d.kw["phi"][0])
     assert sim.waypoints[-1, 0] - theta0 == pytest.approx(7 * math.pi, abs=1e-9)
-    assert np.allclose(sim.waypoints[:, 0], d.kw["theta"], rtol=0, atol=1e-9)  # the pike waypoints' theta
+    if d.through_pike:  # the pike waypoints' theta are the reference's
+        assert np.allclose(sim.waypoints[:, 0], d.kw["theta"], rtol=0, atol=1e-9)
     assert sim.waypoints[-1, 1] == pytest.approx(d.kw["phi"][-1], abs=1e-12)
     assert d.P0 > d.least.P0 and d.margin == pytest.approx(0.149, abs=1e-3)
 
@@ -352,6 +403,7 @@ def test_platform_dive_with_a_given_margin(male1):
 def test_platform_dive_stays_inside_the_divers_limits(dive):
     d, res = dive
     assert res.status == "success", res.message
+    assert res.verified
     assert getattr(res, "objective", None) == d.kw.get("objective")
     t = np.linspace(0.0, d.flight_time, 40001)
     s = res.evaluate(t)
@@ -367,13 +419,134 @@ def test_platform_dive_stays_inside_the_divers_limits(dive):
     # the rate limit, and the literature's peak hip flexion rate of elite platform divers
     assert np.abs(u).max() <= 12.0 + 1e-9
     assert np.abs(u).max() < hip_rate_literature()[1]
-    # take-off and entry straight, hips at rest
+    # take-off and entry straight
     assert psi[0] == pytest.approx(0.0, abs=1e-12) and psi[-1] == pytest.approx(0.0, abs=1e-12)
-    assert u[0] == pytest.approx(0.0, abs=1e-9) and u[-1] == pytest.approx(0.0, abs=1e-9)
+    if d.through_pike:  # the hips at rest at take-off and entry
+        assert u[0] == pytest.approx(0.0, abs=1e-9) and u[-1] == pytest.approx(0.0, abs=1e-9)
+    else:  # the rates free: the diver leaves the platform piking and enters opening
+        assert u[0] > 3.0 and u[-1] < -3.0
+
+
+def test_default_dive_is_energy_optimal_and_humanly_possible(default_dive):
+    """The default plan (the energy-optimal plan of the two-waypoint problem): converged, peak hip rate
+    below the lower literature value (11.0 rad/s), peak hip torques (both hips) below an elite
+    gymnast's largest isometric hip flexion and extension torques (Jackson 2010), and
+    PlanResult.effort() agreeing with the sampled torques."""
+    d, res = default_dive
+    assert res.status == "success" and res.verified, res.message
+    opt = [seg.optimality for seg in res.segments]
+    assert len(opt) == 1 and opt[0]["objective"] == "energy"
+    assert opt[0]["kkt"] <= opt[0]["kkt_tol"] == 1e-8 and opt[0]["kkt_converged"] and opt[0]["converged"]
+    t = np.linspace(0.0, d.flight_time, 40001)
+    s = res.evaluate(t)
+    u, tau = s.inputs[0], s.torques[0]
+    assert np.abs(u).max() < hip_rate_literature()[0]  # 11.0 rad/s
+    flexion, extension = hip_torque_literature()
+    assert tau.max() < flexion and -tau.min() < extension
+    assert np.abs(tau).max() < 300.0  # measured 235.5 N m (docs/human.md); thousands with through_pike
+    psi = d.body.hip_flexion(s.states[1])
+    assert psi.max() > math.radians(145)  # a deep pike
+    effort = res.effort()
+    assert set(effort) == {"phi"}
+    e = effort["phi"]
+    assert e.peak_torque >= np.abs(tau).max() - 1e-9 and e.peak_torque == pytest.approx(np.abs(tau).max(), rel=1e-6)
+    assert e.torque_squared == pytest.approx(np.trapezoid(tau**2, t), rel=1e-6)
+    assert e.input_squared == pytest.approx(opt[0]["integral_u2"], rel=1e-10)
+    assert e.net_work == pytest.approx(np.trapezoid(tau * u, t), abs=1e-3)
+
+
+def test_effort_of_the_reference_problem(reference_dive):
+    """PlanResult.effort() on the plan with four waypoints (three segments), against sampled torques."""
+    d, res = reference_dive
+    e = res.effort()["phi"]
+    t = np.linspace(0.0, d.flight_time, 60001)
+    s = res.evaluate(t)
+    tau, u = s.torques[0], s.inputs[0]
+    assert len(res.segments) == 3
+    assert e.peak_torque == pytest.approx(np.abs(tau).max(), rel=1e-6)
+    assert e.torque_squared == pytest.approx(np.trapezoid(tau**2, t), rel=1e-5)
+    assert e.input_squared == pytest.approx(np.trapezoid(u**2, t), rel=1e-6)
+
+
+# ------------------------------------------------------------------------------------------- least momentum
+@pytest.fixture(scope="module")
+def coach():
+    """The coach's table for male1 with the 10 m platform's flight among the flight times."""
+    return least_momentum_table(flight_times=(1.2, 1.4, flight_time(10.0, 0.2), 1.8))
+
+
+def test_least_momentum_table_is_monotone_and_ordered(coach):
+    P = coach.P0
+    assert coach.positions == ("pike", "tuck", "straight") and P.shape == (3, 4, 4)
+    assert np.all(np.isfinite(P)) and np.all(P > 0)
+    assert np.all(np.diff(P, axis=1) > 0)  # more somersaults need more momentum
+    assert np.all(np.diff(P, axis=2) < 0)  # longer flights less
+    pike, tuck, straight = P
+    assert np.all(straight > pike) and np.all(pike > tuck)
+    # take-off and entry at the same hip angle: the least momentum is 2 pi n / J+(T), proportional to n
+    per = P / coach.somersaults[None, :, None]
+    assert np.allclose(per, per[:, :1, :], rtol=1e-9, atol=0)
+    # the headline dive's least momentum: the same number from the table
+    assert coach.least("pike", 3.5, flight_time(10.0, 0.2)) == pytest.approx(57.2125, abs=1e-4)
+    assert coach.least("pike", 3.5, flight_time(10.0, 0.2)) == pytest.approx(platform_dive(
+        coach.bodies["pike"], objective=None).least.P0, rel=1e-12)
+    # tuck: the legs built with the knees at the position's angle, the limits carry the offset
+    assert coach.bodies["tuck"].knee_flexion == position("tuck").knee_flexion
+    assert coach.limits["tuck"] == human_limits(coach.bodies["tuck"], "tuck")
+    md = coach.to_markdown()
+    assert md.count("\n") == 1 + 12 and "| straight | 4.5 |" in md
+
+
+@pytest.mark.parametrize("name,n,T", [("tuck", 2.5, 1.4), ("straight", 1.5, 1.8)])
+def test_least_momentum_is_where_plans_start_to_exist(coach, name, n, T):
+    """1.01 times the least momentum: the planner finds a motion within the position's limits;
+    0.99 times: refused as infeasible, with the exact reachable interval as the proof."""
+    robot, kw = coach.problem(name, n, T, factor=1.01)
+    res = acroplan.plan(robot, **kw)
+    assert res.status == "success", res.message
+    s = res.evaluate(np.linspace(0.0, T, 20001))
+    assert s.states[0, -1] - s.states[0, 0] == pytest.approx(2 * math.pi * n, abs=1e-9)
+    lo, hi = coach.limits[name].bounds("phi")
+    assert s.states[1].min() >= lo - 1e-9 and s.states[1].max() <= hi + 1e-9
+    assert np.abs(s.inputs[0]).max() <= 12.0 + 1e-9
+    robot, kw = coach.problem(name, n, T, factor=0.99)
+    res = acroplan.plan(robot, **kw)
+    assert res.status == "infeasible", res.message
+    assert "outside the reachable" in res.message
+
+
+def test_least_momentum_table_inputs(male1):
+    with pytest.raises(InvalidInputError) as e:
+        least_momentum_table(male1, positions=("tuck",), somersaults=[1.5], flight_times=[1.5])  # straight knees
+    assert e.value.field == "position"
+    t = least_momentum_table(male1, positions=("pike", "straight"), somersaults=[2.5], flight_times=[1.5])
+    assert t.P0.shape == (2, 1, 1) and t.table("straight").P0[0, 0] == t.P0[1, 0, 0]
+    for kw, field in (({"somersaults": [-1.0]}, "somersaults"), ({"flight_times": [0.0]}, "flight_times"),
+                      ({"positions": ("pike", "pike")}, "positions"), ({"positions": ("layout",)}, "position")):
+        with pytest.raises(InvalidInputError) as e:
+            least_momentum_table(male1, **kw)
+        assert e.value.field == field
+    with pytest.raises(InvalidInputError) as e:
+        t.least("tuck", 2.5, 1.5)
+    assert e.value.field == "position"
+
+
+def test_least_momentum_figure(coach):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig = coach.plot()
+    axes = [ax for ax in fig.axes if ax.get_lines()]
+    assert len(axes) == 3
+    assert len(axes[0].get_lines()) == 4 + 2  # a line per somersault count, the two boards' flights
+    plt.close(fig)
 
 
 # ------------------------------------------------------------------------------------------- docs
-@pytest.mark.parametrize("module", [body_module, deleva_module, limits_module, examples_module, yeadon_module])
+@pytest.mark.parametrize("module", [body_module, deleva_module, limits_module, examples_module, yeadon_module,
+                                    momentum_module])
 def test_docstring_examples(module):
     failures, _ = doctest.testmod(module, verbose=False)
     assert failures == 0

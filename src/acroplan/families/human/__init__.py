@@ -9,15 +9,21 @@
 * :mod:`~.deleva`: :func:`from_height_mass`, from stature and mass by de Leva's (1996) tables;
 * :mod:`~.limits`: joint ranges and rates with their sources, the diving positions,
   :func:`human_limits`;
-* :mod:`~.examples`: :func:`platform_dive_pike`, the 10 m platform dive in pike.
+* :mod:`~.examples`: :func:`platform_dive_pike`, the 10 m platform dive in pike;
+* :mod:`~.momentum`: :func:`least_momentum_table`, the least angular momentum for n somersaults in
+  pike, tuck or straight position in a given flight time (exact for the two-link body).
 """
 
 from .body import Part, SagittalBody, combine
 from .deleva import de_leva_table, from_height_mass
 from .examples import PlatformDive, flight_time, platform_dive, platform_dive_pike
-from .limits import POSITIONS, Position, hip_rate_literature, human_data, human_limits, position
+from .limits import (POSITIONS, Position, hip_rate_literature, hip_torque_literature, human_data, human_limits,
+                     position)
+from .momentum import LeastMomentumTable, least_momentum_table
 from .yeadon_body import from_yeadon, load_human, sample_measurements
 
 __all__ = ["Part", "SagittalBody", "combine", "from_yeadon", "load_human", "sample_measurements", "from_height_mass",
-           "de_leva_table", "human_limits", "human_data", "hip_rate_literature", "Position", "POSITIONS", "position",
-           "flight_time", "PlatformDive", "platform_dive", "platform_dive_pike"]
+           "de_leva_table", "human_limits", "human_data", "hip_rate_literature", "hip_torque_literature", "Position",
+           "POSITIONS", "position",
+           "flight_time", "PlatformDive", "platform_dive", "platform_dive_pike", "LeastMomentumTable",
+           "least_momentum_table"]

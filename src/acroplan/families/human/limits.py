@@ -27,6 +27,10 @@ Rates: hip :math:`|\\dot\\psi| \\le` 12 rad/s, between the mean peak hip flexion
 10 m platform divers (11.0 and 12.8 rad/s: Murtaugh 2000; Murtaugh & Miller 2001, J. Appl.
 Biomech. 17:312-325); shoulder 15 rad/s (an estimate). Shoulder range: -60 to 180 degrees
 (AAOS 1965).
+
+Torques (not limits of the plans, a yardstick for them): the largest active isometric hip flexion
+and extension torques of an elite male gymnast, 157.3 and 175.7 N m a hip (Jackson 2010, as
+tabulated by Millard et al. 2019): :func:`hip_torque_literature`.
 """
 
 from __future__ import annotations
@@ -41,7 +45,8 @@ from ...core.errors import InvalidInputError, finite_number
 from ...core.limits import Limits
 from .body import SagittalBody
 
-__all__ = ["human_data", "Position", "POSITIONS", "position", "human_limits", "hip_rate_literature"]
+__all__ = ["human_data", "Position", "POSITIONS", "position", "human_limits", "hip_rate_literature",
+           "hip_torque_literature"]
 
 
 @functools.lru_cache(maxsize=1)
@@ -62,6 +67,24 @@ def hip_rate_literature() -> tuple[float, float]:
     (``data/limits.toml``, ``rates.hip.literature``)."""
     lo, hi = human_data()["rates"]["hip"]["literature"]
     return float(lo), float(hi)
+
+
+def hip_torque_literature(both: bool = True) -> tuple[float, float]:
+    """The largest active isometric hip torques of an elite male gymnast (N m): ``(flexion,
+    extension)``, ``(314.6, 351.4)`` for both hips together (the two-link body's hip joint),
+    ``(157.3, 175.7)`` for one (``both=False``). Jackson (2010) as tabulated by Millard et al.
+    (2019) (``data/limits.toml``, ``torques``): at the strongest hip angle and at rest, so a bound
+    of what a strong athlete's hips give, not a typical man's (Anderson et al. 2007's young men,
+    0.113 and 0.161 body weight times height a hip: about 112 and 160 N m at 58.2 kg and 1.74 m).
+
+    Examples
+    --------
+    >>> hip_torque_literature()
+    (314.6, 351.4)
+    """
+    t = human_data()["torques"]
+    k = 2.0 if both else 1.0
+    return round(k * float(t["hip_flexion"]["value"]), 10), round(k * float(t["hip_extension"]["value"]), 10)
 
 
 @dataclasses.dataclass(frozen=True)
