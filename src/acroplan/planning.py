@@ -34,7 +34,7 @@ from .core.result import PlanResult, SegmentResult, Status
 from .core.budget import BudgetExceeded, budget
 from .core.strategies import STRATEGIES, Interval, IntervalOutcome, Strategy, resolve_strategy
 from .core.system import ControlAffineSystem, torque_model_of
-from .core.verify import VERIFY_METHODS, VERIFY_TOL, verify_plan
+from .core.verify import VERIFY_TOL, check_name, resolve_verify, verify_plan
 
 __all__ = ["plan", "warm_up", "PlanRequest", "CONDITIONS", "VERIFY_TOL", "DEFAULT_SIZE", "MAX_COEFFICIENTS",
            "TIME_LIMIT"]
@@ -237,18 +237,7 @@ class PlanRequest:
         if not (isinstance(tol, (int, float)) and not isinstance(tol, bool) and math.isfinite(tol) and tol > 0):
             raise InvalidInputError("tol", f"must be a positive number, got {tol!r}", "give for example 1e-10")
         max_evaluations = _whole("max_evaluations", max_evaluations, 2000)
-        has_own = type(system).family_errors is not ControlAffineSystem.family_errors
-        if verify is True:
-            verify = "family" if has_own else "ode"
-        elif verify is False:
-            verify = None
-        elif not isinstance(verify, str) or verify not in VERIFY_METHODS:
-            raise InvalidInputError("verify", f"must be True or False, or \"family\" or \"ode\", got {_short(verify)}",
-                                    "give True (the family's own independent check), \"ode\" or False")
-        elif verify == "family" and not has_own:
-            raise InvalidInputError("verify", f"\"family\" needs a check of the family's own, which "
-                                    f"{type(system).__name__} does not provide", "use True or \"ode\" (the DOP853 "
-                                    "re-simulation)")
+        verify = resolve_verify(system, verify)
         if time_limit is not None and not (isinstance(time_limit, (int, float, np.floating, np.integer))
                                            and not isinstance(time_limit, bool) and 0 < time_limit < math.inf):
             raise InvalidInputError("time_limit", f"must be a positive number of seconds or None, got "
@@ -540,8 +529,7 @@ def _solve(req: PlanRequest, progress) -> PlanResult:
             **common), req)
 
     # ---------------------------------------------------------------- independent check
-    check = (system.family_check or "the family's own check") if req.verify == "family" else \
-        "scipy DOP853 re-simulation"
+    check = check_name(system, req.verify)
     try:
         checked, bad, allowed = verify_plan(system, X[0], segments, req.verify)
     except BudgetExceeded as e:

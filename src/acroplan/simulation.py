@@ -21,7 +21,7 @@ from .core.errors import InvalidInputError
 from .core.result import PlanResult, Status
 from .core.strategies import make_segment
 from .core.system import ControlAffineSystem
-from .core.verify import verify_plan
+from .core.verify import check_name, resolve_verify, verify_plan
 from .planning import _vector
 
 __all__ = ["simulate"]
@@ -85,9 +85,12 @@ def simulate(system: ControlAffineSystem, *, times, inputs, basis="legendre", n_
     basis : {"legendre", "monomial"} or InputBasis
     n_coefficients : int
         Basis size for a function input.
-    verify : bool
-        Re-simulate with the independent integrator (scipy DOP853) and report the largest
-        disagreement; a disagreement above ``VERIFY_TOL`` makes the status ``not_converged``.
+    verify : bool or {"family", "ode"}
+        Check the motion independently and report the largest disagreement (a disagreement above
+        the allowance of :func:`~acroplan.core.verify.verify_plan` makes the status
+        ``not_converged``): ``True`` is the family's own check where it has one (Pinocchio's
+        centroidal momentum for bodies, the flat-output identity for the acrobot), else the scipy
+        DOP853 re-simulation; ``"ode"`` always the re-simulation.
     **initial : float
         The initial state, one keyword per state (``theta=0.0, phi=-3.14``).
 
@@ -121,8 +124,7 @@ def simulate(system: ControlAffineSystem, *, times, inputs, basis="legendre", n_
     if isinstance(n_coefficients, bool) or not isinstance(n_coefficients, (int, np.integer)) or n_coefficients < 1:
         raise InvalidInputError("n_coefficients", f"must be a whole number >= 1, got {n_coefficients!r}",
                                 "give for example 14")
-    if not isinstance(verify, bool):
-        raise InvalidInputError("verify", f"must be True or False, got {verify!r}", "give a boolean")
+    method = resolve_verify(system, verify)
     coefs = _coefficients(system, t, inputs, basis, int(n_coefficients))
     segments, states = [], [x]
     for k, (b, c) in enumerate(coefs):
@@ -139,14 +141,15 @@ def simulate(system: ControlAffineSystem, *, times, inputs, basis="legendre", n_
         states.append(x)
     X = np.array(states)
     common = dict(system=system, times=t, waypoints=X, conditions="given", basis=coefs[0][0])
-    if not verify:
+    if method is None:
         return PlanResult(status=Status.SUCCESS, message=f"simulated: {len(segments)} segment(s) (not independently "
                           "verified)", segments=tuple(segments), verified=False, **common)
-    checked, bad, allowed = verify_plan(system, X[0], segments)
+    checked, bad, allowed = verify_plan(system, X[0], segments, method)
     worst = max(s.verified_error for s in checked)
+    check = check_name(system, method)
     if bad is not None:
-        return PlanResult(status=Status.NOT_CONVERGED, message=f"not converged: the independent re-simulation (scipy "
-                          f"DOP853) disagrees at t = {bad.t1:g} by {bad.verified_error:.2e} > {allowed:.2g}",
-                          segments=checked, verified=True, **common)
+        return PlanResult(status=Status.NOT_CONVERGED, message=f"not converged: the independent check ({check}) "
+                          f"disagrees at t = {bad.t1:g} by {bad.verified_error:.2e} > {allowed:.2g}",
+                          segments=checked, verified=True, verification=method, **common)
     return PlanResult(status=Status.SUCCESS, message=f"simulated: {len(segments)} segment(s), independently verified "
-                      f"to {worst:.2e}", segments=checked, verified=True, **common)
+                      f"to {worst:.2e} ({check})", segments=checked, verified=True, verification=method, **common)

@@ -19,7 +19,7 @@ from scipy.integrate import solve_ivp
 from . import budget
 from .system import ControlAffineSystem
 
-__all__ = ["simulate_segment", "verify_plan", "RTOL", "ATOL", "VERIFY_TOL", "VERIFY_RTOL", "VERIFY_METHODS"]
+__all__ = ["simulate_segment", "verify_plan", "resolve_verify", "check_name", "RTOL", "ATOL", "VERIFY_TOL", "VERIFY_RTOL", "VERIFY_METHODS"]
 
 RTOL = 3e-14
 ATOL = 3e-14
@@ -136,3 +136,40 @@ def verify_plan(system: ControlAffineSystem, x0, segments, method: str = "ode"):
             if not err <= allowed:
                 bad = seg
     return tuple(checked), bad, allowed
+
+
+def resolve_verify(system: ControlAffineSystem, verify) -> str | None:
+    """The check ``verify`` asks for on ``system``: ``True`` is the family's own independent check
+    when the family has one (:meth:`ControlAffineSystem.family_errors`: Pinocchio for bodies, the
+    flat-output identity for the acrobot), else the DOP853 re-simulation; ``False`` is none.
+
+    Returns
+    -------
+    {"family", "ode"} or None
+
+    Raises
+    ------
+    InvalidInputError
+        ``verify`` is not one of True, False, "family", "ode", or "family" for a system without a
+        check of its own.
+    """
+    from .errors import InvalidInputError
+
+    has_own = type(system).family_errors is not ControlAffineSystem.family_errors
+    if verify is True:
+        return "family" if has_own else "ode"
+    if verify is False:
+        return None
+    if not isinstance(verify, str) or verify not in VERIFY_METHODS:
+        raise InvalidInputError("verify", f"must be True or False, or \"family\" or \"ode\", got {verify!r:.80}",
+                                "give True (the family's own independent check), \"ode\" or False")
+    if verify == "family" and not has_own:
+        raise InvalidInputError("verify", f"\"family\" needs a check of the family's own, which "
+                                f"{type(system).__name__} does not provide", "use True or \"ode\" (the DOP853 "
+                                "re-simulation)")
+    return verify
+
+
+def check_name(system: ControlAffineSystem, method: str) -> str:
+    """How a result message names the check ``method`` (:func:`resolve_verify`)."""
+    return (system.family_check or "the family's own check") if method == "family" else "scipy DOP853 re-simulation"
