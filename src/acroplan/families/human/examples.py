@@ -20,9 +20,9 @@ KKT residual 7.3e-10, 30 coefficients) with a peak hip rate of 6.90 rad/s (below
 literature value, 11.0 rad/s), the hips flexed up to 149.6 degrees (the pike's limit is 150) and
 a peak hip torque (both hips) of 235.5 N m, the flexors holding the pike against the spin: below
 an elite gymnast's largest isometric hip flexion torque, 314.6 N m for both hips
-(:func:`~acroplan.families.human.limits.hip_torque_literature`). It took 2.2 s (2 cores shared
-with other work; a new process compiles the integrators first, a few seconds more). docs/human.md
-gives the table, made by::
+(:func:`~acroplan.families.human.limits.hip_torque_literature`). It took 2.2 s and 4.0 s in two
+runs (2 cores shared with other work; a new process compiles the integrators first, a few seconds
+more). docs/human.md gives the table, made by::
 
     python -c "import acroplan; from acroplan.families.human.figures import dive_table; print(dive_table(acroplan.plan))"
 
