@@ -196,6 +196,9 @@ def main(debug):
       acroplan nilpotent --example chapter4 --out ch4    # Chapter 4
       acroplan plan --example diver-somersault --out diver --animate    # a planar body
       acroplan simulate --example space-robot-arm-loop --out loop       # what an arm loop does
+      acroplan plan my-dive.toml --out opt --objective energy --tau-max 40   # optimal, torque-limited
+      acroplan least-momentum --example pike-dive-limited --somersaults 1.5,2.5 --out mom
+                                                   # the exact least momentum (two-link body)
       acroplan init my-dive && acroplan plan my-dive.toml --out my-dive-out --animate
 
     Exit codes: 0 success, 2 invalid input, 3 infeasible (with proof), 4 not converged.
@@ -322,22 +325,40 @@ def init_cmd(name, example, force):
 @click.option("--animate", "do_animate", is_flag=True, help="Also write motion.gif and strobe.png.")
 @click.option("--time-limit", type=click.FloatRange(min=0, min_open=True), default=None,
               help="Wall-clock budget of each plan in seconds (default: the file's [options] time_limit, else 60).")
-def plan_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do_animate, time_limit):
+@click.option("--objective", type=click.Choice(["energy", "torque"]), default=None,
+              help="An optimal plan: least integral of u^2 (energy) or of tau^2 (torque; needs the physical "
+                   "body). Overrides the file's [options] objective.")
+@click.option("--tau-max", "tau_max", multiple=True, metavar="VALUE",
+              help="Torque limit |tau| <= VALUE: a number for every joint, or JOINT=VALUE (repeatable; joints "
+                   "not named have none). Overrides the file's [options] tau_max; implies an optimal plan.")
+def plan_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do_animate, time_limit, objective,
+             tau_max):
     """Plan a motion through the waypoints of PROBLEM (a TOML file) and write the results.
 
     \b
     Writes to OUT:
       solution.json      system (a body's link table), inputs (the joint each input drives),
-                         waypoints, segments (Legendre and power-basis coefficients per input),
-                         status, diagnostics
+                         waypoints, segments (Legendre and power-basis coefficients per input;
+                         an optimal plan's optimality diagnostics), objective, torque_limits,
+                         effort (per joint: peak |tau|, peak |power|, positive and net work,
+                         integrals of tau^2 and u^2), status, diagnostics
       trajectory.csv     t, theta, every joint angle, every rate (t,theta,phi,u for the
-                         acrobot), 200 samples per segment
+                         acrobot), and tau_<joint>, power_<joint> per joint when the body
+                         gives torques (its masses and inertias: the acrobot's physical
+                         keys, any [body]), 200 samples per segment
       input.png          the joint rates u(t), the text's Fig. 1
       states.png         theta(t) and each joint angle, waypoints marked, the text's Fig. 2
       continuation.png   target path against what was reached, smallest singular value
+      effort.png         joint torques (limits dotted) and power, when the body gives torques
     On exit code 3 (infeasible) or 4 (not converged) only solution.json is written. A planar
     body ([body] table) is checked independently by Pinocchio, the acrobot by a DOP853
     re-simulation.
+
+    \b
+    --objective energy|torque plans the least integral of u^2 or of tau^2 instead of the fast
+    feasible plan; --tau-max adds torque limits (and an energy-optimal plan unless an objective
+    is given). Both override the file's [options]; without plan.conditions in the file, an
+    optimal plan leaves the end rates free (conditions "free").
 
     PROBLEM may also be a folder of problem files, or a file of many problems ([[problem]] tables,
     each with an optional name): they are planned on all cores, each into OUT/NAME/, with
@@ -357,12 +378,17 @@ def plan_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do_ani
       acroplan plan --example pike-dive --out pike-dive-out
       acroplan plan --example three-rods-turn --out rods --animate
       acroplan plan my-dive.toml --out my-dive-out --force --format png,pdf --animate
+      acroplan plan my-dive.toml --out optimal --objective energy --tau-max phi=40
       acroplan plan many-dives/ --out results --no-plots
     """
-    if problem is not None and example is None and _is_batch(problem):
-        return _plan_batch(problem, out, force, quiet, as_json, no_plots, fmt)
     try:
-        prob = _load(problem, example)
+        overrides = _overrides(objective, tau_max)
+    except InvalidInputError as e:
+        _fail(str(e))
+    if problem is not None and example is None and _is_batch(problem):
+        return _plan_batch(problem, out, force, quiet, as_json, no_plots, fmt, overrides)
+    try:
+        prob = _load(problem, example, overrides)
         if time_limit is not None:
             import dataclasses
 
@@ -379,9 +405,7 @@ def plan_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do_ani
             with folder.write() as tmp:
                 _write_json(tmp / "solution.json", _solution_doc(result))
                 if result.success:
-                    _write_csv(result, tmp / "trajectory.csv")
-                    if not no_plots:
-                        _save(result.plot(), tmp, fmts)
+                    _write_plan_files(result, tmp, fmts, no_plots)
                     if do_animate:
                         _write_animation(tmp)
     except InvalidInputError as e:
@@ -389,10 +413,93 @@ def plan_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do_ani
     code = EXIT_BY_STATUS[result.status]
     d = result.to_dict()
     summary = {"command": "plan", "status": result.status.value, "message": result.message, "out": str(out),
-               "segments": len(result.segments), **d["diagnostics"], "infeasible": d["infeasible"]}
-    lines = [result.message, f"wrote {out}/"] if code == EXIT_SUCCESS else [
+               "segments": len(result.segments), **d["diagnostics"], "infeasible": d["infeasible"],
+               "objective": result.objective, "torque_limits": result.torque_limits,
+               "effort": (d.get("effort") or {}).get("joints")}
+    lines = [result.message] + _effort_lines(d) + [f"wrote {out}/"] if code == EXIT_SUCCESS else [
         result.message, f"diagnostics written to {out / 'solution.json'}"]
     _report(summary, as_json, quiet, lines, code)
+
+
+def _effort_lines(doc: dict) -> list[str]:
+    """One line per joint of a plan's effort block (peak torque and power, positive work)."""
+    joints = (doc.get("effort") or {}).get("joints") or {}
+    limits = doc.get("torque_limits") or {}
+    return [f"joint {j}: peak |tau| {e['peak_torque']:.6g}" + (f" (limit {limits[j]:g})" if j in limits else "") +
+            f", peak |power| {e['peak_power']:.6g}, positive work {e['positive_work']:.6g}, integral of tau^2 "
+            f"{e['torque_squared']:.6g}" for j, e in joints.items()]
+
+
+def _overrides(objective, tau_max) -> dict:
+    """The ``[options]`` that --objective and --tau-max write over the problem file's."""
+    out = {}
+    if objective is not None:
+        out["objective"] = objective
+    if tau_max:
+        number, table = None, {}
+        fix = "write --tau-max 50 (every joint), or --tau-max JOINT=50 once per limited joint"
+        for text in tau_max:
+            joint, sep, value = text.rpartition("=")
+            joint, value = joint.strip(), value.strip()
+            field = f"--tau-max {joint}" if sep else "--tau-max"
+            if sep and not joint:
+                raise InvalidInputError("--tau-max", f"{_one_line(text, 80)!r} names no joint", fix)
+            try:
+                v = float(value)
+            except ValueError:
+                raise InvalidInputError(field, f"{_one_line(value, 80)!r} is not a number", fix) from None
+            if sep:
+                if joint in table:
+                    raise InvalidInputError(field, "is given twice", "give each joint once")
+                table[joint] = v
+            elif number is not None:
+                raise InvalidInputError("--tau-max", "gives two numbers for every joint", "give one")
+            else:
+                number = v
+        if number is not None and table:
+            raise InvalidInputError("--tau-max", "mixes a number for every joint with JOINT=VALUE",
+                                    "give one number for every joint, or JOINT=VALUE for each limited joint")
+        out["tau_max"] = number if number is not None else table
+    return out
+
+
+def _override_error(e: InvalidInputError, overrides: dict) -> InvalidInputError:
+    """``e`` naming the command line's option when it is about a value the option gave."""
+    for key, flag in (("tau_max", "--tau-max"), ("objective", "--objective")):
+        head = f"options.{key}"
+        if key in overrides and (e.field == head or e.field.startswith(head + ".")):
+            rest = e.field[len(head) + 1:]
+            fix = e.fix.replace(f"leave {head} out", f"leave {flag} out").replace(
+                f"write {key} = ", f"give {flag} ")
+            return InvalidInputError(f"{flag} {rest}".strip(), e.problem, fix)
+    return e
+
+
+def _write_csv(result, path: Path, per_segment: int = 200, *, effort: bool = True) -> None:
+    """``per_segment`` samples per segment: the columns of :meth:`Samples.columns` (``t``, the states,
+    the inputs, and with ``effort`` when the system has a torque model ``tau_<joint>``,
+    ``power_<joint>``)."""
+    cols = result.sample(per_segment, effort=effort).columns()
+    np.savetxt(path, np.column_stack(list(cols.values())), delimiter=",", header=",".join(cols), comments="",
+               fmt="%.17g")
+
+
+def _write_plan_files(result, folder: Path, fmts, no_plots: bool) -> None:
+    """trajectory.csv and, unless ``no_plots``, the figures (effort.png when the plan gives torques)."""
+    _write_csv(result, folder / "trajectory.csv")
+    if no_plots:
+        return
+    import matplotlib.pyplot as plt
+
+    figs = result.plot()
+    try:
+        if result.has_torques:
+            figs["effort"] = result.plot("effort")
+    except BaseException:
+        for fig in figs.values():
+            plt.close(fig)
+        raise
+    _save(figs, folder, fmts)
 
 
 def _is_batch(path: Path) -> bool:
@@ -410,15 +517,16 @@ def _is_batch(path: Path) -> bool:
 EXIT_BY_BATCH_STATUS = {**EXIT_BY_STATUS, "invalid": EXIT_INVALID}
 
 
-def _batch_entries(path: Path):
+def _batch_entries(path: Path, overrides: dict | None = None):
     """[(name, Problem or None, message or None)] of a folder or a file of many problems.
 
     A folder: every ``*.toml`` file not hidden, named by its stem; a file that cannot be read or
     validated is kept with its message (naming the file), so that the others are planned. A file
     of many problems: any invalid entry, name or duplicate name refuses the whole file.
     """
-    from .problem import load_toml, parse_problem
+    from .problem import load_toml, parse_problem, with_options
 
+    overrides = overrides or {}
     entries = []
     if path.is_dir():
         files = sorted(f for f in path.glob("*.toml") if not f.name.startswith("."))
@@ -432,7 +540,12 @@ def _batch_entries(path: Path):
                     raise InvalidInputError(f"{f}: file name", f"gives the same output folder as {seen[name.lower()]}"
                                             " (names differ only in case)", "rename one of the files")
                 seen[name.lower()] = f.name
-                entries.append((name, load_problem(f), None))
+                try:
+                    prob = parse_problem(with_options(load_toml(f), overrides), name=f.stem, base=f.parent) \
+                        if overrides else load_problem(f)
+                except InvalidInputError as e:
+                    raise _override_error(e, overrides) from None
+                entries.append((name, prob, None))
             except InvalidInputError as e:
                 msg = str(e) if e.field.startswith(str(f)) else f"{f}: {e}"
                 entries.append((f.stem, None, _one_line(msg, 500)))
@@ -454,9 +567,11 @@ def _batch_entries(path: Path):
                                     " (names must differ, also in case)", "rename the duplicates")
         seen[name.lower()] = i
         try:
-            entries.append((name, parse_problem(entry, name=name, base=path.parent), None))
+            entries.append((name, parse_problem(with_options(entry, overrides), name=name, base=path.parent), None))
         except InvalidInputError as e:
-            raise InvalidInputError(f"problem[{i}].{e.field}", e.problem, e.fix) from None
+            e = _override_error(e, overrides)
+            raise InvalidInputError(e.field if e.field.startswith("--") else f"problem[{i}].{e.field}", e.problem,
+                                    e.fix) from None
     return entries
 
 
@@ -465,13 +580,13 @@ def _short_key(key) -> str:
     return r if len(r) <= 60 and r.isprintable() else repr(r)[:57] + "..."
 
 
-def _plan_batch(path, out, force, quiet, as_json, no_plots, fmt):
+def _plan_batch(path, out, force, quiet, as_json, no_plots, fmt, overrides=None):
     import csv
 
     from ..batch import plan_many
 
     try:
-        entries = _batch_entries(path)
+        entries = _batch_entries(path, overrides)
         fmts = _check_outputs(out, force, fmt, "results", [path])
         valid = [(n, p) for n, p, _ in entries if p is not None]
         with OutputFolder(out, force) as folder:
@@ -494,9 +609,7 @@ def _plan_batch(path, out, force, quiet, as_json, no_plots, fmt):
                     sub.mkdir()
                     _write_json(sub / "solution.json", _solution_doc(r))
                     if r.success:
-                        _write_csv(r, sub / "trajectory.csv")
-                        if not no_plots:
-                            _save(r.plot(), sub, fmts)
+                        _write_plan_files(r, sub, fmts, no_plots)
                     d = r.to_dict()["diagnostics"]
                     rows.append({"name": name, "status": str(r.status), "message": r.message.splitlines()[0],
                                  "segments": len(r.segments), "evaluations": d["evaluations"],
@@ -519,13 +632,6 @@ def _plan_batch(path, out, force, quiet, as_json, no_plots, fmt):
              "problems": rows}, as_json, quiet, lines, code)
 
 
-def _write_csv(result, path: Path, per_segment: int = 200) -> None:
-    s = result.sample(per_segment)
-    names = list(s.state_names) + list(s.input_names)
-    data = np.column_stack([s.t, s.states.T, s.inputs.T])
-    np.savetxt(path, data, delimiter=",", header="t," + ",".join(names), comments="", fmt="%.17g")
-
-
 @main.command("simulate")
 @click.argument("problem", required=False, type=click.Path(dir_okay=False, path_type=Path))
 @click.option("--example", metavar="NAME", help="Simulate a bundled example instead of a PROBLEM file.")
@@ -545,7 +651,8 @@ def simulate_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do
 
     \b
     Writes to OUT the same files as acroplan plan: solution.json (with the joint each input
-    drives, and how each was given), trajectory.csv, input.png, states.png. Exit code 0, or
+    drives, how each was given, and the effort when the body gives torques), trajectory.csv
+    (t, the states, the rates), input.png, states.png. Exit code 0, or
     4 when the independent check disagrees (only solution.json is written then).
 
     \b
@@ -570,7 +677,7 @@ def simulate_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do
             with folder.write() as tmp:
                 _write_json(tmp / "solution.json", _solution_doc(result, simulation=sim))
                 if result.success:
-                    _write_csv(result, tmp / "trajectory.csv")
+                    _write_csv(result, tmp / "trajectory.csv", effort=False)
                     if not no_plots:
                         _save(result.plot(), tmp, fmts)
                     if do_animate:
@@ -646,6 +753,188 @@ def reach_cmd(problem, example, out, force, quiet, as_json, fmt):
     ok = all(r["reachable"] is not False for r in rows)
     _report({"command": "reach", "reachable": ok, "segments": rows, "out": str(out)}, as_json, quiet,
             lines, EXIT_SUCCESS if ok else EXIT_INFEASIBLE)
+
+
+def _numbers_option(flag: str, text: str | None, example: str, most: int = 200) -> list[float] | None:
+    """A comma-separated list of positive numbers from the command line (at most ``most``)."""
+    if text is None:
+        return None
+    parts = [x.strip() for x in text.split(",") if x.strip()]
+    fix = f"give positive numbers separated by commas, for example {flag} {example}"
+    if not parts:
+        raise InvalidInputError(flag, "is empty", fix)
+    if len(parts) > most:
+        raise InvalidInputError(flag, f"gives {len(parts)} values, more than {most}", "give fewer")
+    out = []
+    for x in parts:
+        try:
+            v = float(x)
+        except ValueError:
+            raise InvalidInputError(flag, f"{_one_line(x, 40)!r} is not a number", fix) from None
+        if not (math.isfinite(v) and v > 0):
+            raise InvalidInputError(flag, f"{_one_line(x, 40)} is not a positive finite number", fix)
+        out.append(v)
+    return out
+
+
+def _limits_text(limits, joint: str = "phi", delta: float = 0.0, digits: int = 9) -> str:
+    """The two-link limits in the file's angles (the acrobot's less the joint offset ``delta``)."""
+    if limits is None or not limits.active:
+        return "no limits"
+    d = _two_link_limits(limits, delta)
+    parts = []
+    if d["joint_min"] is not None or d["joint_max"] is not None:
+        lo, hi = (-math.inf if d["joint_min"] is None else d["joint_min"]), \
+            (math.inf if d["joint_max"] is None else d["joint_max"])
+        parts.append(f"{joint} in [{lo:.{digits}g}, {hi:.{digits}g}]")
+    if d["u_max"] is not None:
+        parts.append(f"|u| <= {d['u_max']:.{digits}g}")
+    return ", ".join(parts) or "no limits"
+
+
+@main.command("least-momentum")
+@click.argument("problem", required=False, type=click.Path(dir_okay=False, path_type=Path))
+@click.option("--example", metavar="NAME", help="Use a bundled example instead of a PROBLEM file.")
+@common
+@click.option("--somersaults", metavar="N1,N2,...", help="Also the table: least momentum for these numbers of "
+              "somersaults (default with --flight-times: the file's turn).")
+@click.option("--flight-times", "flight_times", metavar="T1,T2,...", help="Also the table: for these flight times "
+              "in seconds (default with --somersaults: the file's).")
+@click.option("--no-plots", is_flag=True, help="Skip the figure.")
+@click.option("--format", "fmt", default="png", show_default=True, help="Figure formats: png, pdf or png,pdf.")
+def least_momentum_cmd(problem, example, out, force, quiet, as_json, somersaults, flight_times, no_plots, fmt):
+    """The exact least (and largest) angular momentum P0 for PROBLEM's turn, two-link body only.
+
+    \b
+    The turn is from the first to the last waypoint of [plan]: theta and the joint angle there,
+    in the whole flight time (interior waypoints are not imposed), under the file's [limits]
+    (the joint range, the rate limit). The reachable theta(T) is an exact interval whose ends
+    are affine and monotone in P0, so the least |P0| that turns that far is exact: with a
+    rate limit a plan at that P0 exists (attained); without one it is an infimum. The largest
+    is where even the slowest-turning motion turns too far. The file's own momentum is not
+    used. A body of three or more links is refused (exit 2): the exact answer exists for the
+    two-link body only.
+
+    \b
+    --somersaults and --flight-times add the coach's table: the least |P0| for each number of
+    somersaults (full turns of theta in the file's direction) in each flight time, with the
+    file's joint angles at take-off and entry and its limits.
+
+    \b
+    Writes to OUT (optional):
+      momentum.json        the turn, the limits, least and largest P0 (signed), whether
+                           attained, the file's P0, the table when asked for
+      momentum-table.md    the table (rows: somersaults, columns: flight time)
+      momentum-table.csv   somersaults, flight_time, least_abs_P0, message
+      momentum.png         least |P0| against flight time, one line per somersault count
+    Exit code 0, or 3 when no momentum achieves the turn (with the reason).
+
+    \b
+    Examples:
+      acroplan least-momentum --example pike-dive-limited
+      acroplan least-momentum my-dive.toml --somersaults 1.5,2.5,3.5 --flight-times 1.4,1.5,1.6 --out table
+    """
+    from ..families.acrobot.momentum import least_momentum, somersault_table
+
+    try:
+        prob = _load(problem, example)
+        S = _numbers_option("--somersaults", somersaults, "1.5,2.5,3.5")
+        F = _numbers_option("--flight-times", flight_times, "1.4,1.5,1.6")
+        fmts = _check_outputs(out, force, fmt, "momentum-out", [problem]) if out is not None else _formats(fmt)
+        acro, psi0, delta, joint, limits = prob.two_link()
+        times = prob.times
+        theta, q = prob.theta, prob.state(joint)
+        T = float(times[-1] - times[0])
+        turn = dict(theta0=float(theta[0]) + psi0, thetaT=float(theta[-1]) + psi0, phi0=float(q[0]) + delta,
+                    phiT=float(q[-1]) + delta, T=T)
+        least = least_momentum(acro, **turn, limits=limits, end="least")
+        most = least_momentum(acro, **turn, limits=limits, end="most")
+        table = None
+        if S is not None or F is not None:
+            from ..planning import MAX_DURATION, MIN_DURATION
+            from .problem import MAX_ANGLE
+
+            turned = abs(turn["thetaT"] - turn["theta0"])
+            if S is None and turned == 0.0:
+                raise InvalidInputError("--somersaults", "is needed: the file's turn is zero",
+                                        "give for example --somersaults 1.5,2.5,3.5")
+            S = S if S is not None else [turned / (2.0 * math.pi)]
+            F = F if F is not None else [T]
+            for n in S:
+                if 2.0 * math.pi * n > MAX_ANGLE:
+                    raise InvalidInputError("--somersaults", f"{n:g} somersaults turn beyond {MAX_ANGLE:g} rad, more "
+                                            "than the arithmetic carries", "give fewer somersaults")
+            for t in F:
+                if not MIN_DURATION <= t <= MAX_DURATION:
+                    raise InvalidInputError("--flight-times", f"{t:g} s is outside [{MIN_DURATION:g}, "
+                                            f"{MAX_DURATION:g}]", "rescale the units of time")
+            table = somersault_table(acro, somersaults=S, flight_times=F, phi0=turn["phi0"], phiT=turn["phiT"],
+                                     limits=limits, backward=turn["thetaT"] > turn["theta0"])
+        file_P0 = float(acro.P0)
+        doc = {
+            "command": "least-momentum",
+            "turn": {"theta0": float(theta[0]), "thetaT": float(theta[-1]), "joint": joint,
+                     "joint0": float(q[0]), "jointT": float(q[-1]), "T": T,
+                     "note": "from the first to the last waypoint in the whole flight time; interior waypoints "
+                             "are not imposed"},
+            "limits": None if limits is None else _two_link_limits(limits, delta),
+            "least": least.to_dict(), "most": most.to_dict(), "file_P0": file_P0,
+            "file_P0_enough": bool(least.success and most.success and file_P0 * least.P0 >= 0
+                                   and abs(least.P0) <= abs(file_P0) <= abs(most.P0)),
+            "method": "exact: the ends of the reachable interval of theta(T) are affine and monotone in P0; "
+                      "safeguarded false position on P0 to the last bit (acroplan.families.acrobot.momentum)",
+        }
+        if table is not None:
+            doc["table"] = {"somersaults": table.somersaults.tolist(), "flight_times": table.flight_times.tolist(),
+                            "least_abs_P0": table.P0.tolist(), "direction": "backward" if turn["thetaT"] >
+                            turn["theta0"] else "forward", "messages": [list(r) for r in table.messages]}
+        if out is not None:
+            with OutputFolder(out, force) as folder:
+                with folder.write() as tmp:
+                    _write_json(tmp / "momentum.json", doc)
+                    if table is not None:
+                        _write_momentum_table(table, tmp)
+                        if not no_plots:
+                            fig = table.plot()
+                            fig.axes[0].set_title(f"{prob.name or 'problem'}: least angular momentum "
+                                                  f"({_limits_text(limits, joint, delta, 4)})", fontsize=9)
+                            _save({"momentum": fig}, tmp, fmts)
+    except InvalidInputError as e:
+        _fail(str(e))
+    lines = [f"turn: theta {doc['turn']['theta0']:.9g} -> {doc['turn']['thetaT']:.9g} rad in {T:g} s, {joint} "
+             f"{doc['turn']['joint0']:.9g} -> {doc['turn']['jointT']:.9g} rad, {_limits_text(limits, joint, delta)}"]
+    for name, b in (("least", least), ("largest", most)):
+        lines.append(f"{name} angular momentum: P0 = {b.P0!r}" + (f" ({b.message})" if b.success else
+                                                                 f": {b.message}"))
+    if least.success:
+        lines.append(f"the file's P0 = {file_P0!r}: " + ("enough" if doc["file_P0_enough"] else "outside that range"))
+    if table is not None:
+        lines += ["least |P0| by somersaults (rows) and flight time (columns):", table.to_markdown(digits=3)]
+    if out is not None:
+        lines.append(f"wrote {out}/")
+    _report({**doc, "out": None if out is None else str(out)}, as_json, quiet, lines,
+            EXIT_SUCCESS if least.success else EXIT_INFEASIBLE)
+
+
+def _two_link_limits(limits, delta: float) -> dict:
+    """The limits in the file's angles (the acrobot's less the joint offset ``delta``)."""
+    lo, hi = limits.bounds("phi")
+    return {"joint_min": lo - delta if math.isfinite(lo) else None,
+            "joint_max": hi - delta if math.isfinite(hi) else None, "u_max": limits.input_bound("u")}
+
+
+def _write_momentum_table(table, folder: Path) -> None:
+    import csv
+
+    (folder / "momentum-table.md").write_text(table.to_markdown(digits=3) + "\n", encoding="utf-8")
+    with open(folder / "momentum-table.csv", "w", newline="", encoding="utf-8") as f:
+        w = csv.writer(f)
+        w.writerow(["somersaults", "flight_time", "least_abs_P0", "message"])
+        for i, n in enumerate(table.somersaults):
+            for j, t in enumerate(table.flight_times):
+                p0 = float(table.P0[i, j])
+                w.writerow([repr(float(n)), repr(float(t)), repr(p0) if math.isfinite(p0) else "",
+                            table.messages[i][j]])
 
 
 def _plot_intervals(prob, rows):
@@ -882,11 +1171,21 @@ def animate_cmd(folder, speed, fps, quiet):
         click.echo(f"wrote {folder}/motion.gif ({n} frames) and {folder}/strobe.png")
 
 
-def _load(problem, example):
+def _load(problem, example, overrides: dict | None = None):
     if (problem is None) == (example is None):
         raise InvalidInputError("PROBLEM", "give either a problem file or --example NAME, not both or neither",
                                 "for example: --example pike-dive")
-    return _examples.load(example) if example is not None else load_problem(problem)
+    if not overrides:
+        return _examples.load(example) if example is not None else load_problem(problem)
+    from .problem import load_toml, parse_problem, with_options
+
+    try:
+        if example is not None:
+            return _examples.load(example, options=overrides)
+        return parse_problem(with_options(load_toml(problem), overrides), name=Path(problem).stem,
+                             base=Path(problem).parent)
+    except InvalidInputError as e:
+        raise _override_error(e, overrides) from None
 
 
 from .store import map_cmd, sweep_cmd  # noqa: E402  (the sweep commands live with their store)

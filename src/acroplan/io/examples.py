@@ -14,7 +14,7 @@ from importlib import resources
 from pathlib import Path
 
 from ..core.errors import InvalidInputError
-from .problem import Problem, Simulation, parse_problem, parse_simulation
+from .problem import Problem, Simulation, parse_problem, parse_simulation, with_options
 
 __all__ = ["names", "load", "load_simulation", "robot", "text", "files", "command"]
 
@@ -71,9 +71,10 @@ def command(name: str) -> str:
     return "nilpotent" if "nilpotent" in data else "plan" if "plan" in data else "simulate"
 
 
-def load(name: str) -> Problem:
-    """The example as a validated :class:`~acroplan.io.problem.Problem`."""
-    data = tomllib.loads(text(name))
+def load(name: str, *, options: dict | None = None) -> Problem:
+    """The example as a validated :class:`~acroplan.io.problem.Problem`; ``options`` are written over
+    its ``[options]`` table first (``{"objective": "energy"}``: the command line's ``--objective``)."""
+    data = with_options(tomllib.loads(text(name)), options)
     if "nilpotent" in data:
         raise InvalidInputError("example", f"{name!r} is a nilpotentization problem",
                                 f"use: acroplan nilpotent --example {name}")

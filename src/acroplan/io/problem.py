@@ -32,6 +32,15 @@ reach``) and/or a ``[simulate]`` table (``acroplan simulate``)::
     n_coefficients = 6
     tol = 1e-10
     max_evaluations = 2000
+    objective = "energy"            # or "torque": an optimal plan (least integral of u^2 or tau^2)
+    tau_max = 50.0                  # |tau| <= 50 N m at every joint (needs the physical body) ...
+    # [options.tau_max]             # ... or per joint (joints not named have no torque limit)
+    # phi = 50.0                    # the acrobot's joint; a body's joints by name
+
+With ``objective`` or ``tau_max`` and no ``plan.conditions``, the conditions are :func:`acroplan.plan`'s
+default for optimal plans (``"free"``: the end inputs are left to the optimiser); otherwise
+``"spline"`` as always. Torques (``objective = "torque"``, ``tau_max``) need a body with its masses
+and inertias: the acrobot's physical keys, or any ``[body]``.
 
 A planar body (:class:`~acroplan.families.planar.model.PlanarBody`; state :math:`(\\theta, q_1,
 \\dots, q_{n-1})`, :math:`\\theta` the root link's angle, :math:`q_j` the joint angles named by
@@ -115,7 +124,7 @@ from ..families.acrobot.reach import reachable_set
 from ..planning import PlanRequest
 
 __all__ = ["Problem", "Simulation", "load_problem", "load_simulation", "parse_problem", "parse_simulation",
-           "parse_body", "system_to_dict"]
+           "parse_body", "system_to_dict", "with_options", "torque_joints"]
 
 PHYSICAL_KEYS = ("torso_mass", "leg_mass", "torso_inertia", "leg_inertia", "torso_length", "leg_length",
                  "angular_momentum")
@@ -189,7 +198,9 @@ class Problem:
         return self.waypoints[name]
 
     def plan_kwargs(self) -> dict[str, Any]:
-        """The keywords of :func:`acroplan.plan` for this problem (all but the system)."""
+        """The keywords of :func:`acroplan.plan` for this problem (all but the system). ``conditions`` is
+        ``None`` when the file asks for an optimal plan (``objective``, ``tau_max``) and gives no
+        ``plan.conditions``: :func:`acroplan.plan` then applies its default (``"free"``)."""
         return dict(times=self.times, **self.waypoints, conditions=self.conditions, **self.options)
 
     def solve(self, *, verify: bool | str = True, progress=None):
@@ -259,23 +270,49 @@ class Problem:
                                         "give every state at every waypoint for acroplan reach")
             yield k, np.array(x0, dtype=float), np.array(x1, dtype=float), self.times[k + 1] - self.times[k]
 
-    def _reach_two_links(self) -> list[dict]:
-        """The exact interval of a two-link body: it is an acrobot (``PlanarBody.as_acrobot``)."""
+    def two_link(self):
+        """The problem's body as the acrobot of text eq. (3), for the exact answers of the two-link body.
+
+        Returns
+        -------
+        (Acrobot, psi0, delta, joint, limits)
+            The acrobot, its angle offsets (:math:`\\theta_A = \\theta + \\psi_0`, :math:`\\varphi_A =
+            \\varphi + \\delta`: zero for a ``[robot]``), the joint's state name and the problem's limits
+            in the acrobot's angles (``None`` without limits).
+
+        Raises
+        ------
+        InvalidInputError
+            For a body that has not exactly two links (``body``).
+        """
+        if isinstance(self.system, Acrobot):
+            return self.system, 0.0, 0.0, "phi", (self.limits if self.limits.active else None)
         body = self.system
+        n = getattr(body, "n_links", None)
+        if n != 2:
+            raise InvalidInputError("body", f"has {n} links: the exact answer exists for the two-link body only "
+                                    "(it is an acrobot, whose reachable set is exact)",
+                                    "give a two-link body ([robot], or a [body] with two links); for more links "
+                                    "plan at several momenta (acroplan sweep, docs/sweeps.md)")
         acro, psi0, delta = body.as_acrobot()
         joint = body.links.joint_names[0]
         lim = self.limits
+        alim = None
+        if lim.active:
+            lo, hi = lim.bounds(joint)
+            U = lim.input_bound(f"u_{joint}")
+            sb = {"phi": (None if lo == -math.inf else lo + delta, None if hi == math.inf else hi + delta)} \
+                if (lo > -math.inf or hi < math.inf) else {}
+            alim = Limits(sb, {"u": U} if U is not None else None)
+        return acro, psi0, delta, joint, alim
+
+    def _reach_two_links(self) -> list[dict]:
+        """The exact interval of a two-link body: it is an acrobot (``PlanarBody.as_acrobot``)."""
+        acro, psi0, delta, joint, alim = self.two_link()
         out = []
         for k, x0, x1, T in self._segments():
             kw = dict(theta0=float(x0[0]) + psi0, phi0=float(x0[1]) + delta, phiT=float(x1[1]) + delta, T=T)
             free = reachable_set(acro, **kw)
-            alim = None
-            if lim.active:
-                lo, hi = lim.bounds(joint)
-                U = lim.input_bound(f"u_{joint}")
-                sb = {"phi": (None if lo == -math.inf else lo + delta, None if hi == math.inf else hi + delta)} \
-                    if (lo > -math.inf or hi < math.inf) else {}
-                alim = Limits(sb, {"u": U} if U is not None else None)
             R = reachable_set(acro, **kw, limits=alim) if alim is not None else free
             shift = lambda r: None if r.empty else [r.low - psi0, r.high - psi0]  # noqa: E731
             target = float(x1[0])
@@ -359,7 +396,8 @@ class Simulation:
         from ..simulation import simulate
 
         if verify != "family":
-            res = simulate(self.system, verify=bool(verify), **self.simulate_kwargs())
+            # "ode" by name: simulate(verify=True) is the family's own check when the family has one
+            res = simulate(self.system, verify="ode" if verify in (True, "ode") else False, **self.simulate_kwargs())
             return dataclasses.replace(res, verification="ode") if res.verified and res.verification is None else res
         from ..core.result import PlanResult, Status
         from ..core.verify import verify_plan
@@ -878,6 +916,78 @@ def _tol(field, v, system):
     return tol
 
 
+OBJECTIVES = ("energy", "torque")
+
+
+def _close(word, names) -> str:
+    """``'did you mean "x"? '`` for the nearest of ``names`` to ``word``, or nothing."""
+    import difflib
+
+    close = difflib.get_close_matches(word, list(names), n=1, cutoff=0.5) if isinstance(word, str) else []
+    return f"did you mean \"{close[0]}\"? " if close else ""
+
+
+def torque_joints(field: str, system) -> tuple[str, ...]:
+    """The joints of ``system``'s torque model (the acrobot's ``("phi",)``, a body's joint names), or
+    :class:`InvalidInputError` naming ``field`` when the system gives no torques."""
+    from ..core.system import torque_model_of
+
+    model, why = torque_model_of(system)
+    if model is None:
+        if isinstance(system, Acrobot):
+            raise InvalidInputError(field, "needs the joint torque, and this [robot] is given by its lumped "
+                                    "parameters M1, A1, M2, A2, P0, which fix the motion but not the torque's scale",
+                                    "give the physical body in [robot] (torso_mass, leg_mass, torso_inertia, "
+                                    f"leg_inertia, torso_length, leg_length, angular_momentum), or leave {field} out")
+        raise InvalidInputError(field, f"needs the joint torques, and {why}", f"leave {field} out")
+    return tuple(str(n) for n in model.joint_names)
+
+
+def _objective_option(field, v, system):
+    """``"energy"`` (least integral of u^2) or ``"torque"`` (least integral of tau^2, needs torques)."""
+    if not isinstance(v, str) or v not in OBJECTIVES:
+        raise InvalidInputError(field, f"must be \"energy\" or \"torque\", got {_short(v)}",
+                                _close(v, OBJECTIVES) + "write objective = \"energy\" (least integral of u^2) or "
+                                "\"torque\" (least integral of tau^2), or leave it out for the fast feasible plan")
+    if v == "torque":
+        try:
+            torque_joints(field, system)
+        except InvalidInputError as e:
+            raise InvalidInputError(e.field, e.problem, e.fix.replace(f"leave {field} out",
+                                                                      "write objective = \"energy\"")) from None
+    return v
+
+
+def _torque_value(field, v):
+    x = _number(field, v, MAX_BODY, "torques")
+    if not x > 0:
+        raise InvalidInputError(field, f"must be > 0 (the joint's largest torque |tau|), got {x:g}",
+                                "give the joint's peak torque, for example 50.0 (N m with SI units)")
+    return x
+
+
+def _tau_max_option(field, v, system):
+    """A number (every joint's torque limit), or a table by joint name (joints left out: no limit)."""
+    joints = torque_joints(field, system)
+    if isinstance(v, dict):
+        if not v:
+            raise InvalidInputError(field, "is an empty table", f"give one entry per limited joint of {list(joints)}, "
+                                    f"for example {joints[0]} = 50.0")
+        out = {}
+        for k, x in v.items():
+            if k not in joints:
+                shown = k if len(k) <= 60 and k.isprintable() else _short(k, 60)
+                raise InvalidInputError(f"{field}.{shown}", "is not a joint of the body",
+                                        _close(k, joints) + f"joints are {list(joints)}")
+            out[k] = _torque_value(f"{field}.{k}", x)
+        return out
+    if isinstance(v, list):
+        raise InvalidInputError(field, f"must be a number or a table by joint, got {_short(v)}",
+                                f"write tau_max = 50.0 (every joint), or a table [{field}] with "
+                                f"{joints[0]} = 50.0")
+    return _torque_value(field, v)
+
+
 #: The ``[options]`` keys and their readers ``(field, value, system) -> value`` (validated in this
 #: order). To add an option, add its reader here: the key becomes known to files, to their error
 #: messages and to the plan() keywords a :class:`Problem` passes on.
@@ -891,6 +1001,8 @@ OPTION_PARSERS: dict[str, Callable[[str, Any, ControlAffineSystem], Any]] = {
     "start_rate": _rate_option,
     "end_rate": _rate_option,
     "tol": _tol,
+    "objective": _objective_option,
+    "tau_max": _tau_max_option,
 }
 OPTION_KEYS = tuple(OPTION_PARSERS)
 
@@ -922,7 +1034,7 @@ def parse_problem(data: dict, name: str = "", base=None) -> Problem:
     times = _numbers("plan.times", p["times"], MAX_TIME, "times")
     waypoints = {k: _states(f"plan.{k}", p[k]) for k in states}
     conditions = p.get("conditions", "spline")
-    if not isinstance(conditions, str) or conditions not in ("spline", "free"):
+    if "conditions" in p and (not isinstance(conditions, str) or conditions not in ("spline", "free")):
         raise InvalidInputError("plan.conditions", f"must be \"spline\" or \"free\", got {_short(conditions)}",
                                 "write conditions = \"spline\"")
     opts = data.get("options", {})
@@ -946,6 +1058,8 @@ def parse_problem(data: dict, name: str = "", base=None) -> Problem:
             if key in options:
                 v = options[key]
                 options[key] = {k: math.radians(x) for k, x in v.items()} if isinstance(v, dict) else math.radians(v)
+    if "conditions" not in p and ("objective" in options or "tau_max" in options):
+        conditions = None  # plan()'s default for an optimal plan ("free": the end inputs left to the optimiser)
     problem = Problem(system, times, waypoints, conditions, options, name)
     # the meaning (lengths, order, ranges, limits against waypoints) is checked by plan()'s own
     # validation, once, with the fields named as the file names them
@@ -1176,6 +1290,18 @@ def _line_of_long_number(text: str) -> str:
             key = re.match(r"\s*([A-Za-z0-9_.\-\"' ]{1,60}?)\s*=", line)
             return f" (line {i}{', key ' + key.group(1).strip() if key else ''})"
     return ""
+
+
+def with_options(data: dict, options: dict | None) -> dict:
+    """The TOML document ``data`` with ``options`` written over its ``[options]`` table (what the
+    command line's ``--objective`` and ``--tau-max`` do); ``data`` itself is not changed. A document
+    whose ``[options]`` is not a table is returned as it is (its reader refuses it, naming the field)."""
+    if not options or not isinstance(data, dict):
+        return data
+    opts = data.get("options", {})
+    if not isinstance(opts, dict):
+        return data
+    return {**data, "options": {**opts, **options}}
 
 
 def load_problem(path) -> Problem:

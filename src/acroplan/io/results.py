@@ -78,16 +78,45 @@ def result_from_dict(data: dict) -> PlanResult:
                 success=bool(d.get("success", True)), message=str(d.get("message", "")), basis=basis,
                 extremes=None if d.get("max_abs_u") is None else {
                     "max_abs_u": float(d["max_abs_u"]),
-                    "state_ranges": {k: tuple(v) for k, v in (d.get("state_ranges") or {}).items()}}))
+                    "state_ranges": {k: tuple(v) for k, v in (d.get("state_ranges") or {}).items()}},
+                optimality=_optimality(d.get("optimality"), len(segments))))
             x = target
         return PlanResult(status=Status(data["status"]), message=data["message"], system=system, times=times,
                           waypoints=X, conditions=data.get("conditions", "free"),
                           basis=make_basis(family, int(data["basis"]["n_coefficients"])),
                           segments=tuple(segments), infeasible=tuple(data.get("infeasible", ())),
                           verified=bool(data.get("verified", False)), limits=limits,
-                          verification=data.get("verification"))
+                          verification=data.get("verification"), objective=_objective(data.get("objective")),
+                          torque_limits=_torque_limits(data.get("torque_limits")))
     except InvalidInputError:
         raise
     except (KeyError, TypeError, ValueError, IndexError) as e:
         raise InvalidInputError("solution.json", f"is not a plan result ({type(e).__name__}: {e})",
                                 "give a solution.json written by acroplan plan") from None
+
+
+def _objective(value):
+    """``objective``: ``None`` (a feasible plan), ``"energy"`` or ``"torque"``."""
+    if value is None or value in ("energy", "torque"):
+        return value
+    raise InvalidInputError("solution.json: objective", f"must be null, \"energy\" or \"torque\", got {value!r}",
+                            "give a solution.json written by acroplan plan")
+
+
+def _torque_limits(value):
+    """``torque_limits``: ``{joint: tau_max}`` or ``None``."""
+    if value is None:
+        return None
+    if not isinstance(value, dict):
+        raise InvalidInputError("solution.json: torque_limits", f"must be a table by joint, got {type(value).__name__}",
+                                "give a solution.json written by acroplan plan")
+    return {str(k): float(v) for k, v in value.items()}
+
+
+def _optimality(value, index: int):
+    """A segment's ``optimality`` diagnostics (plain JSON types, kept as they are) or ``None``."""
+    if value is None or isinstance(value, dict):
+        return None if value is None else dict(value)
+    raise InvalidInputError(f"solution.json: segments[{index}].optimality",
+                            f"must be a table, got {type(value).__name__}",
+                            "give a solution.json written by acroplan plan")
