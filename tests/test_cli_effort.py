@@ -323,3 +323,14 @@ def test_least_momentum_refuses_a_body_of_three_links(tmp_path):
 def test_least_momentum_bad_options(tmp_path, args, words):
     res = run(["least-momentum", write(tmp_path, PIKE.format(P0=1.25)), *args])
     assert res.exit_code == 2 and words in res.output, res.output
+
+
+def test_the_optimal_plan_file_in_the_docs_is_valid():
+    import pathlib
+
+    text = (pathlib.Path(__file__).parents[1] / "docs" / "problem-files.md").read_text(encoding="utf-8")
+    blocks = [b for b in re.findall(r"```toml\n(.*?)```", text, re.S) if "objective" in b]
+    assert len(blocks) == 1
+    p = parse_problem(tomllib.loads(blocks[0]))
+    assert p.options == {"objective": "energy", "tau_max": 31.0} and p.conditions is None
+    assert tomllib.loads(blocks[0])["plan"] == tomllib.loads(BODY)["plan"]  # the file the tests plan

@@ -279,6 +279,8 @@ conditions = "free"            # "free" (u continuous) or "spline" (the text's s
 # method = "auto"              # "auto", "deform" (the text's path deformation), "flat"
 # basis = "legendre"           # or "monomial"
 # n_coefficients = 6           # per segment (auto raises it when needed if left out)
+# objective = "energy"         # an optimal plan: least integral of u^2 ("torque": of tau^2)
+# tau_max = 31.0               # joint torque limit |tau| <= 31 N m (an energy-optimal plan)
 '''
 
 
