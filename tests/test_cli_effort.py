@@ -334,3 +334,13 @@ def test_the_optimal_plan_file_in_the_docs_is_valid():
     p = parse_problem(tomllib.loads(blocks[0]))
     assert p.options == {"objective": "energy", "tau_max": 31.0} and p.conditions is None
     assert tomllib.loads(blocks[0])["plan"] == tomllib.loads(BODY)["plan"]  # the file the tests plan
+
+
+def test_least_momentum_exits_3_when_no_momentum_turns_the_body(tmp_path):
+    text = PIKE.format(P0=1.0).replace("times = [0.0, 1.5]", "times = [0.0, 0.01]") \
+        .replace('phi = ["-pi", "-pi"]', 'phi = ["-pi", -0.4]').replace("u_max = 12.0", "u_max = 1.0")
+    res = run(["least-momentum", write(tmp_path, text), "--json"])
+    assert res.exit_code == 3
+    doc = json.loads(res.output)
+    assert doc["least"]["P0"] is None and doc["least"]["success"] is False  # NaN is written as null
+    assert "no joint motion is possible" in doc["least"]["message"] and doc["warnings"]
