@@ -204,7 +204,9 @@ def test_plan_through_the_cli_meets_the_targets_and_the_pinocchio_check(tmp_path
         assert np.max(np.abs(x - want)) <= 1e-9
         assert sol["segments"][k]["verified_error"] <= 1e-9
     header = (out / "trajectory.csv").read_text().splitlines()[0]
-    assert header == "t," + ",".join(names) + "," + ",".join(body.input_names)
+    joints = body.links.joint_names  # every body has its torques (Pinocchio's inverse dynamics)
+    assert header == ",".join(["t", *names, *body.input_names, *(f"tau_{j}" for j in joints),
+                               *(f"power_{j}" for j in joints)])
 
 
 def test_plan_writes_a_figure_per_state_and_the_rates(tmp_path):
