@@ -34,7 +34,7 @@ import numpy as np
 from ...core.errors import InvalidInputError
 
 __all__ = ["qmul", "qconj", "exp", "log", "to_matrix", "from_matrix", "xi", "angle_between", "normalize",
-           "from_euler", "to_euler", "as_quaternion", "EULER_NAMES", "YEADON"]
+           "from_euler", "to_euler", "as_quaternion", "attitude_states", "EULER_NAMES", "YEADON"]
 
 #: The named Euler convention of biomechanics (module docstring): scipy's intrinsic ``"XYZ"``.
 YEADON = "XYZ"
@@ -208,3 +208,36 @@ def as_quaternion(value, field: str = "attitude") -> np.ndarray:
         raise InvalidInputError(field, f"has norm {nq:.9g}, not 1", "give a unit quaternion [w, x, y, z] (divide by "
                                 "its norm if that is what you meant)")
     return q / nq
+
+
+def attitude_states(attitudes, field: str = "attitude") -> dict[str, list[float]]:
+    """Waypoint keywords ``qw, qx, qy, qz`` of :func:`acroplan.plan` from attitudes in any form.
+
+    Parameters
+    ----------
+    attitudes : sequence
+        One attitude per waypoint, each in a form :func:`as_quaternion` accepts (a quaternion
+        ``[w, x, y, z]``, or ``{"euler_deg": [somersault, tilt, twist]}``, ``{"rotvec": ...}``, ...).
+        Consecutive quaternions are given the same hemisphere (``q`` and ``-q`` are one attitude).
+
+    Returns
+    -------
+    dict
+        ``{"qw": [...], "qx": [...], "qy": [...], "qz": [...]}``.
+
+    Examples
+    --------
+    >>> kw = attitude_states([[1, 0, 0, 0], {"euler_deg": [0, 0, 180]}])
+    >>> [round(v, 12) for v in kw["qz"]]
+    [0.0, 1.0]
+    """
+    if isinstance(attitudes, (str, bytes, dict)) or not hasattr(attitudes, "__len__"):
+        raise InvalidInputError(field, f"must be a list of attitudes, one per waypoint, got {attitudes!r}",
+                                "give for example [[1, 0, 0, 0], {\"euler_deg\": [0, 0, 90]}]")
+    qs = []
+    for k, a in enumerate(attitudes):
+        q = as_quaternion(a, f"{field}[{k}]")
+        if qs and float(q @ qs[-1]) < 0:
+            q = -q
+        qs.append(q)
+    return {name: [float(q[i]) for q in qs] for i, name in enumerate(("qw", "qx", "qy", "qz"))}

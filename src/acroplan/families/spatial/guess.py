@@ -1,0 +1,343 @@
+"""First guesses for spatial bodies: a joint motion plus a shape loop whose net rotation points
+toward the target.
+
+The momentum connection
+-----------------------
+With (1)-(2) of :mod:`~acroplan.families.spatial.model`, the root turns at
+:math:`\\Omega = \\mathbb{I}^{-1} R^\\top L - \\mathcal{A}(s)\\,\\dot s`, :math:`\\mathcal{A} =
+\\mathbb{I}^{-1} A` (3 x m, the *momentum connection*). At :math:`L = 0` the attitude depends on the
+shape path alone, and a small closed loop of signed area :math:`\\varepsilon` in the plane of joints
+:math:`(s_i, s_j)` (counter-clockwise positive) turns the body, in its own frame, by the rotation
+vector :math:`\\varepsilon\\,F_{ij}(s)` to leading order, with the *curvature*
+
+.. math::  F_{ij} = -(\\partial_i \\mathcal{A}_j - \\partial_j \\mathcal{A}_i) + \\mathcal{A}_i \\times \\mathcal{A}_j
+
+(:func:`curvature`; the sign of the bracket is that of the right-invariant kinematics
+:math:`\\dot q = \\tfrac12 q \\otimes (0, \\Omega)`, and ``tests/test_spatial_planning.py`` checks it
+against the holonomy of small loops). The minimum-norm input :math:`u = 0` is a singular control at
+:math:`L = 0` (the attitude moves at second order in :math:`u`), so path deformation starts from a
+real loop.
+
+The guess
+---------
+1. **Base motion** :math:`s_h(\\sigma)`, :math:`\\sigma = t/T`: per joint the lowest-degree polynomial
+   meeting the end values and the input conditions
+   (:func:`acroplan.families.planar.guess.base_motion`); its endpoint (compiled integrator) misses
+   the target attitude by the rotation vector :math:`r` (end frame).
+2. **Where the loop goes**: at mid-time :math:`\\sigma = 1/2`; a body-frame rotation :math:`\\delta`
+   there reaches the end as :math:`R(Q)^\\top \\delta` (:math:`Q = q(1/2)^{-1} q(1)`: exact at
+   :math:`L = 0`, where later motion is left-invariant), so the loop must turn by
+   :math:`\\delta = R(Q)\\, r`.
+3. **The loop**: the teardrop :math:`\\delta s(\\sigma) = \\hat w(\\sigma)\\,(a + (2\\sigma - 1)\\, b)`,
+   :math:`\\hat w = w / \\max w`, :math:`w = \\sigma^\\alpha (1 - \\sigma)^\\beta` (:math:`\\alpha,
+   \\beta` one more than the conditions at each end, so the conditions still hold), whose
+   projection on the plane :math:`(i, j)` encloses the area :math:`(a_i b_j - a_j b_i)
+   \\int_0^1 \\hat w^2`; so it turns the body by about :math:`\\sum_{i<j} F_{ij}\\,(a \\wedge b)_{ij}
+   \\int \\hat w^2`. The bivector :math:`B = a \\wedge b` is the least-squares solution of
+   :math:`\\sum_{i<j} F_{ij} B_{ij} \\int \\hat w^2 = \\delta` (minimum norm), made decomposable by
+   its best rank-two part (exact for up to three joints), and :math:`a, b` span that plane.
+4. Variants: the loop on the other side (:math:`a \\to -a`, same area), and the loop placed at the
+   centroid of the first by a second curvature evaluation.
+
+Path deformation (:func:`acroplan.core.strategies.deform_attempt`) then polishes a guess to the
+target; the guess only has to be non-singular and close.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+
+import numpy as np
+
+from ..planar.guess import _KEYS, _projector, _SG, _WSG, base_motion
+from . import rotations as rot
+
+__all__ = ["Connection", "curvature", "fast_attitudes", "LoopGuess", "loop_guesses", "AMPLITUDES", "FAST_STEPS"]
+
+
+class Connection:
+    """:math:`\\mathcal{A}(s) = \\mathbb{I}(s)^{-1} A(s)` of one body at many shapes.
+
+    Parameters
+    ----------
+    body : SpatialBody
+    """
+
+    def __init__(self, body):
+        self.body = body
+        self.m = body.n_inputs
+
+    def __call__(self, S) -> np.ndarray:
+        """:math:`\\mathcal{A}` at shapes ``S`` of shape ``(m, N)``; returns shape ``(3, m, N)``."""
+        S = np.asarray(S, dtype=float).reshape(self.m, -1)
+        I, A = self.body.momentum_map(S)  # noqa: E741
+        out = np.linalg.solve(np.moveaxis(I, -1, 0), np.moveaxis(A, -1, 0))  # (N, 3, m)
+        return np.moveaxis(out, 0, -1)
+
+
+def curvature(conn: Connection, S, h: float = 1e-5) -> np.ndarray:
+    """:math:`F_{ij}` (module docstring) for every pair :math:`i < j` at shapes ``S`` (``(m, N)``),
+    by central differences of step ``h``.
+
+    Returns
+    -------
+    numpy.ndarray, shape (3, P, N)
+        ``P = m (m - 1) / 2`` pairs in the order (0, 1), (0, 2), ..., (1, 2), ...
+    """
+    S = np.asarray(S, dtype=float).reshape(conn.m, -1)
+    m, N = S.shape
+    pts = [S]
+    for k in range(m):
+        E = np.zeros((m, 1))
+        E[k] = h
+        pts += [S + E, S - E]
+    vals = conn(np.concatenate(pts, axis=1)).reshape(3, m, 1 + 2 * m, N)
+    A0 = vals[:, :, 0]
+    dA = [(vals[:, :, 1 + 2 * k] - vals[:, :, 2 + 2 * k]) / (2 * h) for k in range(m)]  # d/ds_k, (3, m, N)
+    out = []
+    for i in range(m):
+        for j in range(i + 1, m):
+            out.append(-(dA[i][:, j] - dA[j][:, i]) + np.cross(A0[:, i], A0[:, j], axis=0))
+    return np.stack(out, axis=1) if out else np.zeros((3, 0, N))
+
+
+def fast_attitudes(body, q0, T: float, S, dS) -> np.ndarray:
+    """End attitudes of many joint motions at once, by the classical Runge-Kutta scheme (for
+    guesses: error about :math:`h^4`, :math:`h` the step; not a check).
+
+    The joint motions are sampled on the uniform grid :math:`\\sigma_k = k/(2N)`,
+    :math:`k = 0, \\dots, 2N` (the steps and their midpoints), and
+    :math:`dq/d\\sigma = \\tfrac12 \\Xi(q)\\,\\mathbb{I}(s)^{-1}(T R(q)^\\top L - A(s)\\, s')`.
+
+    Parameters
+    ----------
+    body : SpatialBody
+    q0 : array_like, shape (4,)
+    T : float
+    S, dS : array_like, shape (m, K, 2N + 1)
+        Shapes and their derivatives in :math:`\\sigma` of ``K`` motions.
+
+    Returns
+    -------
+    numpy.ndarray, shape (4, K)
+    """
+    S = np.asarray(S, dtype=float)
+    dS = np.asarray(dS, dtype=float)
+    m, K, M = S.shape
+    I, A = body.momentum_map(S.reshape(m, K * M))  # noqa: E741
+    Iinv = np.linalg.inv(np.moveaxis(I, -1, 0))  # (K M, 3, 3)
+    Ad = np.einsum("imn,mn->in", A, dS.reshape(m, K * M))  # (3, K M)
+    shape_w = -np.einsum("nij,jn->ni", Iinv, Ad).reshape(K, M, 3)
+    Lv = T * body.angular_momentum
+    drift = np.linalg.norm(Lv) > 0
+    Iinv = Iinv.reshape(K, M, 3, 3)
+    N = (M - 1) // 2
+    h = 1.0 / N
+    q = np.tile(np.asarray(q0, dtype=float)[:, None], (1, K))
+
+    def f(q, k):
+        w = shape_w[:, k]
+        if drift:
+            w, a, b, c = q
+            RtL = np.stack([(w * w + a * a - b * b - c * c) * Lv[0] + 2 * (a * b + w * c) * Lv[1]
+                            + 2 * (a * c - w * b) * Lv[2],
+                            2 * (a * b - w * c) * Lv[0] + (w * w - a * a + b * b - c * c) * Lv[1]
+                            + 2 * (b * c + w * a) * Lv[2],
+                            2 * (a * c + w * b) * Lv[0] + 2 * (b * c - w * a) * Lv[1]
+                            + (w * w - a * a - b * b + c * c) * Lv[2]], axis=1)
+            w = shape_w[:, k] + np.einsum("kij,kj->ki", Iinv[:, k], RtL)
+        o = w.T
+        qw, qx, qy, qz = q
+        return 0.5 * np.stack([-qx * o[0] - qy * o[1] - qz * o[2], qw * o[0] - qz * o[1] + qy * o[2],
+                               qz * o[0] + qw * o[1] - qx * o[2], -qy * o[0] + qx * o[1] + qw * o[2]])
+
+    for step in range(N):
+        k = 2 * step
+        k1 = f(q, k)
+        k2 = f(q + 0.5 * h * k1, k + 1)
+        k3 = f(q + 0.5 * h * k2, k + 1)
+        k4 = f(q + h * k3, k + 2)
+        q = q + (h / 6.0) * (k1 + 2 * k2 + 2 * k3 + k4)
+    return q / np.linalg.norm(q, axis=0)
+
+
+@dataclasses.dataclass(frozen=True)
+class LoopGuess:
+    """A start for path deformation (module docstring).
+
+    Attributes
+    ----------
+    coefficients : numpy.ndarray, shape (m, n)
+    kind : str
+        ``"base"`` or ``"loop"``.
+    a, b : numpy.ndarray, shape (m,)
+        The teardrop's offset and turn vectors (zero for the base motion).
+    predicted_error : float
+        The attitude error (rad) of the fast integration (:func:`fast_attitudes`).
+    compliant : bool
+        The joint limits hold on the grid, and the rate limits with a margin of 1%.
+    """
+
+    coefficients: np.ndarray
+    kind: str
+    a: np.ndarray
+    b: np.ndarray
+    predicted_error: float
+    compliant: bool = True
+
+    def describe(self) -> str:
+        if self.kind == "base":
+            return "base motion"
+        return (f"shape loop (offset {np.linalg.norm(self.a):.3g} rad, turn {np.linalg.norm(self.b):.3g} rad, "
+                f"predicted error {self.predicted_error:.2g} rad)")
+
+
+@functools.lru_cache(maxsize=16)
+def _weights(alpha: int, beta: int, N: int):
+    """Normalised teardrop weight and its derivative at the 64 Gauss nodes and on the uniform
+    grid of 2N + 1 points, and :math:`\\int_0^1 \\hat w^2`."""
+    sm = alpha / (alpha + beta)
+    wmax = sm**alpha * (1 - sm) ** beta
+    out = []
+    for s in (_SG, np.linspace(0.0, 1.0, 2 * N + 1)):
+        w = s**alpha * (1 - s) ** beta / wmax
+        dw = (alpha * s ** (alpha - 1) * (1 - s) ** beta - beta * s**alpha * (1 - s) ** (beta - 1)) / wmax
+        out += [w, dw]
+    return tuple(out) + (float(_WSG @ (out[0] * out[0])),)
+
+
+def _decomposable(Bv, m: int):
+    """Unit ``a, b`` and a scale with :math:`\\text{scale}\\, a \\wedge b` the best rank-two part of
+    the bivector ``Bv`` (pairs i < j)."""
+    Bm = np.zeros((m, m))
+    k = 0
+    for i in range(m):
+        for j in range(i + 1, m):
+            Bm[i, j], Bm[j, i] = Bv[k], -Bv[k]
+            k += 1
+    U, _, _ = np.linalg.svd(Bm)
+    P = U[:, :2]
+    beta = float(P[:, 0] @ Bm @ P[:, 1])
+    return P[:, 0], (1.0 if beta >= 0 else -1.0) * P[:, 1], abs(beta)
+
+
+#: amplitudes (rad) of the loops' offset and turn vectors tried by :func:`loop_guesses`
+AMPLITUDES = (0.15, 0.3, 0.5, 0.75, 1.0, 1.3, 1.6, 2.0, 2.5)
+#: Runge-Kutta steps of the fast integration
+FAST_STEPS = 48
+
+
+def loop_guesses(body, basis, x0, x1, T: float, ends: dict | None = None, limits=None, *,
+                 conn: Connection | None = None, keep: int = 3):
+    """Guesses for one segment, best first (module docstring).
+
+    Parameters
+    ----------
+    body : SpatialBody
+    basis : InputBasis
+        The basis (family and size) the coefficients are made for.
+    x0, x1 : array_like, shape (4 + m,)
+    T : float
+    ends : dict, optional
+        Input conditions (``u0``, ``du0``, ``uT``, ``duT``).
+    limits : Limits, optional
+        Guesses that keep them come first.
+    keep : int
+        How many loops to return.
+
+    Returns
+    -------
+    list of LoopGuess
+        The best loops (when they fit in the basis and the body has two joints or more) by the
+        fast integration's attitude error, compliant ones first, then the base motion; empty when
+        not even the base motion fits.
+    """
+    ends = {k: v for k, v in (ends or {}).items() if k in _KEYS}
+    conn = conn or Connection(body)
+    m, n = body.n_inputs, basis.n
+    x0 = np.asarray(x0, dtype=float)
+    x1 = np.asarray(x1, dtype=float)
+    left = sum(k in ends for k in ("u0", "du0"))
+    alpha, beta = 1 + left, 1 + len(ends) - left
+    if n < alpha + beta - 1:
+        return []
+    P = _projector(type(basis), n)
+    N = FAST_STEPS
+    grid = np.linspace(0.0, 1.0, 2 * N + 1)
+    qh = base_motion(x0[4:], x1[4:], T, ends)  # power coefficients in sigma, (m, deg + 1)
+    dqh = qh[:, 1:] * np.arange(1, qh.shape[1]) if qh.shape[1] > 1 else np.zeros((m, 1))
+    dSH = np.polynomial.polynomial.polyval(_SG, dqh.T) if dqh.size else np.zeros((m, _SG.size))
+    SHg = np.polynomial.polynomial.polyval(grid, qh.T)
+    dSHg = np.polynomial.polynomial.polyval(grid, dqh.T) if dqh.size else np.zeros((m, grid.size))
+    c_base = (dSH / T) @ P.T
+    lo = np.full(m, -np.inf)
+    hi = np.full(m, np.inf)
+    U = np.full(m, np.inf)
+    if limits is not None and limits.active:
+        for j, name in enumerate(body.links.joint_names):
+            lo[j], hi[j] = limits.bounds(name)
+            bnd = limits.input_bound(f"u_{name}")
+            U[j] = np.inf if bnd is None else bnd
+
+    q_base = fast_attitudes(body, x0[:4], T, SHg[:, None, :], dSHg[:, None, :])[:, 0]
+    err_base = rot.angle_between(q_base, x1[:4])
+    base = LoopGuess(c_base, "base", np.zeros(m), np.zeros(m), err_base,
+                     bool(np.all(SHg.min(axis=1) >= lo) and np.all(SHg.max(axis=1) <= hi)
+                          and np.all(np.abs(dSHg).max(axis=1) <= 0.99 * U * T)))
+    if m < 2 or n < alpha + beta + 1:
+        return [base]
+    wG, dwG, wg, dwg, W2 = _weights(alpha, beta, N)
+    # the turn a loop at mid-time must make (module docstring), in the mid-time body frame
+    # (the first half on its own normalised time: half the duration, half the rates; N is even)
+    q_mid = fast_attitudes(body, x0[:4], T / 2, SHg[:, None, :N + 1], 0.5 * dSHg[:, None, :N + 1])[:, 0]
+    r = rot.log(rot.qmul(rot.qconj(q_base), x1[:4]))
+    Q = rot.qmul(rot.qconj(q_mid), q_base)
+    delta = rot.to_matrix(Q) @ r
+    # loop directions: the curvature's least-squares bivector, and an offset along each joint
+    mid = SHg[:, N]
+    F = curvature(conn, mid[:, None])[:, :, 0] * W2  # (3, P)
+    dirs = []
+    a, b, _ = _decomposable(np.linalg.lstsq(F, delta, rcond=1e-10)[0], m)
+    dirs += [(a, b), (-a, -b)]
+    pairs = [(i, j) for i in range(m) for j in range(i + 1, m)]
+    for k in range(m):
+        for sgn in (1.0, -1.0):
+            a = np.zeros(m)
+            a[k] = sgn
+            at = mid + 0.5 * a
+            Fk = curvature(conn, at[:, None])[:, :, 0] * W2
+            M = np.zeros((3, m))  # turn of a ^ b as a linear map of b
+            for p, (i, j) in enumerate(pairs):
+                M[:, j] += Fk[:, p] * a[i]
+                M[:, i] -= Fk[:, p] * a[j]
+            bv = np.linalg.lstsq(M, delta, rcond=1e-10)[0]
+            nb = np.linalg.norm(bv)
+            if nb > 0:
+                dirs += [(a, bv / nb)]
+    amps = np.array(AMPLITUDES)
+    cand = [(a * ra, b * rb) for a, b in dirs for ra in amps for rb in amps]
+    Av = np.array([c[0] for c in cand]).T  # (m, K)
+    Bv = np.array([c[1] for c in cand]).T
+    xg = 2 * grid - 1
+    S = SHg[:, None, :] + wg[None, None, :] * (Av[:, :, None] + xg[None, None, :] * Bv[:, :, None])
+    dS = dSHg[:, None, :] + dwg[None, None, :] * (Av[:, :, None] + xg[None, None, :] * Bv[:, :, None]) \
+        + 2.0 * wg[None, None, :] * Bv[:, :, None]
+    qe = fast_attitudes(body, x0[:4], T, S, dS)
+    err = np.array([rot.angle_between(qe[:, k], x1[:4]) for k in range(qe.shape[1])])
+    ok = np.all(S.min(axis=2) >= lo[:, None], axis=0) & np.all(S.max(axis=2) <= hi[:, None], axis=0) \
+        & np.all(np.abs(dS).max(axis=2) <= 0.99 * U[:, None] * T, axis=0)
+    size = np.sqrt(np.sum(Av**2, axis=0) + np.sum(Bv**2, axis=0))
+    order = sorted(range(len(cand)), key=lambda k: (not ok[k], round(err[k], 2), size[k]))
+    out, seen = [], []
+    xG = 2 * _SG - 1
+    for k in order:
+        a, b = cand[k]
+        if any(np.allclose(a, a2) and np.allclose(b, b2) for a2, b2 in seen):
+            continue
+        seen.append((a, b))
+        dD = dwG[None, :] * (a[:, None] + xG[None, :] * b[:, None]) + 2.0 * wG[None, :] * b[:, None]
+        out.append(LoopGuess(c_base + (dD / T) @ P.T, "loop", a, b, float(err[k]), bool(ok[k])))
+        if len(out) >= keep:
+            break
+    return out + [base]

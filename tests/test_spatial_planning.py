@@ -1,0 +1,134 @@
+"""Planning spatial bodies: the curvature of the momentum connection, the loop guesses, and plans
+at zero and non-zero angular momentum, checked by the Pinocchio-driven simulation."""
+
+import numpy as np
+import pytest
+
+import acroplan
+from acroplan.core.basis import Legendre
+from acroplan.families.spatial import rotations as rot
+from acroplan.families.spatial.check import pinocchio_errors, pinocchio_segment
+from acroplan.families.spatial.guess import Connection, curvature, loop_guesses
+from acroplan.families.spatial.zoo import random_body, random_segment
+
+pytest.importorskip("pinocchio")
+
+
+def _holonomy(body, s0, i, j, rho, steps=400):
+    """The body-frame rotation vector of a counter-clockwise circle of radius rho in (s_i, s_j) at
+    L = 0, by RK4 on q' = q (0, Omega) / 2 with Omega = -A(s) s' (the model's own Omega)."""
+    m = body.n_inputs
+
+    def omega(sig):
+        s = s0.copy()
+        s[i] += rho * np.cos(2 * np.pi * sig)
+        s[j] += rho * np.sin(2 * np.pi * sig)
+        ds = np.zeros(m)
+        ds[i] = -rho * 2 * np.pi * np.sin(2 * np.pi * sig)
+        ds[j] = rho * 2 * np.pi * np.cos(2 * np.pi * sig)
+        return body.angular_velocity(np.concatenate([[1.0, 0, 0, 0], s]), ds)
+
+    q, h = np.array([1.0, 0.0, 0.0, 0.0]), 1.0 / steps
+    for k in range(steps):
+        t = k * h
+        k1 = 0.5 * rot.xi(q) @ omega(t)
+        k2 = 0.5 * rot.xi(q + h / 2 * k1) @ omega(t + h / 2)
+        k3 = 0.5 * rot.xi(q + h / 2 * k2) @ omega(t + h / 2)
+        k4 = 0.5 * rot.xi(q + h * k3) @ omega(t + h)
+        q = q + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+    return rot.log(q)
+
+
+def test_curvature_is_the_holonomy_of_small_loops():
+    body = random_body(3, 4)
+    s0 = np.array([0.3, -0.5, 0.8])
+    F = curvature(Connection(body), s0[:, None])[:, :, 0]
+    rho = 1e-3
+    for p, (i, j) in enumerate([(0, 1), (0, 2), (1, 2)]):
+        hol = _holonomy(body, s0, i, j, rho) / (np.pi * rho**2)
+        # leading order: the error is O(rho) relative
+        assert np.linalg.norm(hol - F[:, p]) < 5e-3 * np.linalg.norm(F[:, p])
+
+
+def test_the_loop_guess_turns_the_body_toward_the_target():
+    """At L = 0 and the shape back to itself the base motion does not turn the body at all; the loop
+    guesses, ranked by the fast Runge-Kutta integration (which agrees with the compiled integrator),
+    remove a good part of a small required turn."""
+    from acroplan.core import backend
+
+    body = random_body(5, 4)
+    x0 = np.concatenate([[1.0, 0, 0, 0], [0.2, -0.4, 0.6]])
+    x1 = np.concatenate([rot.exp([0.05, -0.03, 0.04]), [0.2, -0.4, 0.6]])
+    basis = Legendre(6)
+    g = loop_guesses(body, basis, x0, x1, 2.0)
+    assert [k.kind for k in g] == ["loop", "loop", "loop", "base"]
+    errs = []
+    for k in g:
+        y = backend.endpoint(body, basis, x0, 2.0, k.coefficients)[0]
+        errs.append(rot.angle_between(y[:4], x1[:4]))
+        assert abs(errs[-1] - k.predicted_error) < 1e-5
+        assert np.max(np.abs(y[4:] - x1[4:])) < 1e-13  # the loops are closed: the joints end where asked
+    assert errs[-1] == pytest.approx(np.linalg.norm([0.05, -0.03, 0.04]), abs=1e-13)
+    assert errs[0] <= errs[1] + 1e-5 and errs[0] < 0.5 * errs[-1]
+
+
+def test_the_fast_integrator_converges_at_fourth_order():
+    from acroplan.families.spatial.guess import fast_attitudes
+
+    body = random_body(2, 3, L=(0.4, -0.2, 0.9))
+    q0 = rot.normalize(np.array([0.3, 0.5, -0.2, 0.8]))
+    ref = None
+    errs = []
+    for N in (256, 16, 32):
+        sig = np.linspace(0, 1, 2 * N + 1)
+        S = np.stack([0.3 + np.sin(3 * sig), -0.2 + sig**2])[:, None, :]
+        dS = np.stack([3 * np.cos(3 * sig), 2 * sig])[:, None, :]
+        q = fast_attitudes(body, q0, 1.7, S, dS)[:, 0]
+        if ref is None:
+            ref = q
+        else:
+            errs.append(rot.angle_between(q, ref))
+    assert errs[1] < errs[0] / 10  # halving the step divides the error by about 16
+
+
+@pytest.mark.parametrize("momentum", [False, True])
+def test_random_segments_are_planned_and_checked_by_pinocchio(momentum):
+    for seed in range(3):
+        p = random_segment(100 + seed, 3, momentum=momentum)
+        res = acroplan.plan(p.body, conditions="free", **p.plan_kwargs())
+        assert res.success, res.message
+        seg = res.segments[0]
+        assert seg.verified_error < 1e-9 and res.verified
+        # the Pinocchio-driven motion of the planned input ends on the target
+        x = pinocchio_segment(p.body, p.x0, p.T, seg.basis, seg.basis_coefficients)
+        assert rot.angle_between(x[:4], p.x1[:4]) < 1e-9 and np.max(np.abs(x[4:] - p.x1[4:])) < 1e-9
+        # the quaternion stays unit along the plan
+        ev = res.evaluate(np.linspace(0, p.T, 31))
+        assert np.max(np.abs(np.linalg.norm(ev.states[:4], axis=0) - 1)) < 1e-13
+
+
+def test_a_plan_through_waypoints_with_attitudes_in_any_form():
+    body = random_body(8, 3)
+    kw = rot.attitude_states([[1, 0, 0, 0], {"euler_deg": [10, 5, -8]}, {"rotvec_deg": [0, 0, 20]}])
+    res = acroplan.plan(body, times=[0, 1.5, 3.0], q1=[0.0, 0.5, 0.0], q2=[0.0, -0.3, 0.0], **kw)
+    assert res.success, res.message
+    assert res.verified and max(s.verified_error for s in res.segments) < 1e-9
+    end = res.evaluate([3.0]).states[:, 0]
+    assert rot.angle_between(end[:4], rot.exp(np.radians([0, 0, 20]))) < 1e-9
+
+
+def test_the_check_catches_a_wrong_plan():
+    p = random_segment(104, 3)
+    res = acroplan.plan(p.body, conditions="free", **p.plan_kwargs())
+    seg = res.segments[0]
+    import dataclasses
+
+    bad = dataclasses.replace(seg, basis_coefficients=seg.basis_coefficients * (1 + 1e-6))
+    assert pinocchio_errors(p.body, p.x0, [seg])[0] < 1e-9
+    assert pinocchio_errors(p.body, p.x0, [bad])[0] > 1e-8
+
+
+def test_unit_quaternions_are_required():
+    body = random_body(1, 3)
+    with pytest.raises(acroplan.InvalidInputError, match="attitude: the end quaternion"):
+        acroplan.plan(body, times=[0, 1], qw=[1, 1], qx=[0, 0.1], qy=[0, 0], qz=[0, 0], q1=[0, 0], q2=[0, 0])
