@@ -370,3 +370,38 @@ def test_torque_optimal_lowers_the_integral_of_tau_squared():
     assert e.success and t.success, t.message
     assert np.abs(t.segments[0].final_error) <= 1e-9
     assert tau2(t) < 0.9 * tau2(e)
+
+
+def branched(P0=0.0):
+    """A branched body with centres of mass and joints off the links' axes (as tests/test_planar.py)."""
+    from acroplan.families.planar import Link
+
+    return PlanarBody([
+        Link("body", None, 12.0, 0.9, com=(0.05, -0.02)),
+        Link("a1", "body", 3.0, 0.08, com=(0.2, 0.03), joint=(0.4, 0.1), joint_name="ja1"),
+        Link("a2", "a1", 2.0, 0.05, com=(0.15, -0.01), joint=(0.35, 0.0), joint_name="ja2"),
+        Link("b1", "body", 4.0, 0.1, com=(0.25, 0.0), joint=(-0.3, 0.15), joint_name="jb1"),
+        Link("c1", "body", 1.5, 0.02, com=(0.1, 0.05), joint=(0.0, -0.2), joint_name="jc1"),
+    ], P0=P0)
+
+
+@pytest.mark.parametrize("root", ["planar", "freeflyer"])
+def test_branched_tree_residual_root_rate_and_partials(root):
+    body = branched(P0=2.5)
+    rng = np.random.default_rng(4)
+    q, u, du = (rng.normal(size=(4, 7)) for _ in range(3))
+    out = inverse_dynamics(body, q, u, du, root=root, derivatives=True)
+    assert np.abs(out.tau).max() > 0.1
+    assert np.abs(out.root_residual).max() <= 1e-9
+    I, a = body.momentum_map(q)
+    assert np.abs(out.theta_dot - (body.P0 - np.sum(a * u, axis=0)) / I).max() <= 1e-12 * np.abs(out.theta_dot).max()
+    x = np.concatenate([q, u, du])  # (12, 7)
+    fd = np.empty_like(out.partials)
+    h = 1e-6
+    for i in range(12):
+        e = np.zeros((12, 1))
+        e[i] = h
+        xp, xm = x + e, x - e
+        fd[:, :, i] = (inverse_dynamics(body, *np.split(xp, 3), root=root).tau
+                       - inverse_dynamics(body, *np.split(xm, 3), root=root).tau) / (2 * h)
+    assert np.abs(out.partials - fd).max() <= 1e-6 * np.abs(out.partials).max()
