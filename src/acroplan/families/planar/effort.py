@@ -9,9 +9,9 @@ The root's motion
 -----------------
 The Pinocchio model of the link table (:mod:`~acroplan.families.planar.pin`: a planar root joint,
 velocity :math:`\\nu = (v_x, v_y, \\omega)` in the root's frame, or a free flyer restricted to the
-plane; one revolute-:math:`z` joint per other link; no gravity) has the generalised velocity
-:math:`v = (\\nu, u)` and acceleration :math:`a = (\\dot\\nu, \\dot u)`. The planned motion fixes
-the joints only; the root's twist and its rate follow from the momentum, with Pinocchio's
+plane; one revolute-:math:`z` joint per other link, numbered depth-first; no gravity) has the
+generalised velocity :math:`v = (\\nu, u)` and acceleration :math:`a = (\\dot\\nu, \\dot u)`. The
+planned motion fixes the joints only; the root's twist and its rate follow from the momentum, with Pinocchio's
 centroidal momentum map :math:`A_G(q)` (``computeCentroidalMap``) and its time variation
 :math:`\\dot A_G(q, v)` (``computeCentroidalMapTimeVariation``), restricted to the three rows of
 planar motion (linear :math:`x, y`, angular :math:`z`; :math:`A_{G,r}`, :math:`A_{G,j}` their
