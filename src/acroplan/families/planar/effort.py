@@ -88,7 +88,6 @@ from __future__ import annotations
 import dataclasses
 import functools
 import threading
-import types
 
 import numpy as np
 
@@ -105,32 +104,12 @@ ROOTS = ("planar", "freeflyer")
 _ROWS = [0, 1, 5]  # the planar rows of the centroidal momentum: linear x, y, angular z
 
 
-class _DepthFirst(LinkTable):
-    """The same link table, its joints handed to Pinocchio in depth-first order.
-
-    Pinocchio's algorithms that work on blocks of the mass matrix (``crba``,
-    ``computeRNEADerivatives``) assume each joint's subtree occupies consecutive velocity indices
-    (a depth-first numbering of the joints); a breadth-first numbering of a branched tree gives them
-    wrong matrices (``rnea``, ``aba`` and the centroidal map, joint by joint, are right either way).
-    """
-
-    def topological_order(self) -> tuple[int, ...]:
-        order, todo = [], [self.root]
-        while todo:
-            i = todo.pop()
-            order.append(i)
-            todo.extend(reversed(self.children(i)))
-        return tuple(order)
-
-
 @functools.lru_cache(maxsize=64)
 def _model(table: LinkTable, root: str) -> PinocchioBody:
-    """The Pinocchio model of ``table`` (:func:`~acroplan.families.planar.pin.build_model`, joints in
-    depth-first order, :class:`_DepthFirst`) without gravity; cached per table and root, read only."""
+    """The Pinocchio model of ``table`` (:func:`~acroplan.families.planar.pin.build_model`, its joints
+    in depth-first order) without gravity; cached per table and root, read only."""
     pin = require_pinocchio()
-    # build_model takes a body (anything with .links) or a table; through a body its table is used
-    # as given, so the depth-first order reaches it
-    pb = build_model(types.SimpleNamespace(links=_DepthFirst(table)), root)
+    pb = build_model(table, root)
     pb.model.gravity = pin.Motion.Zero()
     return pb
 

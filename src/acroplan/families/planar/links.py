@@ -366,12 +366,15 @@ class LinkTable:
         return tuple(k for k in range(len(self.links)) if i in self.ancestors(k))
 
     def topological_order(self) -> tuple[int, ...]:
-        """Link indices with every parent before its children (root first)."""
+        """Link indices with every parent before its children (root first), depth first: each
+        link's subtree is a run of consecutive indices. Pinocchio's algorithms that work on blocks
+        of the mass matrix (``crba``, ``computeRNEADerivatives``) need that numbering of the joints;
+        a breadth-first one gives them wrong matrices on a branched tree."""
         order, todo = [], [self.root]
         while todo:
-            i = todo.pop(0)
+            i = todo.pop()
             order.append(i)
-            todo.extend(self.children(i))
+            todo.extend(reversed(self.children(i)))
         return tuple(order)
 
     def joint_index(self, name: str) -> int:
