@@ -601,3 +601,15 @@ def test_pinocchio_model_of_a_branched_tree_has_the_right_mass_matrix():
     for i in order:  # every subtree is a run of consecutive positions
         pos = sorted(order.index(j) for j in table.subtree(i))
         assert pos == list(range(pos[0], pos[0] + len(pos)))
+
+
+def test_degrees_apply_to_every_angle_of_a_body():
+    import acroplan
+    from acroplan.families.planar import three_rods
+
+    body = three_rods()
+    rad = acroplan.plan(body, times=[0, 2], theta=[0, 0.3], q1=[0.2, 0.2], q2=[-0.1, -0.1], conditions="free")
+    deg = acroplan.plan(body, times=[0, 2], theta=[0, np.degrees(0.3)], q1=[np.degrees(0.2)] * 2,
+                        q2=[np.degrees(-0.1)] * 2, conditions="free", degrees=True)
+    assert rad.success and deg.success
+    np.testing.assert_allclose(deg.waypoints, rad.waypoints, rtol=0, atol=1e-12)

@@ -403,6 +403,12 @@ class PlanarBody(ControlAffineSystem):
         return ("theta",) + self.links.joint_names
 
     @property
+    def angle_states(self):
+        """Every state is an angle (the root's and the revolute joints'): ``degrees=True`` converts
+        them all, and their rates."""
+        return self.state_names
+
+    @property
     def input_names(self):
         return tuple(f"u_{j}" for j in self.links.joint_names)
 
