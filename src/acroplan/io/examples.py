@@ -4,6 +4,16 @@ Each example is a problem file in ``acroplan/io/data/`` (``acroplan examples --s
 it); a file may name another file beside it (the diver's URDF), which :func:`files` lists and
 ``acroplan init --example NAME`` copies too. :func:`command` says which command runs an example
 (``plan``, ``simulate`` or ``nilpotent``).
+
+:func:`names` lists them with one line each: the text's two-link body (``pike-dive``,
+``pike-dive-limited``, ``chapter4``), planar bodies (``diver-somersault``, ``space-robot-turn``,
+``three-rods-turn``, ``space-robot-arm-loop``) and a human body, ``platform-dive``: the 10 m
+platform dive, 3.5 forward somersaults in pike, of Yeadon's bundled ``male1`` split at the hips,
+energy-optimal within a diver's hip range and rate (the problem of
+:func:`acroplan.families.human.examples.platform_dive_pike`; needs ``pip install
+"acroplan[human]"``)::
+
+    acroplan plan --example platform-dive --out platform-dive-out --animate
 """
 
 from __future__ import annotations
@@ -31,6 +41,8 @@ _DESCRIPTIONS = {
                        "loop, |u| <= 2 rad/s",
     "space-robot-arm-loop": "planar body: the turn of the space robot's base under a given arm loop "
                             "(acroplan simulate)",
+    "platform-dive": "human body (Yeadon's male1, split at the hips): 10 m platform, 3.5 forward somersaults in "
+                     "pike, energy-optimal within a diver's hip range and rate (needs pip install \"acroplan[human]\")",
 }
 
 
@@ -55,13 +67,19 @@ def text(name: str) -> str:
 
 
 def files(name: str) -> dict[str, str]:
-    """The other files the example's problem file names (a URDF), by file name: their text."""
+    """The other files the example's problem file names (a URDF, a yeadon measurement file), by file
+    name: their text. A bundled yeadon sample named by its name (``yeadon = "male1"``) is no file
+    of the example: every installation has it."""
     _check(name)
     data = tomllib.loads(text(name))
     out = {}
-    urdf = data.get("body", {}).get("urdf") if isinstance(data.get("body"), dict) else None
-    if isinstance(urdf, str) and re.fullmatch(r"[\w.-]+", urdf):
-        out[urdf] = resources.files("acroplan.io").joinpath("data", urdf).read_text(encoding="utf-8")
+    body = data.get("body") if isinstance(data.get("body"), dict) else {}
+    for key in ("urdf", "yeadon"):
+        fname = body.get(key)
+        if isinstance(fname, str) and re.fullmatch(r"[\w.-]+", fname):
+            path = resources.files("acroplan.io").joinpath("data", fname)
+            if path.is_file():
+                out[fname] = path.read_text(encoding="utf-8")
     return out
 
 

@@ -85,6 +85,27 @@ URDF's (or the table's) unless the file overrides them, and ``solution.json`` re
 body. The link table is always in radians; ``options.degrees = true`` applies to ``[plan]`` and
 ``[limits]``.
 
+A human body (:mod:`acroplan.families.human`, docs/human.md) from Yeadon's measurements or from
+height and mass, split at the hips (the two-link body: an :class:`Acrobot`, state ``theta``,
+``phi``) or at the hips and shoulders (a :class:`PlanarBody`, joints ``hip`` and ``shoulder``)::
+
+    [body]
+    yeadon = "male1"                # a yeadon measurement file (relative to the problem file),
+                                    # or a bundled sample by name; needs pip install "acroplan[human]"
+    # height = 1.74                 # ... or, instead of yeadon, de Leva's (1996) tables:
+    # mass = 70.0                   # stature (m) and mass (kg),
+    # sex = "male"                  # "male" (default) or "female"
+    split = "hips"                  # default; or "hips+shoulders"
+    angular_momentum = 65.7         # P0 (kg m^2/s; > 0 for a forward somersault)
+    position = "pike"               # optional: "pike", "tuck", "straight": the default [limits]
+    # knee_flexion = 0.0            # rad; default the position's (a tuck's 125 degrees), else 0
+    # shoulder_flexion = 0.0        # rad; split = "hips" only: the arms' fixed angle
+
+``position`` gives the joint ranges and rates of :func:`~acroplan.families.human.limits.human_limits`
+(``phi_min``, ``phi_max``, ``u_max`` for ``split = "hips"``; ``hip_min``, ..., ``u_shoulder`` in the
+link table for ``"hips+shoulders"``); each key of the file's ``[limits]`` overrides one of them
+(``"none"`` drops it). The body's angles are in radians whatever ``options.degrees`` says.
+
 A simulation (``acroplan simulate``): the motion a given joint motion produces::
 
     [simulate]
@@ -136,7 +157,11 @@ LIMIT_KEYS = ("phi_min", "phi_max", "u_max")
 #: the tables a problem file may hold
 TABLES = ("robot", "body", "plan", "limits", "options", "simulate")
 #: the keys of [body], and of each [[body.link]] (the fields of :class:`~acroplan.families.planar.links.Link`)
-BODY_KEYS = ("urdf", "link", "angular_momentum")
+#: the keys of a human body in [body] (acroplan.families.human)
+HUMAN_KEYS = ("yeadon", "height", "mass", "sex", "split", "position", "knee_flexion", "shoulder_flexion")
+BODY_KEYS = ("urdf", "link", "angular_momentum") + HUMAN_KEYS
+#: how a human body is split: at the hips (the two-link body), at the hips and the shoulders
+SPLITS = ("hips", "hips+shoulders")
 LINK_KEYS = ("name", "parent", "mass", "inertia", "com", "joint", "joint_name", "lower", "upper", "velocity")
 
 
@@ -147,9 +172,9 @@ class Problem:
     Parameters
     ----------
     system : ControlAffineSystem
-        An :class:`~acroplan.families.acrobot.model.Acrobot` (a ``[robot]`` table) or a
-        :class:`~acroplan.families.planar.model.PlanarBody` (a ``[body]`` table; the file's
-        ``[limits]`` are in its link table).
+        An :class:`~acroplan.families.acrobot.model.Acrobot` (a ``[robot]`` table, or a human
+        ``[body]`` split at the hips) or a :class:`~acroplan.families.planar.model.PlanarBody` (a
+        ``[body]`` table; the file's ``[limits]`` are in its link table).
     times : tuple of float, length K + 1
     waypoints : dict of str to tuple, each of length K + 1
         One entry per state of ``system``, in state order; ``None`` marks a free interior value.
@@ -779,18 +804,22 @@ def _apply_limits(table, lim, degrees: bool):
 
 
 def parse_body(data: dict, limits: dict | None = None, *, base=None, degrees: bool = False):
-    """A :class:`~acroplan.families.planar.model.PlanarBody` from a ``[body]`` table.
+    """A :class:`~acroplan.families.planar.model.PlanarBody` from a ``[body]`` table (or, for a human
+    body split at the hips, an :class:`Acrobot`).
 
     Parameters
     ----------
     data : dict
         The ``[body]`` table: ``angular_momentum`` and either ``urdf`` (a path, relative to
         ``base``) or ``link`` (the ``[[body.link]]`` tables, :class:`~acroplan.families.planar.links.Link`'s
-        fields).
+        fields), or a human body (:data:`HUMAN_KEYS`: ``yeadon``, a measurement file relative to
+        ``base`` or a bundled sample's name, or ``height``, ``mass``, ``sex``; ``split``,
+        ``position``, ``knee_flexion``, ``shoulder_flexion``; module docstring).
     limits : dict, optional
         The file's ``[limits]``: ``NAME_min``, ``NAME_max`` (joint angles), ``u_NAME`` (rate),
-        ``u_max`` (every joint's rate); ``"none"`` drops the URDF's or the table's limit. Written
-        into the link table.
+        ``u_max`` (every joint's rate); ``"none"`` drops the URDF's, the table's or the human
+        position's limit. Written into the link table (an acrobot's limits are plan options, read
+        by :func:`parse_problem` with the position's as defaults: not used here).
     base : path, optional
         The problem file's folder (default: the current folder).
     degrees : bool
@@ -798,23 +827,36 @@ def parse_body(data: dict, limits: dict | None = None, *, base=None, degrees: bo
 
     Returns
     -------
-    PlanarBody
+    PlanarBody or Acrobot
 
     Raises
     ------
     InvalidInputError
-        Naming the file's field (``body.link[2].mass``, ``body.urdf``, ``limits.u_hip``).
+        Naming the file's field (``body.link[2].mass``, ``body.urdf``, ``body.yeadon``,
+        ``limits.u_hip``); ``body.yeadon`` with ``pip install "acroplan[human]"`` when yeadon is
+        not installed.
     """
+    return _parse_body(data, limits, base=base, degrees=degrees)[0]
+
+
+def _parse_body(data: dict, limits: dict | None = None, *, base=None, degrees: bool = False):
+    """:func:`parse_body`, and the default ``[limits]`` of a human body split at the hips (an acrobot,
+    whose limits are plan options): ``(system, {"phi_min": ..., "phi_max": ..., "u_max": ...})``,
+    in radians; ``{}`` for any other body."""
     from ..families.planar.links import LinkTable
     from ..families.planar.model import PlanarBody
 
     _check_keys("body", data, BODY_KEYS)
+    human = [k for k in HUMAN_KEYS if k in data]
+    if human:
+        return _human_body(data, human, limits, base=base, degrees=degrees)
     if "urdf" in data and "link" in data:
         raise InvalidInputError("body", "gives both urdf and [[body.link]] tables",
                                 "describe the body one way: a URDF file or link tables")
     if "urdf" not in data and "link" not in data:
         raise InvalidInputError("body.urdf", "is missing, and there are no [[body.link]] tables",
-                                "give urdf = \"body.urdf\" or one [[body.link]] table per link")
+                                "give urdf = \"body.urdf\" or one [[body.link]] table per link; for a human body "
+                                "yeadon = \"male1\" (a measurement file or a bundled sample) or height and mass")
     if "angular_momentum" not in data:
         raise InvalidInputError("body.angular_momentum", "is missing", "give P0, the angular momentum about the "
                                 "axis normal to the plane (0 for a body that starts at rest)")
@@ -837,7 +879,151 @@ def parse_body(data: dict, limits: dict | None = None, *, base=None, degrees: bo
             raise InvalidInputError(where, f"makes the lumped parameter {k} = {v:.3g}, beyond {MAX_BODY:g} in size: "
                                     "more than the arithmetic carries",
                                     "change the units so that the numbers come nearer to 1")
-    return body
+    return body, {}
+
+
+_INSTALL_HUMAN = 'pip install "acroplan[human]"'
+
+
+def _choice_field(field: str, value, names, example: str) -> str:
+    if not isinstance(value, str) or value not in names:
+        raise InvalidInputError(field, f"must be one of {list(names)}, got {_short(value)}",
+                                _close(value, names) + f"write for example {field.rsplit('.', 1)[-1]} = \"{example}\"")
+    return value
+
+
+def _yeadon_path(value, base) -> str:
+    """The measurement file ``body.yeadon`` names: a bundled sample by name, or a path relative to the
+    problem file's folder."""
+    from ..families.human.yeadon_body import SAMPLES, sample_measurements
+
+    if not isinstance(value, str) or not value.strip():
+        raise InvalidInputError("body.yeadon", "must be a measurement file or a bundled sample's name in quotes, "
+                                f"got {_short(value)}", "write for example yeadon = \"male1\" (bundled: "
+                                f"{sorted(SAMPLES)}) or yeadon = \"measurements.txt\"")
+    if value in SAMPLES:
+        return sample_measurements(value)
+    path = Path(value)
+    if not path.is_absolute() and base is not None:
+        path = Path(base) / path
+    if not path.is_file():
+        raise InvalidInputError("body.yeadon", f"no such file: {_short(str(path), 200)}",
+                                "give a yeadon measurement file (95 measurements in yeadon's format; a relative path "
+                                "is read from the problem file's folder) or a bundled sample's name "
+                                f"({sorted(SAMPLES)})")
+    if path.stat().st_size > MAX_FILE_BYTES:
+        raise InvalidInputError("body.yeadon", f"{path.name} is larger than {MAX_FILE_BYTES // 1_000_000} MB",
+                                "give a yeadon measurement file (95 measurements, a few kB)")
+    return str(path)
+
+
+#: the human family's argument names as the file names them
+_HUMAN_FIELDS = {"height": "body.height", "mass": "body.mass", "sex": "body.sex", "knee_flexion": "body.knee_flexion",
+                 "measurements": "body.yeadon", "shoulder_flexion": "body.shoulder_flexion",
+                 "angular_momentum": "body.angular_momentum"}
+
+
+def _human_error(e: InvalidInputError, source: str) -> InvalidInputError:
+    """The human family's error with its field as the file names it (a part's mass or inertia that a
+    measurement file makes non-physical: the file's field ``source``)."""
+    head = e.field.split(".", 1)[0].split("[", 1)[0]
+    if head in _HUMAN_FIELDS and not (head == "mass" and source == "body.yeadon"):
+        return InvalidInputError(_HUMAN_FIELDS[head] + e.field[len(head):], e.problem, e.fix)
+    return InvalidInputError(source, f"makes {e.field} {e.problem}", e.fix)
+
+
+def _human_body(data: dict, given: list, limits: dict | None, *, base, degrees: bool):
+    """A human body from ``[body]`` (``yeadon`` or ``height``/``mass``; module docstring), and the
+    default limits of an acrobot (:func:`_parse_body`)."""
+    other = [k for k in ("urdf", "link") if k in data]
+    if other:
+        what = "urdf" if other[0] == "urdf" else "[[body.link]] tables"
+        raise InvalidInputError(f"body.{given[0]}", f"is a key of a human body, and this [body] gives {what}",
+                                f"describe the body one way: a URDF, link tables, or a human body (yeadon, or height "
+                                f"and mass); drop body.{given[0]} or body.{other[0]}")
+    deleva = [k for k in ("height", "mass", "sex") if k in data]
+    if "yeadon" in data and deleva:
+        raise InvalidInputError(f"body.{deleva[0]}", "is given together with body.yeadon: the measurement file gives "
+                                "the whole body", "give yeadon = \"...\" (Yeadon's 95 measurements) or height and "
+                                "mass (de Leva's tables), not both")
+    if "yeadon" not in data:
+        for key in ("height", "mass"):
+            if key not in data:
+                raise InvalidInputError(f"body.{key}", "is missing" + ("" if deleva else
+                                        ": a human body needs yeadon = \"...\" or height and mass"),
+                                        "give height (m) and mass (kg) for de Leva's tables, or yeadon = \"male1\" "
+                                        "(a measurement file or a bundled sample)")
+    if "angular_momentum" not in data:
+        raise InvalidInputError("body.angular_momentum", "is missing", "give P0, the angular momentum about the "
+                                "somersault axis in kg m^2/s (> 0 for a forward somersault; acroplan least-momentum "
+                                "gives the least one for the file's turn)")
+    P0 = _number("body.angular_momentum", data["angular_momentum"], MAX_BODY, _BODY)
+    split = _choice_field("body.split", data.get("split", "hips"), SPLITS, "hips")
+    from ..families.human.limits import POSITIONS, human_limits, position
+
+    pos = data.get("position")
+    if pos is not None:
+        pos = _choice_field("body.position", pos, tuple(POSITIONS), "pike")
+    kappa = (_number("body.knee_flexion", data["knee_flexion"], MAX_ANGLE, "angles") if "knee_flexion" in data
+             else position(pos).knee_flexion if pos is not None else 0.0)
+    sigma = 0.0
+    if "shoulder_flexion" in data:
+        if split != "hips":
+            raise InvalidInputError("body.shoulder_flexion", f"is the arms' fixed angle of split = \"hips\", and this "
+                                    f"body is split = \"{split}\": its arms move (the joint shoulder)",
+                                    "give the shoulder's angles in [plan].shoulder, and drop body.shoulder_flexion")
+        sigma = _number("body.shoulder_flexion", data["shoulder_flexion"], MAX_ANGLE, "angles")
+        if not -math.pi <= sigma <= math.pi:
+            raise InvalidInputError("body.shoulder_flexion", f"must be an angle in radians in [-pi, pi], got {sigma:g}",
+                                    "write for example shoulder_flexion = \"pi/2\" (arms forward; 0: at the sides, "
+                                    "pi: overhead)")
+    source = "body.yeadon" if "yeadon" in data else "body.height"
+    try:
+        if "yeadon" in data:
+            path = _yeadon_path(data["yeadon"], base)
+            from ..families.human.yeadon_body import from_yeadon
+
+            try:
+                body = from_yeadon(path, knee_flexion=kappa)
+            except ImportError:
+                raise InvalidInputError("body.yeadon", "needs the yeadon package (Yeadon's inertia model), which is "
+                                        "not installed", f"{_INSTALL_HUMAN}; or give height and mass instead of "
+                                        "yeadon (de Leva's tables need nothing more)") from None
+        else:
+            from ..families.human.deleva import from_height_mass
+
+            height = _number("body.height", data["height"], MAX_BODY, _BODY)
+            mass = _number("body.mass", data["mass"], MAX_BODY, _BODY)
+            sex = data.get("sex", "male")
+            if not isinstance(sex, str):
+                raise InvalidInputError("body.sex", f"must be \"male\" or \"female\" in quotes, got {_short(sex)}",
+                                        "write sex = \"female\" or leave it out (male)")
+            body = from_height_mass(height, mass, sex=sex, knee_flexion=kappa)
+    except InvalidInputError as e:
+        raise (e if e.field.startswith("body.") else _human_error(e, source)) from None
+    lim = None
+    if pos is not None:
+        try:
+            lim = human_limits(body, pos, links=2 if split == "hips" else 3, shoulder_flexion=sigma)
+        except InvalidInputError as e:
+            if e.field != "position":  # pragma: no cover - the arguments were checked above
+                raise _human_error(e, "body.position") from None
+            raise InvalidInputError("body.knee_flexion", f"is {kappa:.6g} rad, and position = \"{pos}\" holds the "
+                                    f"knees at {position(pos).knee_flexion:.6g} rad", "leave body.knee_flexion out "
+                                    "(the position's knees), or drop body.position and give the [limits]") from None
+    try:
+        if split == "hips":
+            robot = body.two_link(angular_momentum=P0, shoulder_flexion=sigma)
+            defaults = {} if lim is None else {**{f"phi_{e}": v for e, v in zip(("min", "max"), lim.bounds("phi"))},
+                                               "u_max": lim.u_max}
+            return robot, defaults
+        planar = body.three_part(angular_momentum=P0, limits=lim)
+    except InvalidInputError as e:  # pragma: no cover - a human body's parts are physical
+        raise _human_error(e, source) from None
+    from ..families.planar.model import PlanarBody
+
+    table = _apply_limits(planar.links, {} if limits is None else limits, degrees)
+    return (planar if table is planar.links else PlanarBody(table, P0=P0)), {}
 
 
 def _system_table(data: dict) -> str:
@@ -847,7 +1033,7 @@ def _system_table(data: dict) -> str:
                                 "or [body] for a planar body of any number of links, not both")
     if "robot" not in data and "body" not in data:
         raise InvalidInputError("robot", "table is missing", "add a [robot] table (the two-link acrobot) or a "
-                                "[body] table (a planar body; see docs/problem-files.md)")
+                                "[body] table (a planar body, or a human body; see docs/problem-files.md)")
     return "robot" if "robot" in data else "body"
 
 
@@ -856,11 +1042,12 @@ def _degrees(data: dict) -> bool:
     return isinstance(opts, dict) and opts.get("degrees") is True
 
 
-def _parse_system(data: dict, base) -> ControlAffineSystem:
+def _parse_system(data: dict, base) -> tuple[ControlAffineSystem, dict]:
+    """The system, and the default limits of a human body split at the hips (:func:`_parse_body`)."""
     if _system_table(data) == "robot":
-        return parse_robot(data["robot"])
+        return parse_robot(data["robot"]), {}
     lim = data.get("limits", {})
-    return parse_body(data["body"], lim, base=base, degrees=_degrees(data))
+    return _parse_body(data["body"], lim, base=base, degrees=_degrees(data))
 
 
 # ----------------------------------------------------------------------------- [options]
@@ -1021,7 +1208,7 @@ def parse_problem(data: dict, name: str = "", base=None) -> Problem:
         raise InvalidInputError("plan", "table is missing", "add a [plan] table (see docs/problem-files.md)" +
                                 ("; a file with only [simulate] is run by acroplan simulate" if "simulate" in data
                                  else ""))
-    system = _parse_system(data, base)
+    system, defaults = _parse_system(data, base)
     acrobot = isinstance(system, Acrobot)
     states = system.state_names
     p = data["plan"]
@@ -1045,8 +1232,13 @@ def parse_problem(data: dict, name: str = "", base=None) -> Problem:
         _check_keys("limits", lim, LIMIT_KEYS)
         for key in LIMIT_KEYS:
             if key in lim:
-                options[key] = _number(f"limits.{key}", lim[key], *((MAX_BODY, "rates") if key == "u_max"
-                                                                    else (MAX_ANGLE, "angles")))
+                v = lim[key]
+                if defaults and isinstance(v, str) and v.strip().lower() == "none":
+                    continue  # a human body's position limit dropped
+                options[key] = _number(f"limits.{key}", v, *((MAX_BODY, "rates") if key == "u_max"
+                                                             else (MAX_ANGLE, "angles")))
+            elif key in defaults:  # a human body's position (radians; the file's angles may be degrees)
+                options[key] = math.degrees(defaults[key]) if _degrees(data) else defaults[key]
     for key, parse in OPTION_PARSERS.items():
         if key in opts:
             options[key] = parse(f"options.{key}", opts[key], system)
@@ -1140,7 +1332,7 @@ def parse_simulation(data: dict, name: str = "", base=None) -> Simulation:
         raise InvalidInputError("simulate", "table is missing", "add a [simulate] table with times, the initial "
                                 "state and each joint's motion (docs/problem-files.md); a file with only [plan] is "
                                 "run by acroplan plan")
-    system = _parse_system(data, base)
+    system, _ = _parse_system(data, base)
     if isinstance(system, Acrobot):
         _check_keys("limits", data.get("limits", {}), LIMIT_KEYS)
     sim = data["simulate"]
@@ -1305,7 +1497,8 @@ def with_options(data: dict, options: dict | None) -> dict:
 
 
 def load_problem(path) -> Problem:
-    """Read and validate a problem file (a URDF it names is read relative to its folder)."""
+    """Read and validate a problem file (a URDF or a yeadon measurement file it names is read
+    relative to its folder)."""
     return parse_problem(load_toml(path), name=Path(path).stem, base=Path(path).parent)
 
 
