@@ -229,3 +229,24 @@ def test_without_yeadon_a_file_that_needs_it_says_how_to_install_it(tmp_path, mo
     # de Leva's tables need nothing more
     p = write(tmp_path, '[body]\nheight = 1.75\nmass = 70.0\nangular_momentum = 60.0\n' + PLAN_HIPS)
     assert isinstance(load_problem(p).robot, Acrobot)
+
+
+# ------------------------------------------------------------------------ the docs
+def test_the_docs_show_the_bundled_file_and_a_valid_three_part_file():
+    import pathlib
+    import re
+    import textwrap
+
+    root = pathlib.Path(__file__).parents[1]
+    text = (root / "docs" / "problem-files.md").read_text(encoding="utf-8")
+    section = text.split("## Human bodies (")[1].split("\n## ")[0]
+    assert textwrap.indent(bundled.text("platform-dive"), "    ") in section  # the file as bundled
+    blocks = re.findall(r"\n\n((?:    .*\n|\n)+)", section)
+    three = [textwrap.dedent(b) for b in blocks if 'split = "hips+shoulders"' in b and "[plan]" in b]
+    assert len(three) == 1
+    prob = parse_problem(tomllib.loads(three[0]))
+    body = from_height_mass(1.75, 70.0)
+    assert prob.system.lumped() == body.three_part(angular_momentum=0.0).lumped()
+    assert prob.limits.bounds("hip") == human_limits(body, "pike", links=3).bounds("hip")
+    human = (root / "docs" / "human.md").read_text(encoding="utf-8")
+    assert "acroplan plan --example platform-dive --out platform-dive-out --animate" in human
