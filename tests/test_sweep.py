@@ -558,3 +558,23 @@ def test_maps_mark_infeasible_and_failed_points_apart(tmp_path, reference):
     ds["status"][0, 0] = 2
     fig = st.draw_map(ds, "T", "P0", "effort")
     assert any(t.get_text().startswith("failed (1)") for t in fig.axes[0].get_legend().get_texts())
+
+
+def test_a_sweep_over_the_objective_records_what_plan_gives(tmp_path):
+    """objective is a plan() keyword like any other: the energy-optimal points have the least
+    integral of u^2, and every point equals plan() with that objective."""
+    from acroplan.io.store import open_sweep, run_sweep
+    from acroplan.sweep import _metrics
+
+    base = dict(system=_robot(), times=[0, 1], theta=[0, 2.0], phi=[-math.pi, -2.5], conditions="free")
+    sw = sweep(base, grid={"objective": ["energy", "torque"], "T": [1.0, 1.2]}, chunk_size=2)
+    run_sweep(sw, tmp_path / "o.zarr", workers=1)
+    ds = open_sweep(tmp_path / "o.zarr")
+    assert (ds.status.values == 0).all()
+    effort = ds.effort.values
+    assert np.all(effort[0] <= effort[1] * (1 + 1e-9))  # least integral of u^2 where it is minimised
+    for i, objective in enumerate(["energy", "torque"]):
+        for j, T in enumerate([1.0, 1.2]):
+            res = acroplan.plan(**{**base, "times": [0, T]}, objective=objective)
+            e, peak, tau = _metrics(res)
+            assert (effort[i, j], ds.peak_rate.values[i, j], ds.peak_torque.values[i, j]) == (e, peak, tau)
