@@ -10,22 +10,9 @@ from click.testing import CliRunner
 
 from acroplan.io.cli import main
 
-GOOD = """
-[robot]
-torso_mass = 40.0
-leg_mass = 20.0
-torso_inertia = 1.8
-leg_inertia = 1.2
-torso_length = 0.35
-leg_length = 0.45
-angular_momentum = 10.0
+import texts  # the shared problem texts (tests/texts.py)
 
-[plan]
-times = [0, 1]
-theta = [0, {theta}]
-phi = ["-pi", "-pi/2"]
-conditions = "spline"
-"""
+GOOD = texts.problem(theta="{theta}", conditions="spline")
 
 
 def run(args):

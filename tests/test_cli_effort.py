@@ -17,22 +17,10 @@ from acroplan.io.cli import main
 from acroplan.io.problem import parse_problem
 from acroplan.io.results import load_result
 
-#: a physical acrobot (it gives torques), one segment: energy-optimal in well under a second
-BODY = """
-[robot]
-torso_mass = 40.0
-leg_mass = 20.0
-torso_inertia = 1.8
-leg_inertia = 1.2
-torso_length = 0.35
-leg_length = 0.45
-angular_momentum = 10.0
+import texts  # the shared problem texts (tests/texts.py)
 
-[plan]
-times = [0, 1]
-theta = [0, 1.0]
-phi = ["-pi", "-pi/2"]
-"""
+#: a physical acrobot (it gives torques), one segment: energy-optimal in well under a second
+BODY = texts.problem()
 
 #: the pike-dive's body (lumped: no torques) with a pike's joint range and rate limit
 PIKE = """

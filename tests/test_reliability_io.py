@@ -20,22 +20,9 @@ from click.testing import CliRunner
 from acroplan.io import output
 from acroplan.io.cli import _json_text, main
 
-GOOD = """
-[robot]
-torso_mass = 40.0
-leg_mass = 20.0
-torso_inertia = 1.8
-leg_inertia = 1.2
-torso_length = 0.35
-leg_length = 0.45
-angular_momentum = 10.0
+import texts  # the shared problem texts (tests/texts.py)
 
-[plan]
-times = [0, 1]
-theta = [0, 1.0]
-phi = ["-pi", "-pi/2"]
-conditions = "free"
-"""
+GOOD = texts.problem(conditions="free")
 
 INFEASIBLE = GOOD.replace("theta = [0, 1.0]", "theta = [0, 50.0]")
 ENV = {**os.environ, "PYTHONWARNINGS": "ignore"}

@@ -25,27 +25,15 @@ from acroplan.io import store as st
 from acroplan.planning import PlanRequest
 from acroplan.sweep import least_momentum, message_code, sweep
 
+import texts  # the shared problem texts (tests/texts.py)
+
 ROOT = pathlib.Path(__file__).parents[1]
 BODY = dict(torso_mass=40.0, leg_mass=20.0, torso_inertia=1.8, leg_inertia=1.2, torso_length=0.35, leg_length=0.45,
             angular_momentum=10.0)
 REPRODUCIBLE = ("status", "message", "effort", "peak_rate", "peak_torque", "final_error", "verified_error",
                 "evaluations", "segments", "least_P0", "most_P0")
 
-SWEEP_TOML = """\
-[robot]
-torso_mass = 40.0
-leg_mass = 20.0
-torso_inertia = 1.8
-leg_inertia = 1.2
-torso_length = 0.35
-leg_length = 0.45
-angular_momentum = 10.0
-
-[plan]
-times = [0, 1]
-theta = [0, 2.0]
-phi = ["-pi", "-pi"]
-conditions = "free"
+SWEEP_TOML = texts.problem(theta="2.0", phi='"-pi"', conditions="free") + """
 
 [sweep]
 derived = ["least_P0", "most_P0"]
