@@ -1,0 +1,410 @@
+"""Joint torques of a planned motion of a free-flying body in 3-D, by Pinocchio's inverse dynamics.
+
+The planner works in kinematics (the inputs are the joint rates :math:`u = \\dot s`); the joint
+torques :math:`\\tau` that produce a planned motion follow from the multibody dynamics of the free
+body: :class:`SpatialTorque` (the torque model of a
+:class:`~acroplan.families.spatial.model.SpatialBody`, registered by :func:`register`) and
+:func:`inverse_dynamics`.
+
+The root's motion
+-----------------
+The Pinocchio model of the link table (:mod:`~acroplan.families.spatial.pin`: a free-flyer root,
+configuration :math:`(p, q)`, velocity :math:`\\nu = (v, \\Omega)` in the root's frame; one revolute
+joint per other link, numbered **depth first** (:class:`DepthFirstTable`); no gravity) has the
+generalised velocity :math:`v = (\\nu, u)` and acceleration :math:`a = (\\dot\\nu, \\dot u)`. The
+planned motion fixes the joints, and the attitude :math:`q(t)` through the state equation; the root's
+twist and its rate follow from the momentum, with Pinocchio's centroidal momentum map
+:math:`A_G(q)` (``computeCentroidalMap``: world axes, about the centre of mass; :math:`A_{G,r}`,
+:math:`A_{G,j}` its six root and its joint columns) and its time variation :math:`\\dot A_G(q, v)`
+(``computeCentroidalMapTimeVariation``):
+
+* no external force or torque, so the centre of mass is at rest (its frame) and the angular momentum
+  about it is the constant vector :math:`L` (inertial frame):
+
+  .. math::  h_G = A_G(q)\\,v = (0, L)
+             \\quad\\Longrightarrow\\quad
+             \\nu = A_{G,r}^{-1}\\big((0, L) - A_{G,j}\\,u\\big) ,                 \\qquad (1)
+
+  whose angular part is the model's :math:`\\Omega = \\mathbb{I}^{-1}(R^\\top L - A u)`;
+* the momentum is constant:
+
+  .. math::  \\dot h_G = A_G(q)\\,a + \\dot A_G(q, v)\\,v = 0
+             \\quad\\Longrightarrow\\quad
+             \\dot\\nu = -A_{G,r}^{-1}\\big(A_{G,j}\\,\\dot u + \\dot A_G\\,v\\big) .         \\qquad (2)
+
+In 3-D the torques depend on the attitude: the momentum in the root's frame is :math:`R(q)^\\top L`
+(turning the body about :math:`L` changes nothing; turning :math:`L` in the body changes the
+torques). So the attitude is integrated along the segment first (the compiled integrator of the
+family's state equation, :mod:`acroplan.core.backend`, at every node at once, with its variational
+equations: :math:`\\partial q(s)/\\partial c` comes with it).
+
+The torques
+-----------
+Pinocchio's recursive Newton-Euler algorithm (``rnea``) on the free-floating model gives the
+generalised forces :math:`F = M(q)\\,a + C(q, v)\\,v = (F_{root}, \\tau)`. :math:`\\tau` (shape
+``(m,)``) are the joint torques: :math:`\\tau_j` is the torque the motor of joint :math:`j` applies
+to its child link about the joint axis (its parent receives :math:`-\\tau_j`), positive in the sense
+of increasing :math:`s_j`. :math:`F_{root}` (6 rows: force, then moment, in the root's frame) is
+the wrench the root would need from outside; since (1)-(2) make the momentum constant, it vanishes,
+a check of the whole computation reported as :attr:`SpatialInverseDynamics.root_residual`
+(rounding level; ``tests/test_spatial_effort.py`` asserts 1e-9). The torques do not depend on the
+root's position (computed with the root at the origin).
+
+Along a segment with input coefficients :math:`c` (shape ``(m, n)``) in a basis :math:`b_i(s)` on
+:math:`s = (t - t_0)/T \\in [0, 1]`:
+
+.. math::  s_j(s) = s_{j,0} + T\\,(c\\,I(s))_j ,\\qquad u(s) = c\\,V(s) ,\\qquad \\dot u(s) = c\\,V'(s)/T ,
+
+and :math:`q(s)` from the integrator.
+
+The Jacobian in the coefficients is exact (no finite differences): per node, the partial derivatives
+of :math:`\\tau` in :math:`(\\delta\\theta, s, u, \\dot u)`, :math:`\\delta\\theta` the attitude's
+rotation vector in the root frame (:math:`q \\to q \\otimes \\exp(\\delta\\theta)`, the tangent of
+:meth:`SpatialBody.retract <acroplan.families.spatial.model.SpatialBody.retract>`), by the
+implicit-function theorem on (1) and (2) with Pinocchio's analytic derivatives
+(``computeCentroidalDynamicsDerivatives``, ``computeRNEADerivatives``; :math:`dq = (0, \\delta\\theta,
+ds)` in Pinocchio's tangent space):
+
+.. math::  d\\nu = -A_{G,r}^{-1}\\big(\\partial_q h_G\\,dq + A_{G,j}\\,du\\big) ,\\qquad
+           d\\dot\\nu = -A_{G,r}^{-1}\\big(\\partial_q\\dot h_G\\,dq + \\partial_v\\dot h_G\\,dv
+           + A_{G,j}\\,d\\dot u\\big) ,\\qquad
+           d\\tau = \\partial_q\\tau\\,dq + \\partial_v\\tau\\,dv + M_{j\\cdot}\\,da ;
+
+then :math:`\\partial\\tau/\\partial c = \\partial_{\\delta\\theta}\\tau\\,\\partial\\delta\\theta(s)/\\partial c
++ \\partial_s\\tau\\,T I(s) + \\partial_u\\tau\\,V(s) + \\partial_{\\dot u}\\tau\\,V'(s)/T`, with
+:math:`\\partial\\delta\\theta(s)/\\partial c` the compiled variational equations' sensitivity of the
+attitude at :math:`s`, in the tangent space
+(:meth:`SpatialBody.tangent_jacobian <acroplan.families.spatial.model.SpatialBody.tangent_jacobian>`).
+``computeRNEADerivatives`` and the centroidal derivatives work on blocks of consecutive joints, so
+the model numbers the joints depth first whatever the link table's own order (a breadth-first
+numbering gives wrong derivatives on branched trees).
+
+``tests/test_spatial_effort.py`` checks: a planar body described in 3-D gives the planar family's
+torques and Jacobian (:class:`~acroplan.families.planar.effort.PlanarTorque`); the free-flyer part
+vanishes along simulated motions with :math:`L \\ne 0`; a forward simulation of the full equations
+of motion (free-flyer root free, Pinocchio's ``aba``) driven by these torques alone reproduces the
+motion, with :math:`L` conserved; the partials and the Jacobian against central finite differences.
+
+Units: those of the link table (kg, m, s give N m). Pinocchio is optional (``pip install
+acroplan[bodies]``) and imported on first use.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import threading
+import types
+
+import numpy as np
+
+from ...core import backend
+from ...core.errors import InvalidInputError
+from ...core.system import register_torque_model
+from ..planar.pin import INSTALL_HINT, require_pinocchio
+from .links import SpatialLinkTable
+from .model import SpatialBody
+from .pin import SpatialPinocchioBody, build_model
+
+__all__ = ["SpatialInverseDynamics", "inverse_dynamics", "SpatialTorque", "DepthFirstTable", "attitude_samples",
+           "register"]
+
+
+class DepthFirstTable(SpatialLinkTable):
+    """The same link table, its :meth:`topological_order` depth first (each link's subtree a run of
+    consecutive indices), as Pinocchio's block algorithms need (module docstring). Only the
+    numbering of the Pinocchio model changes; the state order (``joints``) is the table's."""
+
+    def topological_order(self) -> tuple[int, ...]:
+        order, todo = [], [self.root]
+        while todo:
+            i = todo.pop()
+            order.append(i)
+            todo.extend(reversed(self.children(i)))
+        return tuple(order)
+
+
+@functools.lru_cache(maxsize=64)
+def _model(table: SpatialLinkTable) -> SpatialPinocchioBody:
+    """The Pinocchio model of ``table`` (joints depth first), without gravity; cached, read only."""
+    pin = require_pinocchio()
+    # build_model reads ``.links`` of what it is given (a body): hand it the depth-first table so
+    # (a SpatialLinkTable given directly would be rebuilt in its own order)
+    pb = build_model(types.SimpleNamespace(links=DepthFirstTable(table)))
+    pb.model.gravity = pin.Motion.Zero()
+    return pb
+
+
+_LOCAL = threading.local()
+
+
+def _data(pb: SpatialPinocchioBody):
+    """One ``pinocchio.Data`` per model and thread (Pinocchio's algorithms write into it)."""
+    cache = getattr(_LOCAL, "data", None)
+    if cache is None:
+        cache = _LOCAL.data = {}
+    d = cache.get(id(pb))
+    if d is None or d[0] is not pb:
+        d = cache[id(pb)] = (pb, pb.model.createData())
+    return d[1]
+
+
+@dataclasses.dataclass(frozen=True)
+class SpatialInverseDynamics:
+    """The joint torques of a motion and the root's motion they imply (:func:`inverse_dynamics`).
+
+    Attributes
+    ----------
+    tau : numpy.ndarray, shape (m, K)
+        Joint torques, in state order of the joints (N m with SI link tables).
+    root_residual : numpy.ndarray, shape (6, K)
+        RNEA's free-flyer rows :math:`F_{root}` (force, then moment, root frame): the external
+        wrench the motion would need; zero up to rounding for a free body.
+    root_velocity, root_acceleration : numpy.ndarray, shape (6, K)
+        :math:`\\nu = (v, \\Omega)` and :math:`\\dot\\nu` of the root frame in the root frame (the
+        root at the origin), from (1) and (2).
+    partials : numpy.ndarray, shape (m, K, 3 + 3 m) or None
+        :math:`\\partial\\tau/\\partial(\\delta\\theta, s, u, \\dot u)` per node (columns: the attitude's
+        rotation vector in the root frame, the joint angles, the rates, the accelerations), when
+        asked for.
+    """
+
+    tau: np.ndarray
+    root_residual: np.ndarray
+    root_velocity: np.ndarray
+    root_acceleration: np.ndarray
+    partials: np.ndarray | None = None
+
+
+def _rows(name: str, value, m: int) -> np.ndarray:
+    a = np.asarray(value, dtype=float)
+    if a.ndim == 1:
+        a = a[:, None]
+    what, fix = (("quaternion component", "give quaternions [w, x, y, z]") if name == "attitude"
+                 else ("joint", "give the joint values in state order"))
+    if a.ndim != 2 or a.shape[0] != m:
+        raise InvalidInputError(name, f"must have shape ({m},) or ({m}, K), one row per {what}, got shape "
+                                f"{np.shape(value)}", fix)
+    if not np.all(np.isfinite(a)):
+        raise InvalidInputError(name, "has a value that is not finite", "give finite numbers")
+    return a
+
+
+def inverse_dynamics(body, attitude, q, u, du, *, derivatives: bool = False) -> SpatialInverseDynamics:
+    """Joint torques of a free-flying spatial body from its attitude and joint motion (module
+    docstring).
+
+    Parameters
+    ----------
+    body : SpatialBody
+        Its link table and :math:`L`.
+    attitude : array_like, shape (4,) or (4, K)
+        The root's attitude quaternions ``[w, x, y, z]`` (normalised here).
+    q, u, du : array_like, shape (m,) or (m, K)
+        Joint angles, rates and accelerations at ``K`` instants, one row per joint in state order
+        (``body.links.joint_names``).
+    derivatives : bool
+        Also compute :attr:`SpatialInverseDynamics.partials`, exactly (Pinocchio's analytic
+        derivatives).
+
+    Returns
+    -------
+    SpatialInverseDynamics
+
+    Raises
+    ------
+    InvalidInputError
+        ``body`` is not a :class:`SpatialBody`, the shapes disagree, or Pinocchio is missing.
+    """
+    if not isinstance(body, SpatialBody):
+        raise InvalidInputError("body", f"must be a SpatialBody, got {type(body).__name__}",
+                                "build one with acroplan.families.spatial.SpatialBody(links, L=...)")
+    pin = require_pinocchio()
+    m = body.n_inputs
+    Qa = _rows("attitude", attitude, 4)
+    Q, U, DU = _rows("q", q, m), _rows("u", u, m), _rows("du", du, m)
+    K = Q.shape[1]
+    if Qa.shape[1] == 1 and K > 1:
+        Qa = np.repeat(Qa, K, axis=1)
+    if U.shape[1] != K or DU.shape[1] != K or Qa.shape[1] != K:
+        raise InvalidInputError("u", f"attitude, q, u and du must have the same number of instants, got "
+                                f"{Qa.shape[1]}, {Q.shape[1]}, {U.shape[1]}, {DU.shape[1]}",
+                                "give one column per instant in each")
+    pb = _model(body.links)
+    model, data = pb.model, _data(pb)
+    nv = model.nv
+    jc = pb.idx_v
+    h0 = np.concatenate([np.zeros(3), np.asarray(body.L, dtype=float)])
+    cfg = np.array([pb.configuration(np.concatenate([Qa[:, k], Q[:, k]])) for k in range(K)])
+    Ar, Aj = np.empty((K, 6, 6)), np.empty((K, 6, m))
+    V, Acc, F = np.zeros((K, nv)), np.zeros((K, nv)), np.empty((K, nv))
+    V[:, jc], Acc[:, jc] = U.T, DU.T
+    for k in range(K):
+        Ag = pin.computeCentroidalMap(model, data, cfg[k])  # (1)
+        Ar[k], Aj[k] = Ag[:, :6], Ag[:, jc]
+        V[k, :6] = np.linalg.solve(Ar[k], h0 - Aj[k] @ U[:, k])
+        bias = pin.computeCentroidalMapTimeVariation(model, data, cfg[k], V[k]) @ V[k]  # (2)
+        Acc[k, :6] = -np.linalg.solve(Ar[k], Aj[k] @ DU[:, k] + bias)
+        F[k] = pin.rnea(model, data, cfg[k], V[k], Acc[k])
+    partials = None
+    if derivatives:
+        nx = 3 + 3 * m
+        dq = np.zeros((nv, nx))  # Pinocchio's tangent dq: (dp, dtheta, ds)
+        dq[3:6, :3] = np.eye(3)
+        dq[jc, 3:3 + m] = np.eye(m)
+        J = np.empty((K, m, nx))
+        for k in range(K):
+            dh_dq, dhd_dq, dhd_dv, _ = pin.computeCentroidalDynamicsDerivatives(model, data, cfg[k], V[k], Acc[k])
+            Fq, Fv, M = pin.computeRNEADerivatives(model, data, cfg[k], V[k], Acc[k])
+            M = np.triu(M) + np.triu(M, 1).T  # Pinocchio fills the upper triangle
+            dv = np.zeros((nv, nx))
+            dv[jc, 3 + m:3 + 2 * m] = np.eye(m)
+            dv[:6] = -np.linalg.solve(Ar[k], dh_dq @ dq + Aj[k] @ dv[jc])
+            da = np.zeros((nv, nx))
+            da[jc, 3 + 2 * m:] = np.eye(m)
+            da[:6] = -np.linalg.solve(Ar[k], dhd_dq @ dq + dhd_dv @ dv + Aj[k] @ da[jc])
+            J[k] = Fq[jc] @ dq + Fv[jc] @ dv + M[jc] @ da
+        partials = np.ascontiguousarray(np.swapaxes(J, 0, 1))
+    return SpatialInverseDynamics(F[:, jc].T.copy(), F[:, :6].T.copy(), V[:, :6].T.copy(), Acc[:, :6].T.copy(),
+                                  partials)
+
+
+@functools.lru_cache(maxsize=64)
+def _basis_tables(basis, s_bytes: bytes):
+    s = np.frombuffer(s_bytes)
+    out = (basis.matrix(s), basis.matrix(s, 1), basis.integral(s))
+    for t in out:
+        t.setflags(write=False)
+    return out
+
+
+def attitude_samples(system, basis, x0, T, c, s, *, jacobian: bool = False):
+    """The states of a segment at normalised times ``s`` (any order, in [0, 1]) by the compiled
+    integrator (:mod:`acroplan.core.backend`), and with ``jacobian`` their sensitivities to the
+    coefficients from its variational equations, at the same cost (one ``propagate_grid``).
+
+    Returns
+    -------
+    X : numpy.ndarray, shape (n, K)
+    DX : numpy.ndarray, shape (K, n, m * basis.n), only with ``jacobian``
+        :math:`\\partial x(s_k)/\\partial c`, columns in flattened ``c`` order.
+    """
+    s = np.asarray(s, dtype=float)
+    grid, where = np.unique(np.concatenate([[0.0], s]), return_inverse=True)
+    ta, _, n_x = backend._load(system, basis, x0, T, c)
+    res = ta.propagate_grid(grid, max_steps=backend.MAX_STEPS)
+    out = res[-1]
+    if res[0] != backend._TIME_LIMIT or not np.isfinite(out).all():
+        raise backend.IntegrationError(backend._why(res[0], ta.time))
+    out = out[where[1:]]
+    X = out[:, :n_x].T.copy()
+    if not jacobian:
+        return X
+    return X, out[:, n_x:].reshape(len(s), n_x, -1)
+
+
+@dataclasses.dataclass(frozen=True)
+class SpatialTorque:
+    """The torque model of a :class:`~acroplan.families.spatial.model.SpatialBody`: its joint torques
+    along a segment and their exact Jacobian in the input coefficients (module docstring), for
+    :class:`acroplan.core.optimal.TorqueOptimal`, torque limits (``tau_max``) and the torques of a
+    plan.
+
+    Parameters
+    ----------
+    joint_names : tuple of str, optional
+        One per torque row (the body's joints, in state order); the registered factory
+        (:func:`register`) fills them in. ``None``: a model for any spatial body.
+
+    Notes
+    -----
+    Call signature: ``model(system, basis, x0, T, c, s) -> (tau, jacobian)`` with ``c`` of shape
+    ``(m, basis.n)``, ``s`` of shape ``(K,)`` (normalised times in [0, 1]), ``x0`` the segment's start
+    state :math:`(q_w, q_x, q_y, q_z, s_1, \\dots, s_m)`; ``tau`` of shape ``(m, K)`` and ``jacobian``
+    of shape ``(m, K, m * basis.n)``, :math:`\\partial\\tau/\\partial c` with ``c`` flattened row by
+    row. :meth:`evaluate` also returns the free-flyer residual and the attitude.
+    """
+
+    joint_names: tuple | None = None
+
+    def __post_init__(self):
+        if self.joint_names is not None:
+            object.__setattr__(self, "joint_names", tuple(self.joint_names))
+
+    def unsupported(self, system) -> str | None:
+        """Why the model cannot give the torques of ``system`` (``None`` when it can)."""
+        if not isinstance(system, SpatialBody):
+            return f"SpatialTorque models spatial bodies, not {type(system).__name__}"
+        if self.joint_names is not None and self.joint_names != system.links.joint_names:
+            return (f"this SpatialTorque is for the joints {list(self.joint_names)}, the body has "
+                    f"{list(system.links.joint_names)}: use the body's torque_model()")
+        try:
+            require_pinocchio()
+        except InvalidInputError:
+            return f"the torques of spatial bodies need Pinocchio: {INSTALL_HINT}"
+        return None
+
+    def motion(self, system, basis, x0, T, c, s, *, jacobian: bool = False):
+        """The motion of the segment at ``s``: the attitude (4, K) from the compiled integrator, and
+        :math:`s, u, \\dot u`, each (m, K), from the basis; with ``jacobian`` also the attitude's
+        tangent sensitivity :math:`\\partial\\delta\\theta(s_k)/\\partial c`, shape (K, 3, m n)."""
+        m = system.n_inputs
+        c = np.asarray(c, dtype=float)
+        if c.shape != (m, basis.n):
+            raise InvalidInputError("c", f"must have shape ({m}, {basis.n}), got {c.shape}",
+                                    "give one row of basis coefficients per joint")
+        T = float(T)
+        if not (np.isfinite(T) and T > 0):
+            raise InvalidInputError("T", f"must be a positive duration, got {T}", "give the segment's length")
+        x0 = np.asarray(x0, dtype=float).reshape(-1)
+        if x0.shape != (system.n_states,):
+            raise InvalidInputError("x0", f"must have shape ({system.n_states},) {list(system.state_names)}, got "
+                                    f"{x0.shape}", "give the quaternion and every joint angle")
+        s = np.ascontiguousarray(np.atleast_1d(np.asarray(s, dtype=float)))
+        V, V1, Int = _basis_tables(basis, s.tobytes())
+        joints = (x0[4:, None] + T * (c @ Int.T), c @ V.T, (c @ V1.T) / T)
+        if not jacobian:
+            return (attitude_samples(system, basis, x0, T, c, s)[:4],) + joints
+        X, DX = attitude_samples(system, basis, x0, T, c, s, jacobian=True)
+        dtheta = np.array([system.tangent_jacobian(X[:, k], DX[k])[:3] for k in range(s.size)])
+        return (X[:4],) + joints + (dtheta,)
+
+    def evaluate(self, system, basis, x0, T, c, s, *, derivatives: bool = False) -> SpatialInverseDynamics:
+        """:func:`inverse_dynamics` along the segment (its ``partials`` in the coefficients, shape
+        (m, K, m n), with ``derivatives``)."""
+        why = self.unsupported(system)
+        if why is not None:
+            raise InvalidInputError("system", why, "plan a SpatialBody (with Pinocchio installed)")
+        if not derivatives:
+            att, q, u, du = self.motion(system, basis, x0, T, c, s)
+            return inverse_dynamics(system, att, q, u, du)
+        att, q, u, du, dtheta = self.motion(system, basis, x0, T, c, s, jacobian=True)
+        out = inverse_dynamics(system, att, q, u, du, derivatives=True)
+        s = np.ascontiguousarray(np.atleast_1d(np.asarray(s, dtype=float)))
+        V, V1, Int = _basis_tables(basis, s.tobytes())
+        m, T = system.n_inputs, float(T)
+        P = out.partials  # (m, K, 3 + 3m): d tau / d(dtheta, s, u, du)
+        jac = (np.einsum("pkj,ki->pkji", P[:, :, 3:3 + m], T * Int)
+               + np.einsum("pkj,ki->pkji", P[:, :, 3 + m:3 + 2 * m], V)
+               + np.einsum("pkj,ki->pkji", P[:, :, 3 + 2 * m:], V1 / T)).reshape(m, s.size, m * basis.n)
+        jac = jac + np.einsum("pka,kac->pkc", P[:, :, :3], dtheta)
+        return dataclasses.replace(out, partials=jac)
+
+    def __call__(self, system, basis, x0, T, c, s):
+        out = self.evaluate(system, basis, x0, T, c, s, derivatives=True)
+        return out.tau, out.partials
+
+    def __repr__(self):
+        names = "" if self.joint_names is None else f"joint_names={self.joint_names!r}"
+        return f"SpatialTorque({names})"
+
+
+def _factory(body) -> SpatialTorque:
+    return SpatialTorque(body.links.joint_names)
+
+
+def register() -> None:
+    """Make :class:`SpatialTorque` the torque model of :class:`SpatialBody`
+    (:func:`acroplan.core.system.register_torque_model`); idempotent."""
+    register_torque_model(SpatialBody, _factory)
+
