@@ -292,6 +292,9 @@ def test_samples_in_any_order_and_at_the_start():
         assert np.array_equal(X[:, k], ref[:, list(np.sort(np.unique(s))).index(v)])
     assert np.array_equal(X[:, 1], p.x0)
     assert np.abs(X[:, -1] - p.x1).max() <= 1e-12
+    with pytest.raises(InvalidInputError) as e:
+        attitude_samples(p.body, basis, p.x0, p.T, p.coefficients, [-0.1, 0.5])
+    assert e.value.field == "s"
 
 
 # ------------------------------------------------------------------------------ the model object

@@ -289,8 +289,11 @@ def attitude_samples(system, basis, x0, T, c, s, *, jacobian: bool = False):
     DX : numpy.ndarray, shape (K, n, m * basis.n), only with ``jacobian``
         :math:`\\partial x(s_k)/\\partial c`, columns in flattened ``c`` order.
     """
-    s = np.asarray(s, dtype=float)
-    grid, where = np.unique(np.concatenate([[0.0], s]), return_inverse=True)
+    s = np.asarray(s, dtype=float).reshape(-1)
+    if not (np.all(np.isfinite(s)) and s.min(initial=0.0) >= -1e-12):
+        raise InvalidInputError("s", "must hold normalised times in [0, 1], got one below 0 or not finite",
+                                "give s = (t - t0) / T for times t inside the segment")
+    grid, where = np.unique(np.concatenate([[0.0], np.maximum(s, 0.0)]), return_inverse=True)
     ta, _, n_x = backend._load(system, basis, x0, T, c)
     res = ta.propagate_grid(grid, max_steps=backend.MAX_STEPS)
     out = res[-1]
@@ -366,7 +369,10 @@ class SpatialTorque:
         if not jacobian:
             return (attitude_samples(system, basis, x0, T, c, s)[:4],) + joints
         X, DX = attitude_samples(system, basis, x0, T, c, s, jacobian=True)
-        dtheta = np.array([system.tangent_jacobian(X[:, k], DX[k])[:3] for k in range(s.size)])
+        # the attitude's rows in the tangent space, as SpatialBody.tangent_jacobian, at every node at once
+        w, a, b, d = X[:4]
+        Lq = 2.0 * np.array([[-a, w, d, -b], [-b, -d, w, a], [-d, b, -a, w]])  # (3, 4, K)
+        dtheta = np.einsum("ijk,kjc->kic", Lq, DX[:, :4])
         return (X[:4],) + joints + (dtheta,)
 
     def evaluate(self, system, basis, x0, T, c, s, *, derivatives: bool = False) -> SpatialInverseDynamics:
