@@ -2,11 +2,23 @@
 
 * :mod:`~.links`: :class:`SpatialLink`, :class:`SpatialLinkTable`, the conventions;
 * :mod:`~.rotations`: quaternions, rotation vectors, Euler angles (Yeadon's somersault, tilt,
-  twist);
-* :mod:`~.model`: :class:`SpatialBody`, the momentum map and the state equation on SO(3) x R^m.
+  twist), :func:`~.rotations.attitude_states` (waypoint keywords from attitudes in any form);
+* :mod:`~.model`: :class:`SpatialBody`, the momentum map and the state equation on SO(3) x R^m;
+* :mod:`~.urdf`: :func:`read_urdf`, :func:`read_link_table` (through Pinocchio), :func:`to_urdf`;
+* :mod:`~.pin`, :mod:`~.check`: the Pinocchio model, and the independent check of every plan
+  (Pinocchio is optional: ``pip install acroplan[bodies]``);
+* :mod:`~.guess`, :mod:`~.strategy`: shape loops from the curvature of the momentum connection,
+  :class:`~.strategy.SpatialAuto` (``method="auto"``);
+* :mod:`~.zoo`: :func:`falling_cat`, :func:`astronaut`, :func:`twisting_diver`, :func:`random_body`;
+* :mod:`~.examples`: the falling cat, the astronaut, a twisting somersault;
+* :mod:`~.drawing`: 3-D animation, strobe figure, Euler angles over time.
 """
 
 from .links import SpatialLink, SpatialLinkTable
 from .model import SpatialBody
+from .rotations import attitude_states
+from .urdf import read_link_table, read_urdf, to_urdf
+from .zoo import astronaut, falling_cat, random_body, twisting_diver
 
-__all__ = ["SpatialLink", "SpatialLinkTable", "SpatialBody"]
+__all__ = ["SpatialLink", "SpatialLinkTable", "SpatialBody", "attitude_states", "read_link_table", "read_urdf",
+           "to_urdf", "astronaut", "falling_cat", "random_body", "twisting_diver"]

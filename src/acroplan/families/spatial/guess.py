@@ -50,10 +50,12 @@ import functools
 
 import numpy as np
 
+from ...core import backend
 from ..planar.guess import _KEYS, _projector, _SG, _WSG, base_motion
 from . import rotations as rot
 
-__all__ = ["Connection", "curvature", "fast_attitudes", "LoopGuess", "loop_guesses", "AMPLITUDES", "FAST_STEPS"]
+__all__ = ["Connection", "curvature", "fast_attitudes", "LoopGuess", "loop_guesses", "refine", "AMPLITUDES",
+           "FAST_STEPS"]
 
 
 class Connection:
@@ -185,6 +187,10 @@ class LoopGuess:
     b: np.ndarray
     predicted_error: float
     compliant: bool = True
+    #: the coefficients of unit offset and turn vectors, shape (m n, 2 m) (:func:`refine`)
+    subspace: np.ndarray | None = None
+    #: the base motion's coefficients, shape (m, n)
+    base: np.ndarray | None = None
 
     def describe(self) -> str:
         if self.kind == "base":
@@ -288,6 +294,15 @@ def loop_guesses(body, basis, x0, x1, T: float, ends: dict | None = None, limits
     if m < 2 or n < alpha + beta + 1:
         return [base]
     wG, dwG, wg, dwg, W2 = _weights(alpha, beta, N)
+    xG = 2 * _SG - 1
+    Ksub = np.zeros((m * n, 2 * m))  # c = c_base + Ksub (a, b)
+    for i in range(m):
+        da = np.zeros((m, _SG.size))
+        da[i] = dwG
+        db = np.zeros((m, _SG.size))
+        db[i] = dwG * xG + 2.0 * wG
+        Ksub[:, i] = ((da / T) @ P.T).ravel()
+        Ksub[:, m + i] = ((db / T) @ P.T).ravel()
     # the turn a loop at mid-time must make (module docstring), in the mid-time body frame
     # (the first half on its own normalised time: half the duration, half the rates; N is even)
     q_mid = fast_attitudes(body, x0[:4], T / 2, SHg[:, None, :N + 1], 0.5 * dSHg[:, None, :N + 1])[:, 0]
@@ -330,14 +345,60 @@ def loop_guesses(body, basis, x0, x1, T: float, ends: dict | None = None, limits
     size = np.sqrt(np.sum(Av**2, axis=0) + np.sum(Bv**2, axis=0))
     order = sorted(range(len(cand)), key=lambda k: (not ok[k], round(err[k], 2), size[k]))
     out, seen = [], []
-    xG = 2 * _SG - 1
     for k in order:
         a, b = cand[k]
         if any(np.allclose(a, a2) and np.allclose(b, b2) for a2, b2 in seen):
             continue
         seen.append((a, b))
-        dD = dwG[None, :] * (a[:, None] + xG[None, :] * b[:, None]) + 2.0 * wG[None, :] * b[:, None]
-        out.append(LoopGuess(c_base + (dD / T) @ P.T, "loop", a, b, float(err[k]), bool(ok[k])))
+        c = c_base + (Ksub @ np.concatenate([a, b])).reshape(m, n)
+        out.append(LoopGuess(c, "loop", a, b, float(err[k]), bool(ok[k]), Ksub, c_base))
         if len(out) >= keep:
             break
     return out + [base]
+
+
+def refine(body, basis, x0, x1, T: float, guess: LoopGuess, *, budget: int = 30, tol: float = 1e-12):
+    """Gauss-Newton on the loop's offset and turn vectors :math:`z = (a, b)` (2 m unknowns, the
+    attitude's 3 equations; the joints end on target whatever :math:`z`): minimum-norm steps
+    :math:`\\delta z = (J_z)^+ r`, :math:`r` the attitude's rotation vector to the target and
+    :math:`J_z` its Jacobian (compiled integrator, tangent space), with backtracking.
+
+    Returns
+    -------
+    (coefficients, error, evaluations)
+        The best input found (shape (m, n)), its attitude error (rad), the endpoint evaluations spent.
+    """
+    if guess.subspace is None:
+        return guess.coefficients, float("nan"), 0
+    m, n = body.n_inputs, basis.n
+    K, c0 = guess.subspace, guess.base.ravel()
+    z = np.concatenate([guess.a, guess.b])
+    evals = 0
+
+    def evaluate(z):
+        y, J = backend.endpoint(body, basis, x0, T, c0 + K @ z)
+        return body.diff(y, x1)[:3], body.tangent_jacobian(y, J)[:3] @ K
+
+    try:
+        r, Jz = evaluate(z)
+    except backend.IntegrationError:
+        return guess.coefficients, float("inf"), 1
+    evals += 1
+    res = float(np.linalg.norm(r))
+    while evals < budget and res > tol:
+        d = np.linalg.lstsq(Jz, r, rcond=1e-12)[0]
+        alpha, moved = 1.0, False
+        while alpha >= 1.0 / 64 and evals < budget:
+            evals += 1
+            try:
+                r2, J2 = evaluate(z + alpha * d)
+            except backend.IntegrationError:
+                alpha /= 4.0
+                continue
+            if np.linalg.norm(r2) < (1.0 - 1e-4 * alpha) * res:
+                z, r, Jz, res, moved = z + alpha * d, r2, J2, float(np.linalg.norm(r2)), True
+                break
+            alpha /= 4.0
+        if not moved:
+            break
+    return (c0 + K @ z).reshape(m, n), res, evals

@@ -10,8 +10,10 @@ deformation (in the tangent space of SO(3) x R^m) polishes it.
 Stages, the first success wins (:func:`~acroplan.core.strategies.run_stages`):
 
 1. for each basis size of :data:`AUTO_SIZES` (6, 10, 14; loops need :math:`\\alpha + \\beta + 1`
-   coefficients: 10 under spline conditions), deformation from each loop guess, then from the base
-   motion;
+   coefficients: 10 under spline conditions), each loop guess is first refined by Gauss-Newton on
+   its own offset and turn vectors (:func:`~acroplan.families.spatial.guess.refine`, at most
+   :data:`REFINE_BUDGET` evaluations), then polished by deformation (from the refined loop when it
+   meets the target to 1e-8 rad, else from the guess); then deformation from the base motion;
 2. generic path deformation from the minimum-norm input (perturbed starts) at each size.
 
 Every stage's deformation has a budget of :data:`AUTO_BUDGET` endpoint evaluations; a result that
@@ -20,8 +22,10 @@ breaks the limits goes to the constrained solve (:func:`~acroplan.core.strategie
 
 from __future__ import annotations
 
+import dataclasses
+
 from ...core.strategies import Interval, IntervalOutcome, Strategy, deform_attempt, run_stages
-from .guess import Connection, loop_guesses
+from .guess import Connection, loop_guesses, refine
 
 __all__ = ["SpatialAuto", "AUTO_SIZES", "AUTO_BUDGET"]
 
@@ -29,6 +33,8 @@ __all__ = ["SpatialAuto", "AUTO_SIZES", "AUTO_BUDGET"]
 AUTO_SIZES = (6, 10, 14)
 #: evaluation budget of each deformation stage
 AUTO_BUDGET = 60
+#: evaluation budget of the Gauss-Newton refinement of a loop (:func:`~acroplan.families.spatial.guess.refine`)
+REFINE_BUDGET = 30
 
 
 class SpatialAuto(Strategy):
@@ -55,10 +61,18 @@ class SpatialAuto(Strategy):
             g = cache[key]
             if len(g) <= k:
                 return None
-            out = deform_attempt(interval, n, initial=g[k].coefficients, budget=AUTO_BUDGET)
+            c, err, spent = refine(system, interval.sized(n), interval.x0, interval.x1, interval.T, g[k],
+                                   budget=REFINE_BUDGET)
+            start = c if err <= 1e-8 else g[k].coefficients
+            out = deform_attempt(interval, n, initial=start, budget=AUTO_BUDGET)
             if out.success:
+                if spent:
+                    p0 = out.pieces[0]
+                    out = IntervalOutcome(True, (dataclasses.replace(p0, evaluations=p0.evaluations + spent),)
+                                          + out.pieces[1:], "", out.evaluations)
                 return out
-            return IntervalOutcome(False, out.pieces, f"from the {g[k].describe()}: {out.reason}", out.evaluations)
+            return IntervalOutcome(False, out.pieces, f"from the {g[k].describe()}: {out.reason}",
+                                   out.evaluations + spent)
 
         stages = [lambda n=n, k=k: attempt(n, k) for n in sizes for k in range(4)]
         stages += [lambda n=n: deform_attempt(interval, n, budget=AUTO_BUDGET) for n in sizes]

@@ -21,7 +21,8 @@ from . import rotations as rot
 from .links import SpatialLink
 from .model import SpatialBody
 
-__all__ = ["random_body", "random_segment", "SpatialSegment", "box_inertia", "cylinder_inertia"]
+__all__ = ["random_body", "random_segment", "SpatialSegment", "box_inertia", "cylinder_inertia", "falling_cat",
+           "cat_frame", "astronaut", "twisting_diver"]
 
 
 def box_inertia(mass: float, a: float, b: float, c: float) -> tuple[float, float, float]:
@@ -36,6 +37,119 @@ def cylinder_inertia(mass: float, length: float, radius: float, axis: int = 0) -
     out = [mass * (3 * radius**2 + length**2) / 12.0] * 3
     out[axis] = mass * radius**2 / 2.0
     return tuple(out)
+
+
+def falling_cat(*, mass: float = 4.0, length: float = 0.5, radius: float = 0.06) -> SpatialBody:
+    """Kane and Scher's (1969) cat: two equal solid cylinders (the front and the rear half) joined at
+    the waist, where each half's axis meets it.
+
+    Frames: the root is the front half, its frame at the waist with :math:`x` along the front
+    half's axis towards the head, :math:`z` dorsal (towards the back), :math:`y` to the cat's left.
+    The rear half hangs on three revolute joints at the waist (two through massless links):
+
+    * ``bend`` about :math:`-y`: positive curls the cat forward (ventral flexion, the back arched
+      up), negative bends it backward (extension); range :math:`[-60^\\circ, 100^\\circ]`;
+    * ``side`` about :math:`z`: lateral flexion, range :math:`\\pm 70^\\circ`;
+    * ``twist`` about the rear half's own axis, range :math:`\\pm 60^\\circ`.
+
+    The ranges are round numbers chosen for this model (Kane and Scher's own motion bends the halves
+    by 20 to 140 degrees for their inertia ratio 0.3): they are not measurements.
+
+    Parameters
+    ----------
+    mass : float
+        The whole cat (kg); each half has half of it.
+    length : float
+        The whole cat (m); each half has half of it.
+    radius : float
+        Of both cylinders (m). With the defaults the inertia about a half's axis over that about a
+        perpendicular axis through its centre of mass is
+        :math:`6 r^2 / (3 r^2 + \\ell^2) = 0.295` (Kane and Scher's ratio, 0.2 to 0.3).
+
+    Returns
+    -------
+    SpatialBody
+        At :math:`L = 0`.
+    """
+    half, lh = mass / 2.0, length / 2.0
+    Ih = cylinder_inertia(half, lh, radius, axis=0)
+    deg = np.pi / 180.0
+    return SpatialBody([
+        SpatialLink("front", None, half, Ih, com=(lh / 2.0, 0.0, 0.0)),
+        SpatialLink("waist", "front", 0.0, (0.0, 0.0, 0.0), axis=(0.0, -1.0, 0.0), joint_name="bend",
+                    lower=-60 * deg, upper=100 * deg),
+        SpatialLink("waist2", "waist", 0.0, (0.0, 0.0, 0.0), axis=(0.0, 0.0, 1.0), joint_name="side",
+                    lower=-70 * deg, upper=70 * deg),
+        SpatialLink("rear", "waist2", half, Ih, com=(-lh / 2.0, 0.0, 0.0), axis=(1.0, 0.0, 0.0), joint_name="twist",
+                    lower=-60 * deg, upper=60 * deg),
+    ])
+
+
+def cat_frame(cat: SpatialBody, shape) -> np.ndarray:
+    """The cat's own frame in its root's frame at a shape: :math:`x` its long axis (from the rear
+    half's centre of mass to the front half's), :math:`z` dorsal (the root's :math:`z` made
+    orthogonal to :math:`x`), :math:`y = z \\times x`.
+
+    Returns
+    -------
+    numpy.ndarray, shape (3, 3)
+        Columns :math:`x, y, z` in the root frame: the root attitude that puts the cat upright with
+        its long axis along the inertial :math:`x` is its transpose.
+    """
+    _, _, coms = cat.link_poses(np.concatenate([[1.0, 0.0, 0.0, 0.0], np.asarray(shape, dtype=float)]))
+    front, rear = cat.links.index("front"), cat.links.index("rear")
+    x = coms[front] - coms[rear]
+    x /= np.linalg.norm(x)
+    z = np.array([0.0, 0.0, 1.0]) - x[2] * x
+    z /= np.linalg.norm(z)
+    return np.column_stack([x, np.cross(z, x), z])
+
+
+def astronaut(*, arm_mass: float = 3.6) -> SpatialBody:
+    """A person in space: a rigid trunk (with head and legs) and two arms, two joints at each
+    shoulder.
+
+    The trunk (root, 67 kg; de Leva's (1996) proportions for a 75 kg adult, rounded) has its frame
+    at its centre of mass with Yeadon's axes: :math:`x` lateral (left to right), :math:`y`
+    antero-posterior (back to front), :math:`z` longitudinal (feet to head); principal moments
+    (12.5, 12.0, 1.1) kg m². Each arm (``arm_mass`` kg, 0.7 m long, its centre of mass 0.3 m from the
+    shoulder, moments (0.16, 0.16, 0.007) kg m²) hangs from a shoulder at :math:`(\\pm 0.19, 0,
+    0.45)` m on two joints through a massless link:
+
+    * ``left_flex``, ``right_flex`` (about :math:`x`): flexion, 0 the arm down, 90° forward, 180°
+      overhead; range :math:`[-50^\\circ, 180^\\circ]`;
+    * ``left_abd``, ``right_abd`` (about :math:`\\pm y`): abduction, the arm sideways away from the
+      body; range :math:`[-20^\\circ, 180^\\circ]`.
+
+    Returns
+    -------
+    SpatialBody
+        At :math:`L = 0`.
+    """
+    deg = np.pi / 180.0
+    arm = dict(inertia=(0.16, 0.16, 0.007), com=(0.0, 0.0, -0.3))
+    links = [SpatialLink("trunk", None, 67.0, (12.5, 12.0, 1.1))]
+    for side, sx, sy in (("left", -0.19, 1.0), ("right", 0.19, -1.0)):
+        links += [
+            SpatialLink(f"{side}_shoulder", "trunk", 0.0, (0.0, 0.0, 0.0), joint=(sx, 0.0, 0.45), axis=(1.0, 0.0, 0.0),
+                        joint_name=f"{side}_flex"),
+            SpatialLink(f"{side}_arm", f"{side}_shoulder", arm_mass, arm["inertia"], com=arm["com"],
+                        axis=(0.0, sy, 0.0), joint_name=f"{side}_abd", lower=-20 * deg, upper=180 * deg),
+        ]
+    return SpatialBody(links)
+
+
+def twisting_diver(L: float = 0.0) -> SpatialBody:
+    """A diver in the layout position with arms (:func:`astronaut`'s body, arms lighter: 3.2 kg),
+    with angular momentum ``L`` (kg m²/s) about the inertial :math:`x` axis (the somersault axis
+    when the trunk's lateral axis is along it).
+
+    Returns
+    -------
+    SpatialBody
+    """
+    body = astronaut(arm_mass=3.2)
+    return SpatialBody(body.links, L=(float(L), 0.0, 0.0))
 
 
 def random_body(rng, n_links: int, L=(0.0, 0.0, 0.0), *, tree: bool = False) -> SpatialBody:
