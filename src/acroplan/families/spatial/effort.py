@@ -128,8 +128,8 @@ class DepthFirstTable(SpatialLinkTable):
 def _model(table: SpatialLinkTable) -> SpatialPinocchioBody:
     """The Pinocchio model of ``table`` (joints depth first), without gravity; cached, read only."""
     pin = require_pinocchio()
-    # build_model reads ``.links`` of what it is given (a body): hand it the depth-first table so
-    # (a SpatialLinkTable given directly would be rebuilt in its own order)
+    # build_model takes ``.links`` of what it is given (a body) and rebuilds a plain table from a
+    # table given directly, losing the depth-first order: hand it a holder of the depth-first table
     pb = build_model(types.SimpleNamespace(links=DepthFirstTable(table)))
     pb.model.gravity = pin.Motion.Zero()
     return pb
