@@ -276,6 +276,7 @@ def test_jacobian_against_central_finite_differences(segment):
                        - tm.evaluate(body, basis, x0, T, c - e.reshape(m, n), s).tau) / (2 * h)
     assert np.abs(jac).max() > 1.0
     assert np.abs(jac - fd).max() <= 1e-6 * np.abs(jac).max()
+    assert np.array_equal(tm.torques(body, basis, x0, T, c, s), tau)  # the torques alone, without the Jacobian
     # the attitude's part is not negligible: without it the Jacobian is wrong
     att, q, u, du, dtheta = tm.motion(body, basis, x0, T, c, s, jacobian=True)
     P = inverse_dynamics(body, att, q, u, du, derivatives=True).partials
