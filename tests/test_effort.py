@@ -513,3 +513,24 @@ def test_one_basis_size_when_n_coefficients_is_given():
     assert r.success, r.message
     assert r.segments[0].basis_coefficients.shape == (1, 10)
     assert "one basis size" in r.segments[0].message
+
+
+def test_torques_without_the_jacobian_equal_the_full_call():
+    """Results and sweeps ask the torque model for tau alone (model.torques); it must be the tau of
+    the full call (with the Jacobian) the optimiser uses, for the acrobot and a planar body."""
+    from acroplan.core.basis import make_basis
+    from acroplan.core.system import model_torques
+    from acroplan.families.planar import three_rods
+
+    rng = np.random.default_rng(11)
+    s = np.linspace(0.0, 1.0, 33)
+    robot = acroplan.Acrobot.from_physical(torso_mass=40.0, leg_mass=20.0, torso_inertia=1.8, leg_inertia=1.2,
+                                           torso_length=0.35, leg_length=0.45, angular_momentum=10.0)
+    for system, x0 in ((robot, np.array([0.2, -2.5])), (three_rods(P0=0.7), np.array([0.1, 0.3, -0.4]))):
+        model = system.torque_model()
+        basis = make_basis("legendre", 8)
+        c = rng.normal(size=(system.n_inputs, 8))
+        full = model(system, basis, x0, 1.3, c, s)[0]
+        fast = model_torques(model, system, basis, x0, 1.3, c, s)
+        assert fast.shape == full.shape
+        np.testing.assert_allclose(fast, full, rtol=1e-12, atol=1e-12 * np.max(np.abs(full)))

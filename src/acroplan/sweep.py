@@ -77,7 +77,7 @@ from .core import backend
 from .core.basis import InputBasis
 from .core.errors import InvalidInputError
 from .core.limits import Limits
-from .core.system import ControlAffineSystem, torque_model_of
+from .core.system import ControlAffineSystem, model_torques, torque_model_of
 from .families.acrobot.momentum import least_momentum as _least
 from .families.acrobot.model import Acrobot
 from .families.acrobot.reach import reachable_set
@@ -571,8 +571,7 @@ def _metrics(result) -> tuple[float, float, float]:
         else:
             peak = max(peak, seg.max_abs_u)
         if model is not None:
-            out = model(result.system, basis, np.asarray(seg.start, dtype=float), T, C, s)
-            tau = out[0] if isinstance(out, tuple) else out
+            tau = model_torques(model, result.system, basis, np.asarray(seg.start, dtype=float), T, C, s)
             torque = max(torque, float(np.max(np.abs(tau))))
     return effort, peak, torque
 

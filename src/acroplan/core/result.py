@@ -28,7 +28,7 @@ import numpy as np
 from . import backend
 from .basis import InputBasis
 from .errors import InvalidInputError
-from .system import ControlAffineSystem, joint_inputs, torque_model_of
+from .system import ControlAffineSystem, joint_inputs, model_torques, torque_model_of
 
 __all__ = ["PlanResult", "SegmentResult", "Samples", "Status", "STATUSES", "JointEffort", "EFFORT_RULE"]
 
@@ -627,9 +627,8 @@ class PlanResult:
         """``(tau, power)`` of ``seg`` at absolute times ``t`` inside it, each shape (p, K)."""
         T = seg.t1 - seg.t0
         s = (np.asarray(t, dtype=float) - seg.t0) / T
-        out = model(self.system, self.basis_for(seg), np.asarray(seg.start, dtype=float), T,
-                    np.asarray(seg.basis_coefficients, dtype=float), s)
-        tau = np.asarray(out[0] if isinstance(out, tuple) else out, dtype=float).reshape(-1, s.size)
+        tau = model_torques(model, self.system, self.basis_for(seg), np.asarray(seg.start, dtype=float), T,
+                            np.asarray(seg.basis_coefficients, dtype=float), s)
         if tau.shape[0] != len(inputs):
             raise InvalidInputError("torque_model", f"gave {tau.shape[0]} torque row(s) for {len(inputs)} joint "
                                     "name(s)", "give one joint name per torque row")

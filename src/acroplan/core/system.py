@@ -379,7 +379,10 @@ class ControlAffineSystem(abc.ABC):
           coefficients ``c`` (shape ``(m, basis.n)``, in ``basis``) produce from state ``x0`` in time
           ``T``, at normalised times ``s`` (shape ``(K,)``, in [0, 1]): ``tau`` of shape ``(p, K)``,
           or ``(tau, jacobian)`` with ``jacobian`` = :math:`\\partial\\tau/\\partial c`, shape
-          ``(p, K, m * basis.n)`` (flattened ``c``; by forward differences when not given).
+          ``(p, K, m * basis.n)`` (flattened ``c``; by forward differences when not given);
+        * optionally ``torques(system, basis, x0, T, c, s)``: ``tau`` alone, shape ``(p, K)``, without
+          the Jacobian (what results and sweeps ask for; :func:`model_torques` falls back on
+          ``__call__``).
 
         Used by :meth:`PlanResult.torques <acroplan.core.result.PlanResult.torques>`,
         :meth:`PlanResult.effort <acroplan.core.result.PlanResult.effort>`, ``objective="torque"``
@@ -425,6 +428,20 @@ def torque_model_of(system) -> tuple[Any, str | None]:
     check = getattr(model, "unsupported", None)
     why = check(system) if callable(check) else None
     return (None, why) if why else (model, None)
+
+
+def model_torques(model, system, basis, x0, T, c, s) -> np.ndarray:
+    """The torques of a torque model (:meth:`ControlAffineSystem.torque_model`) without its
+    Jacobian: its ``torques`` method when it has one, else the first part of its call.
+
+    Returns
+    -------
+    numpy.ndarray, shape (p, K)
+    """
+    fast = getattr(model, "torques", None)
+    out = fast(system, basis, x0, T, c, s) if callable(fast) else model(system, basis, x0, T, c, s)
+    tau = out[0] if isinstance(out, tuple) else out
+    return np.asarray(tau, dtype=float).reshape(-1, np.size(s))
 
 
 def joint_inputs(system, model) -> tuple[int, ...]:

@@ -354,6 +354,14 @@ class AcrobotTorque:
                     "Acrobot.from_physical(...)")
         return None
 
+    def torques(self, system, basis, x0, T, c, s):
+        """:math:`\\tau(s)` alone, shape (1, K) (no Jacobian: for results and sweeps)."""
+        robot = _require_physical(system)
+        s = np.ascontiguousarray(s, dtype=float)
+        V, V1, I = _basis_tables(basis, s.tobytes())
+        c = np.asarray(c, dtype=float).reshape(-1)
+        return joint_torque(robot, float(x0[1]) + T * (I @ c), V @ c, (V1 @ c) / T)[None, :]
+
     def __call__(self, system, basis, x0, T, c, s):
         robot = _require_physical(system)
         s = np.ascontiguousarray(s, dtype=float)

@@ -347,6 +347,14 @@ class PlanarTorque:
         q0 = np.asarray(x0, dtype=float).reshape(-1)[1:]
         return q0[:, None] + T * (c @ Int.T), c @ V.T, (c @ V1.T) / T
 
+    def torques(self, system, basis, x0, T, c, s):
+        """:math:`\\tau(s)` alone, shape (m, K) (no Jacobian: for results and sweeps)."""
+        why = self.unsupported(system)
+        if why is not None:
+            raise InvalidInputError("system", why, "plan a PlanarBody (with Pinocchio installed)")
+        q, u, du = self.motion(system, basis, x0, T, c, s)
+        return inverse_dynamics(system, q, u, du, root=self.root).tau
+
     def __call__(self, system, basis, x0, T, c, s):
         why = self.unsupported(system)
         if why is not None:
