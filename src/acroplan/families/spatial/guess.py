@@ -187,7 +187,8 @@ class LoopGuess:
     b: np.ndarray
     predicted_error: float
     compliant: bool = True
-    #: the coefficients of unit offset and turn vectors, shape (m n, 2 m) (:func:`refine`)
+    #: the coefficients of unit vectors :math:`v_k` of :math:`\\hat w \\sum_k P_k(2\\sigma - 1) v_k`
+    #: (:math:`v_0 = a`, :math:`v_1 = b`), shape (m n, (d + 1) m) (:func:`refine`)
     subspace: np.ndarray | None = None
     #: the base motion's coefficients, shape (m, n)
     base: np.ndarray | None = None
@@ -295,14 +296,17 @@ def loop_guesses(body, basis, x0, x1, T: float, ends: dict | None = None, limits
         return [base]
     wG, dwG, wg, dwg, W2 = _weights(alpha, beta, N)
     xG = 2 * _SG - 1
-    Ksub = np.zeros((m * n, 2 * m))  # c = c_base + Ksub (a, b)
-    for i in range(m):
-        da = np.zeros((m, _SG.size))
-        da[i] = dwG
-        db = np.zeros((m, _SG.size))
-        db[i] = dwG * xG + 2.0 * wG
-        Ksub[:, i] = ((da / T) @ P.T).ravel()
-        Ksub[:, m + i] = ((db / T) @ P.T).ravel()
+    # the refinement's subspace: w (v0 + x v1 + P2(x) v2 + P3(x) v3), as many Legendre terms as fit
+    degree = min(3, n - 1 - (alpha + beta))
+    Pl = [np.polynomial.legendre.legval(xG, np.eye(degree + 1)[k]) for k in range(degree + 1)]
+    dPl = [2.0 * np.polynomial.legendre.legval(xG, np.polynomial.legendre.legder(np.eye(degree + 1)[k]))
+           for k in range(degree + 1)]
+    Ksub = np.zeros((m * n, (degree + 1) * m))  # c = c_base + Ksub (v0, v1, ...), v0 = a, v1 = b
+    for k in range(degree + 1):
+        for i in range(m):
+            d = np.zeros((m, _SG.size))
+            d[i] = dwG * Pl[k] + wG * dPl[k]
+            Ksub[:, k * m + i] = ((d / T) @ P.T).ravel()
     # the turn a loop at mid-time must make (module docstring), in the mid-time body frame
     # (the first half on its own normalised time: half the duration, half the rates; N is even)
     q_mid = fast_attitudes(body, x0[:4], T / 2, SHg[:, None, :N + 1], 0.5 * dSHg[:, None, :N + 1])[:, 0]
@@ -350,7 +354,7 @@ def loop_guesses(body, basis, x0, x1, T: float, ends: dict | None = None, limits
         if any(np.allclose(a, a2) and np.allclose(b, b2) for a2, b2 in seen):
             continue
         seen.append((a, b))
-        c = c_base + (Ksub @ np.concatenate([a, b])).reshape(m, n)
+        c = c_base + (Ksub[:, :2 * m] @ np.concatenate([a, b])).reshape(m, n)
         out.append(LoopGuess(c, "loop", a, b, float(err[k]), bool(ok[k]), Ksub, c_base))
         if len(out) >= keep:
             break
@@ -358,8 +362,11 @@ def loop_guesses(body, basis, x0, x1, T: float, ends: dict | None = None, limits
 
 
 def refine(body, basis, x0, x1, T: float, guess: LoopGuess, *, budget: int = 30, tol: float = 1e-12):
-    """Gauss-Newton on the loop's offset and turn vectors :math:`z = (a, b)` (2 m unknowns, the
-    attitude's 3 equations; the joints end on target whatever :math:`z`): minimum-norm steps
+    """Gauss-Newton on the loop's vectors :math:`z = (v_0, \\dots, v_d)` of
+    :math:`\\delta s = \\hat w(\\sigma) \\sum_k P_k(2\\sigma - 1)\\, v_k` (Legendre polynomials
+    :math:`P_k`, :math:`d \\le 3` as the basis allows; the teardrop is :math:`v_0 = a`,
+    :math:`v_1 = b`, the rest 0): :math:`(d + 1) m` unknowns, the attitude's 3 equations (the
+    joints end on target whatever :math:`z`); minimum-norm steps
     :math:`\\delta z = (J_z)^+ r`, :math:`r` the attitude's rotation vector to the target and
     :math:`J_z` its Jacobian (compiled integrator, tangent space), with backtracking.
 
@@ -372,7 +379,8 @@ def refine(body, basis, x0, x1, T: float, guess: LoopGuess, *, budget: int = 30,
         return guess.coefficients, float("nan"), 0
     m, n = body.n_inputs, basis.n
     K, c0 = guess.subspace, guess.base.ravel()
-    z = np.concatenate([guess.a, guess.b])
+    z = np.zeros(K.shape[1])
+    z[:2 * m] = np.concatenate([guess.a, guess.b])
     evals = 0
 
     def evaluate(z):

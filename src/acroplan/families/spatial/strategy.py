@@ -9,12 +9,14 @@ deformation (in the tangent space of SO(3) x R^m) polishes it.
 
 Stages, the first success wins (:func:`~acroplan.core.strategies.run_stages`):
 
-1. for each basis size of :data:`AUTO_SIZES` (6, 10, 14; loops need :math:`\\alpha + \\beta + 1`
-   coefficients: 10 under spline conditions), each loop guess is first refined by Gauss-Newton on
-   its own offset and turn vectors (:func:`~acroplan.families.spatial.guess.refine`, at most
-   :data:`REFINE_BUDGET` evaluations), then polished by deformation (from the refined loop when it
-   meets the target to 1e-8 rad, else from the guess); then deformation from the base motion;
-2. generic path deformation from the minimum-norm input (perturbed starts) at each size.
+1. at the smallest basis size of :data:`AUTO_SIZES` (6, 10, 14) the loops fit in (they need
+   :math:`\\alpha + \\beta + 1` coefficients: 10 under spline conditions), each of the three best
+   loop guesses is refined by Gauss-Newton on its own vectors
+   (:func:`~acroplan.families.spatial.guess.refine`, at most :data:`REFINE_BUDGET` evaluations),
+   then polished by deformation (from the refined loop when it meets the target to 1e-8 rad, else
+   from the guess); then deformation from the base motion;
+2. generic path deformation from the minimum-norm input (perturbed starts) at that size;
+3. each other size: the best loop guess, then generic deformation.
 
 Every stage's deformation has a budget of :data:`AUTO_BUDGET` endpoint evaluations; a result that
 breaks the limits goes to the constrained solve (:func:`~acroplan.core.strategies.deform_attempt`).
@@ -32,9 +34,9 @@ __all__ = ["SpatialAuto", "AUTO_SIZES", "AUTO_BUDGET"]
 #: basis sizes tried when ``n_coefficients`` is not given
 AUTO_SIZES = (6, 10, 14)
 #: evaluation budget of each deformation stage
-AUTO_BUDGET = 60
+AUTO_BUDGET = 100
 #: evaluation budget of the Gauss-Newton refinement of a loop (:func:`~acroplan.families.spatial.guess.refine`)
-REFINE_BUDGET = 30
+REFINE_BUDGET = 40
 
 
 class SpatialAuto(Strategy):
@@ -53,12 +55,14 @@ class SpatialAuto(Strategy):
         conn = Connection(system)
         cache = {}
 
+        def guess_list(n):
+            if n not in cache:
+                cache[n] = loop_guesses(system, interval.sized(n), interval.x0, interval.x1, interval.T,
+                                        interval.ends, interval.limits, conn=conn)
+            return cache[n]
+
         def attempt(n, k):
-            key = n
-            if key not in cache:
-                cache[key] = loop_guesses(system, interval.sized(n), interval.x0, interval.x1, interval.T,
-                                          interval.ends, interval.limits, conn=conn)
-            g = cache[key]
+            g = guess_list(n)
             if len(g) <= k:
                 return None
             c, err, spent = refine(system, interval.sized(n), interval.x0, interval.x1, interval.T, g[k],
@@ -74,6 +78,12 @@ class SpatialAuto(Strategy):
             return IntervalOutcome(False, out.pieces, f"from the {g[k].describe()}: {out.reason}",
                                    out.evaluations + spent)
 
-        stages = [lambda n=n, k=k: attempt(n, k) for n in sizes for k in range(4)]
-        stages += [lambda n=n: deform_attempt(interval, n, budget=AUTO_BUDGET) for n in sizes]
+        # the loops are the same functions at every size they fit in: their guesses at the first
+        # such size, then generic deformation there, then the other sizes
+        first = next((n for n in sizes if len(guess_list(n)) > 1), sizes[0])
+        stages = [lambda k=k: attempt(first, k) for k in range(4)]
+        stages += [lambda: deform_attempt(interval, first, budget=AUTO_BUDGET)]
+        for n in sizes:
+            if n != first:
+                stages += [lambda n=n: attempt(n, 0), lambda n=n: deform_attempt(interval, n, budget=AUTO_BUDGET)]
         return run_stages(stages)
