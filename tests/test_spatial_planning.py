@@ -132,3 +132,56 @@ def test_unit_quaternions_are_required():
     body = random_body(1, 3)
     with pytest.raises(acroplan.InvalidInputError, match="attitude: the end quaternion"):
         acroplan.plan(body, times=[0, 1], qw=[1, 1], qx=[0, 0.1], qy=[0, 0], qz=[0, 0], q1=[0, 0], q2=[0, 0])
+
+
+def _figures(folder):  # pragma: no cover - run by hand: python tests/test_spatial_planning.py docs/images
+    """Plan the bundled examples and draw them (a family module may not call the front door)."""
+    import pathlib
+
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from acroplan.families.spatial import drawing
+    from acroplan.families.spatial.examples import EXAMPLES
+
+    out = pathlib.Path(folder)
+    for name, make in EXAMPLES.items():
+        body, kw = make()
+        res = acroplan.plan(body, **kw)
+        print(name, res.status, res.message)
+        if not res.success:
+            continue
+        drawing.save_strobe(res, out / f"spatial-{name}-strobe.png", poses=7 if len(res.segments) > 1 else 6)
+        fig = drawing.attitude_figure(res)
+        FigureCanvasAgg(fig)
+        fig.savefig(out / f"spatial-{name}-angles.png", dpi=90)
+        if name in ("falling-cat", "twisting-somersault"):
+            speed = 0.25 if name == "falling-cat" else 1.0
+            drawing.animate(res, out / f"spatial-{name}.gif", fps=15, speed=speed, dpi=64)
+        if name == "falling-cat":
+            _kane_scher_numbers(res)
+
+
+def _kane_scher_numbers(res):  # pragma: no cover
+    """The angle between the halves' axes and the direction of the bend over the planned motion."""
+    body = res.system
+    t = np.linspace(res.times[0], res.times[-1], 401)
+    X = res.evaluate(t).states
+    gam, psi, twist = [], [], []
+    for x in X.T:
+        Rs, _, _ = body.link_poses(x)
+        a = Rs[body.links.index("front")][:, 0]
+        b = -Rs[body.links.index("rear")][:, 0]
+        gam.append(np.degrees(np.arccos(np.clip(-a @ b, -1, 1))))
+        # the bend's direction about the front half's axis, in its frame (0: forward, 90: to its left)
+        d = Rs[body.links.index("front")].T @ (a + b)
+        psi.append(np.degrees(np.arctan2(d[1], -d[2])))
+        twist.append(np.degrees(x[6]))
+    psi = np.unwrap(np.radians(psi))
+    print(f"angle between the halves: min {min(gam):.1f} max {max(gam):.1f} deg; the bend's direction turns by "
+          f"{np.degrees(psi[-1] - psi[0]):.1f} deg; twist joint within [{min(twist):.1f}, {max(twist):.1f}] deg")
+
+
+if __name__ == "__main__":  # pragma: no cover
+    import sys
+
+    _figures(sys.argv[1] if len(sys.argv) > 1 else "docs/images")
