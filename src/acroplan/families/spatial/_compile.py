@@ -1,9 +1,9 @@
 """heyoka's compact mode for spatial bodies, until the core's back end has a switch for it.
 
 The fields of a spatial body are a deep expression (products of rotations, an adjugate): heyoka's
-default (full) mode unrolls every Taylor coefficient and took over 15 minutes to compile a 3-link
-body with its variational equations (4,889 nodes), compact mode 0.4-4 s (measured with
-``tests/test_spatial.py``'s bodies). The core's :func:`acroplan.core.backend.compile_for` builds
+default (full) mode unrolls every Taylor coefficient and had not compiled an early form of a 3-link
+body's fields with their variational equations (4,889 nodes) after 15 minutes; compact mode takes
+seconds. The core's :func:`acroplan.core.backend.compile_for` builds
 under its build lock; this module wraps the back end's builder so that, for a system whose
 ``compact_mode`` attribute is true, ``taylor_adaptive`` gets ``compact_mode=True`` (a keyword the
 core passes itself takes precedence). Other systems are built exactly as before.

@@ -72,10 +72,11 @@ non-root link the nine entries ``R<k>_<ij>`` of :math:`R^0_k` and ``w<k>_{x,y,z}
 topology (:attr:`SpatialBody.structure_key` ``= ("spatial", parents)``): one compilation serves
 every body of that topology, whatever its masses, inertias, geometry, axes, names and :math:`L`.
 
-Compilation uses heyoka's compact mode (the fields of a 3-link body have about 750 nodes and
-about 4900 with the variational equations; full mode took over 15 minutes to compile them,
-compact mode 0.4-4 s; 5 links, 10 coefficients: 13,900 nodes, about 7 s cold, 40 ms per
-propagation). The tests check (1) against Pinocchio's centroidal map at random shapes to 1e-12.
+Compilation uses heyoka's compact mode: with the variational equations a 3-link body with 6
+coefficients per input has 4,317 nodes in heyoka's decomposition, a 5-link body with 10 coefficients
+12,691; full mode had not compiled an earlier form of the 3-link fields (4,889 nodes) after 15
+minutes, compact mode takes seconds (:mod:`~acroplan.families.spatial._compile`). The tests check (1)
+against Pinocchio's centroidal map at random shapes to 1e-12.
 """
 
 from __future__ import annotations
@@ -344,9 +345,9 @@ class SpatialBody(ControlAffineSystem):
     ...                     SpatialLink("b", "a", 1.0, (0.1, 0.1, 0.1), joint=(1.0, 0.0, 0.0), axis=(0, 0, 1))])
     >>> body.state_names, body.input_names
     (('qw', 'qx', 'qy', 'qz', 'b'), ('u_b',))
-    >>> I, A = body.momentum_map([0.0])   # two unit masses 1 m apart: m d^2 / 4 = 0.25 about y and z
-    >>> [round(v, 12) for v in np.diag(I)]
-    [0.2, 0.45, 0.45]
+    >>> I, A = body.momentum_map([0.0])   # 0.1 + 0.1, plus two unit masses 1 m apart: m d^2 / 2 = 0.5
+    >>> [round(float(v), 12) for v in np.diag(I)]
+    [0.2, 0.7, 0.7]
     """
 
     links: SpatialLinkTable
