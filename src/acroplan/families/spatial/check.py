@@ -36,7 +36,8 @@ from .links import SpatialLinkTable
 from .pin import SpatialPinocchioBody, build_model
 
 __all__ = ["pinocchio_body", "pinocchio_momentum_map", "root_twist", "simulate_with_pinocchio", "pinocchio_segment",
-           "pinocchio_errors", "state_error", "RTOL", "ATOL"]
+           "pinocchio_errors", "state_error", "norm_drift",
+           "RTOL", "ATOL"]
 
 RTOL = 3e-14
 ATOL = 3e-14
@@ -209,3 +210,22 @@ def state_error(x, target) -> float:
     target = np.asarray(target, dtype=float)
     ang = rot.angle_between(x[:4] / np.linalg.norm(x[:4]), target[:4] / np.linalg.norm(target[:4]))
     return float(max(ang, float(np.max(np.abs(x[4:] - target[4:]))) if x.size > 4 else 0.0))
+
+
+def norm_drift(result, samples: int = 401) -> float:
+    """How far the planned motion's quaternion strays from unit norm: :math:`\\max_t ||q(t)| - 1|`
+    over ``samples`` equally spaced times of the compiled integrator's dense output (the norm is a
+    first integral of the state equation, kept to rounding: about 1e-15).
+
+    Parameters
+    ----------
+    result : PlanResult
+        A plan of a spatial body.
+
+    Returns
+    -------
+    float
+    """
+    t = np.linspace(result.times[0], result.times[-1], samples)
+    q = result.evaluate(t).states[:4]
+    return float(np.max(np.abs(np.linalg.norm(q, axis=0) - 1.0)))
