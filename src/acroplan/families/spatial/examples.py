@@ -19,8 +19,8 @@
   asymmetric arm motions add half a twist (two quarter twists, the arms down at take-off, half
   way and at the end).
 
-Planning times (``python benchmarks/spatial.py --examples``, in ``benchmarks/RESULTS.md``): seconds
-for the cat, tens of seconds for the others.
+Planning times (``python benchmarks/spatial.py --examples``, in ``benchmarks/RESULTS.md``): 4-7 s
+for the cat, 18-90 s for the others on a shared machine.
 """
 
 from __future__ import annotations
