@@ -135,6 +135,33 @@ def test_unit_quaternions_are_required():
         acroplan.plan(body, times=[0, 1], qw=[1, 1], qx=[0, 0.1], qy=[0, 0], qz=[0, 0], q1=[0, 0], q2=[0, 0])
 
 
+def test_drawings(tmp_path):
+    """The equivalent boxes have the links' principal moments; the animation has the frames asked for."""
+    from PIL import Image
+
+    from acroplan.families.spatial import drawing
+    from acroplan.families.spatial.zoo import astronaut
+
+    body = astronaut()
+    for i, half, V in drawing.equivalent_boxes(body):
+        a, b, c = 2 * half
+        mass = body.links[i].mass
+        moments = mass / 12 * np.array([b * b + c * c, a * a + c * c, a * a + b * b])
+        assert np.allclose(V @ np.diag(moments) @ V.T, body.links[i].inertia_matrix, atol=1e-12)
+    p = random_segment(100, 3)
+    res = acroplan.plan(p.body, conditions="free", verify=False, **p.plan_kwargs())
+    frames = drawing.animate(res, tmp_path / "a.gif", fps=4, dpi=30)
+    assert frames == int(np.ceil(p.T * 4)) + 1 and Image.open(tmp_path / "a.gif").n_frames == frames
+    fig = drawing.attitude_figure(res)
+    lines = fig.axes[0].get_lines()
+    assert [ln.get_label() for ln in lines[:3]] == ["somersault", "tilt", "twist"]
+    # the plotted angles are the Yeadon angles of the plan's end attitude
+    end = res.evaluate([p.T]).states[:4, 0]
+    ang = rot.to_euler(end)
+    for k in range(3):
+        assert abs((lines[k].get_ydata()[-1] - ang[k] + 180) % 360 - 180) < 1e-6
+
+
 def _figures(folder):  # pragma: no cover - run by hand: python tests/test_spatial_planning.py docs/images
     """Plan the bundled examples and draw them (a family module may not call the front door)."""
     import pathlib
