@@ -214,7 +214,8 @@ def _symbolic_map(parents):
     children, ancestors, subtree = _tree(parents)
     x, p = generic_symbols(parents)
     it = iter(p)
-    Lv = sp.Matrix([next(it) for _ in range(3)])
+    for _ in range(3):  # Lx, Ly, Lz: not in the momentum map
+        next(it)
     Minv = next(it)
     g, J = [], []
     for k in range(n):
