@@ -94,7 +94,8 @@ def _build(system: ControlAffineSystem, basis_cls: type[InputBasis], n: int):
     sys = list(zip(hx, rhs))
     wrt = [c for row in coeffs for c in row]
     vsys = hy.var_ode_sys(sys, wrt, order=1)
-    return hy.taylor_adaptive(vsys, [0.0] * n_x, tol=TOL, pars=[0.0] * (n_p + 1 + m * n))
+    return hy.taylor_adaptive(vsys, [0.0] * n_x, tol=TOL, pars=[0.0] * (n_p + 1 + m * n),
+                              compact_mode=bool(system.compact_mode))
 
 
 def _key(system: ControlAffineSystem, basis_cls: type[InputBasis], n: int) -> tuple[Hashable, type, int]:

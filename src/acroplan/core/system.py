@@ -127,6 +127,10 @@ class ControlAffineSystem(abc.ABC):
     rate_inputs: ClassVar[dict[str, str]] = {}
     #: states that are angles (in radians): ``degrees=True`` converts these.
     angle_states: ClassVar[tuple[str, ...]] = ()
+    #: Compile the fields in heyoka's compact mode (functions for the Taylor coefficients instead of
+    #: unrolled code): compiles deep fields (a spatial body's rotations and adjugate) in seconds
+    #: where full mode takes many minutes, at some cost per step.
+    compact_mode: ClassVar[bool] = False
 
     # ------------------------------------------------------------------ structure
     @property

@@ -11,14 +11,19 @@
   :class:`~.strategy.SpatialAuto` (``method="auto"``);
 * :mod:`~.zoo`: :func:`falling_cat`, :func:`astronaut`, :func:`twisting_diver`, :func:`random_body`;
 * :mod:`~.examples`: the falling cat, the astronaut, a twisting somersault;
-* :mod:`~.drawing`: 3-D animation, strobe figure, Euler angles over time.
+* :mod:`~.drawing`: 3-D animation, strobe figure, Euler angles over time;
+* :mod:`~.effort`: joint torques by Pinocchio's inverse dynamics of the free body
+  (:class:`~.effort.SpatialTorque`, registered as the torque model of :class:`SpatialBody`).
 """
 
 from .links import SpatialLink, SpatialLinkTable
 from .model import SpatialBody
+from .effort import SpatialTorque, register as _register_torque
 from .rotations import attitude_states
 from .urdf import read_link_table, read_urdf, to_urdf
 from .zoo import astronaut, falling_cat, random_body, twisting_diver
 
-__all__ = ["SpatialLink", "SpatialLinkTable", "SpatialBody", "attitude_states", "read_link_table", "read_urdf",
+_register_torque()  # SpatialTorque is the torque model of SpatialBody
+
+__all__ = ["SpatialLink", "SpatialLinkTable", "SpatialBody", "SpatialTorque", "attitude_states", "read_link_table", "read_urdf",
            "to_urdf", "astronaut", "falling_cat", "random_body", "twisting_diver"]

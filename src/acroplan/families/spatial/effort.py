@@ -10,7 +10,7 @@ The root's motion
 -----------------
 The Pinocchio model of the link table (:mod:`~acroplan.families.spatial.pin`: a free-flyer root,
 configuration :math:`(p, q)`, velocity :math:`\\nu = (v, \\Omega)` in the root's frame; one revolute
-joint per other link, numbered **depth first** (:class:`DepthFirstTable`); no gravity) has the
+joint per other link, numbered depth first (the table's order); no gravity) has the
 generalised velocity :math:`v = (\\nu, u)` and acceleration :math:`a = (\\dot\\nu, \\dot u)`. The
 planned motion fixes the joints, and the attitude :math:`q(t)` through the state equation; the root's
 twist and its rate follow from the momentum, with Pinocchio's centroidal momentum map
@@ -94,7 +94,6 @@ from __future__ import annotations
 import dataclasses
 import functools
 import threading
-import types
 
 import numpy as np
 
@@ -106,31 +105,15 @@ from .links import SpatialLinkTable
 from .model import SpatialBody
 from .pin import SpatialPinocchioBody, build_model
 
-__all__ = ["SpatialInverseDynamics", "inverse_dynamics", "SpatialTorque", "DepthFirstTable", "attitude_samples",
+__all__ = ["SpatialInverseDynamics", "inverse_dynamics", "SpatialTorque", "attitude_samples",
            "register"]
-
-
-class DepthFirstTable(SpatialLinkTable):
-    """The same link table, its :meth:`topological_order` depth first (each link's subtree a run of
-    consecutive indices), as Pinocchio's block algorithms need (module docstring). Only the
-    numbering of the Pinocchio model changes; the state order (``joints``) is the table's."""
-
-    def topological_order(self) -> tuple[int, ...]:
-        order, todo = [], [self.root]
-        while todo:
-            i = todo.pop()
-            order.append(i)
-            todo.extend(reversed(self.children(i)))
-        return tuple(order)
 
 
 @functools.lru_cache(maxsize=64)
 def _model(table: SpatialLinkTable) -> SpatialPinocchioBody:
     """The Pinocchio model of ``table`` (joints depth first), without gravity; cached, read only."""
     pin = require_pinocchio()
-    # build_model takes ``.links`` of what it is given (a body) and rebuilds a plain table from a
-    # table given directly, losing the depth-first order: hand it a holder of the depth-first table
-    pb = build_model(types.SimpleNamespace(links=DepthFirstTable(table)))
+    pb = build_model(table)  # SpatialLinkTable.topological_order is depth first
     pb.model.gravity = pin.Motion.Zero()
     return pb
 

@@ -403,12 +403,14 @@ class SpatialLinkTable:
         return tuple(k for k in range(len(self.links)) if i in self.ancestors(k))
 
     def topological_order(self) -> tuple[int, ...]:
-        """Link indices with every parent before its children (root first)."""
+        """Link indices with every parent before its children (root first), depth first: each
+        link's subtree is a run of consecutive indices, as Pinocchio's block algorithms (``crba``,
+        ``computeRNEADerivatives``) need of the joints' numbering."""
         order, todo = [], [self.root]
         while todo:
-            i = todo.pop(0)
+            i = todo.pop()
             order.append(i)
-            todo.extend(self.children(i))
+            todo.extend(reversed(self.children(i)))
         return tuple(order)
 
     def joint_index(self, name: str) -> int:

@@ -75,7 +75,7 @@ every body of that topology, whatever its masses, inertias, geometry, axes, name
 Compilation uses heyoka's compact mode: with the variational equations a 3-link body with 6
 coefficients per input has 4,317 nodes in heyoka's decomposition, a 5-link body with 10 coefficients
 12,691; full mode had not compiled an earlier form of the 3-link fields (4,889 nodes) after 15
-minutes, compact mode takes seconds (:mod:`~acroplan.families.spatial._compile`). The tests check (1)
+minutes, compact mode takes seconds (:attr:`SpatialBody.compact_mode`, which the core's back end honours). The tests check (1)
 against Pinocchio's centroidal map at random shapes to 1e-12.
 """
 
@@ -92,7 +92,6 @@ import sympy as sp
 from ...core.errors import InvalidInputError
 from ...core.system import ControlAffineSystem, Infeasibility
 from . import rotations as rot
-from ._compile import install as _install_compact
 from .links import QUATERNION_NAMES, SpatialLink, SpatialLinkTable
 
 __all__ = ["SpatialBody", "lumped_parameters", "generic_symbols", "axis_rotation", "NORM_TOL"]
@@ -702,4 +701,3 @@ class SpatialBody(ControlAffineSystem):
 
 
 _ = SpatialLink  # re-exported through the package
-_install_compact()
