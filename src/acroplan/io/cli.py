@@ -98,11 +98,14 @@ def _solution_doc(result, simulation=None) -> dict:
 
 
 def _verify_method(system) -> str:
-    """How the command line checks a motion independently: a planar body by its own check
+    """How the command line checks a motion independently: a planar or spatial body by its own check
     (Pinocchio's centroidal map), any other system by the DOP853 re-simulation (``"ode"``)."""
     from ..families.planar.model import PlanarBody
 
-    return "family" if isinstance(system, PlanarBody) else "ode"
+    if isinstance(system, PlanarBody):
+        return "family"
+    spatial = type(system).__name__ == "SpatialBody" and type(system).__module__.startswith("acroplan.families.spatial")
+    return "family" if spatial else "ode"
 
 
 def _formats(text: str) -> tuple[str, ...]:
@@ -1077,7 +1080,8 @@ def _write_animation(folder: Path, *, speed: float = 1.0, fps: int = 25) -> int:
                                 "simulate or nilpotent")
     try:
         sol = json.loads(sol_path.read_text(encoding="utf-8"))
-        body = isinstance(sol["system"], dict) and sol["system"].get("type") == "PlanarBody"
+        kind = sol["system"].get("type") if isinstance(sol["system"], dict) else None
+        body = kind in ("PlanarBody", "SpatialBody")
         geom = None if body else geometry_of(sol["system"])
     except (json.JSONDecodeError, UnicodeDecodeError, KeyError, TypeError, ValueError) as e:
         raise InvalidInputError(str(sol_path), f"is corrupt ({type(e).__name__}: {e})",
@@ -1087,6 +1091,8 @@ def _write_animation(folder: Path, *, speed: float = 1.0, fps: int = 25) -> int:
                                 "animate a folder whose plan succeeded")
     if not (speed > 0 and np.isfinite(speed)):
         raise InvalidInputError("--speed", f"must be a positive number, got {speed}", "give for example 1 or 0.5")
+    if kind == "SpatialBody":
+        return _write_spatial_animation(folder, sol_path, speed=speed, fps=fps)
     if body:
         return _write_body_animation(folder, sol_path, speed=speed, fps=fps)
     try:
@@ -1134,6 +1140,28 @@ def _write_body_animation(folder: Path, sol_path: Path, *, speed: float, fps: in
             os.replace(tmp_mp4, folder / "motion.mp4")
     finally:
         for f in (tmp_gif, tmp_mp4, tmp_png):
+            f.unlink(missing_ok=True)
+    return n
+
+
+def _write_spatial_animation(folder: Path, sol_path: Path, *, speed: float, fps: int) -> int:
+    """A spatial body's motion.gif and strobe.png (:mod:`acroplan.families.spatial.drawing`: the links
+    as shaded equivalent boxes, the root's axes, the angular momentum vector), from the exact result
+    that solution.json records."""
+    import os
+
+    from ..families.spatial.drawing import animate, save_strobe
+    from .results import load_result
+
+    result = load_result(sol_path)
+    tmp_gif, tmp_png = folder / ".motion.tmp.gif", folder / ".strobe.tmp.png"
+    try:
+        n = animate(result, tmp_gif, speed=speed, fps=fps)
+        save_strobe(result, tmp_png, poses=6)
+        os.replace(tmp_gif, folder / "motion.gif")
+        os.replace(tmp_png, folder / "strobe.png")
+    finally:
+        for f in (tmp_gif, tmp_png):
             f.unlink(missing_ok=True)
     return n
 

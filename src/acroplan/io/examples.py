@@ -7,7 +7,8 @@ it); a file may name another file beside it (the diver's URDF), which :func:`fil
 
 :func:`names` lists them with one line each: the text's two-link body (``pike-dive``,
 ``pike-dive-limited``, ``chapter4``), planar bodies (``diver-somersault``, ``space-robot-turn``,
-``three-rods-turn``, ``space-robot-arm-loop``) and a human body, ``platform-dive``: the 10 m
+``three-rods-turn``, ``space-robot-arm-loop``), a spatial body (``falling-cat``: Kane and Scher's
+cat turns over at zero angular momentum, docs/spatial.md) and a human body, ``platform-dive``: the 10 m
 platform dive, 3.5 forward somersaults in pike, of Yeadon's bundled ``male1`` split at the hips,
 energy-optimal within a diver's hip range and rate (the problem of
 :func:`acroplan.families.human.examples.platform_dive_pike`; needs ``pip install
@@ -41,6 +42,8 @@ _DESCRIPTIONS = {
                        "loop, |u| <= 2 rad/s",
     "space-robot-arm-loop": "planar body: the turn of the space robot's base under a given arm loop "
                             "(acroplan simulate)",
+    "falling-cat": "spatial body (link tables): Kane and Scher's cat turns over, 180 deg about its long axis at "
+                   "zero angular momentum in 0.5 s, from a shape back to the same shape, within its joint ranges",
     "platform-dive": "human body (Yeadon's male1, split at the hips): 10 m platform, 3.5 forward somersaults in "
                      "pike, energy-optimal within a diver's hip range and rate (needs pip install \"acroplan[human]\")",
 }
@@ -119,7 +122,7 @@ def load_nilpotent(name: str):
 
 
 def robot(name: str):
-    """The example's system (an ``Acrobot``, or a ``PlanarBody``)."""
+    """The example's system (an ``Acrobot``, a ``PlanarBody`` or a ``SpatialBody``)."""
     if command(name) == "simulate":
         return load_simulation(name).system
     return load(name).robot

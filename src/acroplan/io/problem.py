@@ -163,6 +163,17 @@ BODY_KEYS = ("urdf", "link", "angular_momentum") + HUMAN_KEYS
 #: how a human body is split: at the hips (the two-link body), at the hips and the shoulders
 SPLITS = ("hips", "hips+shoulders")
 LINK_KEYS = ("name", "parent", "mass", "inertia", "com", "joint", "joint_name", "lower", "upper", "velocity")
+#: the keys of each [[body.link]] of a spatial body (the fields of
+#: :class:`~acroplan.families.spatial.links.SpatialLink`)
+SPATIAL_LINK_KEYS = ("name", "parent", "mass", "inertia", "com", "joint", "axis", "rotation", "joint_name", "lower",
+                     "upper", "velocity")
+#: a spatial body's attitude keys in [plan] (one attitude per waypoint) and [simulate] (the initial
+#: one), and the form of :func:`~acroplan.families.spatial.rotations.as_quaternion` each names
+#: (``attitude``: a quaternion [w, x, y, z] or an inline table of any form); ``attitude_seq``
+#: names another Euler sequence than Yeadon's
+ATTITUDE_KEYS = {"attitude": None, "attitude_euler_deg": "euler_deg", "attitude_euler": "euler",
+                 "attitude_rotvec_deg": "rotvec_deg", "attitude_rotvec": "rotvec"}
+ATTITUDE_FORMS = ("quaternion", "rotvec", "rotvec_deg", "euler", "euler_deg")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -732,9 +743,13 @@ def _links_from_tables(tables) -> list:
     return links
 
 
-def _urdf_table(value, base):
-    """The link table of the URDF file ``value`` (relative to ``base``), read by Pinocchio."""
-    from ..families.planar.urdf import read_link_table
+def _urdf_table(value, base, spatial: bool = False):
+    """The link table of the URDF file ``value`` (relative to ``base``), read by Pinocchio (a
+    spatial body's with :func:`acroplan.families.spatial.urdf.read_link_table`)."""
+    if spatial:
+        from ..families.spatial.urdf import read_link_table
+    else:
+        from ..families.planar.urdf import read_link_table
 
     if not isinstance(value, str) or not value.strip():
         raise InvalidInputError("body.urdf", f"must be the path of a URDF file in quotes, got {_short(value)}",
@@ -748,7 +763,7 @@ def _urdf_table(value, base):
                                 "folder)")
     if path.stat().st_size > MAX_FILE_BYTES:
         raise InvalidInputError("body.urdf", f"{path.name} is larger than {MAX_FILE_BYTES // 1_000_000} MB",
-                                "give the URDF of a planar body")
+                                "give the URDF of a " + ("spatial" if spatial else "planar") + " body")
     try:
         table = read_link_table(path)
     except InvalidInputError as e:
@@ -767,8 +782,6 @@ _UNSET = object()
 def _apply_limits(table, lim, degrees: bool):
     """The link table with the file's ``[limits]`` written into it (per joint ``NAME_min``,
     ``NAME_max``, ``u_NAME``; ``u_max`` for every joint; ``"none"`` drops a limit)."""
-    from ..families.planar.links import LinkTable
-
     names = table.joint_names
     allowed = ("u_max",) + tuple(k for j in names for k in (f"{j}_min", f"{j}_max", f"u_{j}"))
     _check_keys("limits", lim, allowed)
@@ -800,7 +813,7 @@ def _apply_limits(table, lim, degrees: bool):
                                     f"limits.{other}{whose}, got {j}_min = {lo:.12g}, {j}_max = {hi:.12g}",
                                     "swap or widen the joint limits")
         links[i] = dataclasses.replace(link, lower=lo, upper=hi, velocity=vel)
-    return LinkTable(links)
+    return type(table)(links)  # a planar LinkTable or a SpatialLinkTable
 
 
 def parse_body(data: dict, limits: dict | None = None, *, base=None, degrees: bool = False):
@@ -847,6 +860,8 @@ def _parse_body(data: dict, limits: dict | None = None, *, base=None, degrees: b
     from ..families.planar.model import PlanarBody
 
     _check_keys("body", data, BODY_KEYS)
+    if isinstance(data.get("angular_momentum"), list):  # [Lx, Ly, Lz]: a spatial body
+        return _spatial_body(data, limits, base=base, degrees=degrees), {}
     human = [k for k in HUMAN_KEYS if k in data]
     if human:
         return _human_body(data, human, limits, base=base, degrees=degrees)
@@ -868,7 +883,11 @@ def _parse_body(data: dict, limits: dict | None = None, *, base=None, degrees: b
         try:
             table = LinkTable(_links_from_tables(data["link"]))
         except InvalidInputError as e:
-            raise _renamed(e, "links", "body.link") from None
+            e = _renamed(e, "links", "body.link")
+            if e.field.startswith("body.link[") and _looks_spatial(data["link"]):
+                raise InvalidInputError(e.field, e.problem, e.fix + "; for a body in 3-D give angular_momentum = "
+                                        "[Lx, Ly, Lz] (a list of three numbers makes the body spatial)") from None
+            raise e from None
     table = _apply_limits(table, {} if limits is None else limits, degrees)
     try:
         body = PlanarBody(table, P0=P0)
@@ -880,6 +899,203 @@ def _parse_body(data: dict, limits: dict | None = None, *, base=None, degrees: b
                                     "more than the arithmetic carries",
                                     "change the units so that the numbers come nearer to 1")
     return body, {}
+
+
+# ---------------------------------------------------------------------- a spatial [body]
+def _looks_spatial(tables) -> bool:
+    """Whether ``[[body.link]]`` tables look like a spatial body's (an axis, a rotation, or a
+    3-vector ``com`` or ``joint``): the hint of a planar reader's error."""
+    if not isinstance(tables, list):
+        return False
+    for d in tables:
+        if isinstance(d, dict) and ("axis" in d or "rotation" in d or any(
+                isinstance(d.get(k), list) and len(d[k]) == 3 for k in ("com", "joint"))):
+            return True
+    return False
+
+
+def _vector3(field: str, value, most: float = MAX_BODY, what: str = _BODY) -> tuple[float, float, float]:
+    if not isinstance(value, list) or len(value) != 3:
+        raise InvalidInputError(field, f"must be three numbers [x, y, z], got {_short(value)}",
+                                "write for example [0.0, 0.0, 0.5]")
+    return _numbers(field, value, most, what)
+
+
+def _matrix3(field: str, value, example: str) -> list:
+    if not isinstance(value, list) or len(value) != 3 or not all(isinstance(r, list) for r in value):
+        raise InvalidInputError(field, f"must be a 3 x 3 matrix (three rows of three numbers), got {_short(value)}",
+                                f"write for example {example}")
+    return [list(_vector3(f"{field}[{i}]", r)) for i, r in enumerate(value)]
+
+
+def _spatial_links_from_tables(tables) -> list:
+    """:class:`~acroplan.families.spatial.links.SpatialLink` records from ``[[body.link]]`` tables
+    (numbers checked and arithmetic read here; the tree and the inertias by ``SpatialLinkTable``)."""
+    from ..families.spatial.links import SpatialLink
+
+    if not isinstance(tables, list) or not tables or not all(isinstance(t, dict) for t in tables):
+        raise InvalidInputError("body.link", f"must be an array of tables ([[body.link]]), got {_short(tables)}",
+                                "write one [[body.link]] table per link (docs/problem-files.md)")
+    if len(tables) > MAX_LINKS:
+        raise InvalidInputError("body.link", f"has {len(tables)} links, more than {MAX_LINKS}", f"give at most "
+                                f"{MAX_LINKS} links (join links that move together)")
+    links = []
+    for i, d in enumerate(tables):
+        f = f"body.link[{i}]"
+        _check_keys(f, d, SPATIAL_LINK_KEYS)
+        for key in ("name", "mass", "inertia"):
+            if key not in d:
+                raise InvalidInputError(f"{f}.{key}", "is missing", "give every link a name, mass and inertia (and "
+                                        "every link but the root its parent, joint and axis)")
+        kw: dict[str, Any] = {k: _name_field(f"{f}.{k}", d[k]) for k in ("name", "parent", "joint_name") if k in d}
+        kw["mass"] = _number(f"{f}.mass", d["mass"], MAX_BODY, _BODY)
+        inertia = d["inertia"]
+        if isinstance(inertia, list) and inertia and all(isinstance(r, list) for r in inertia):
+            kw["inertia"] = _matrix3(f"{f}.inertia", inertia, "[[0.1, 0, 0], [0, 0.2, 0], [0, 0, 0.2]]")
+        else:
+            kw["inertia"] = list(_vector3(f"{f}.inertia", inertia))
+        for key in ("com", "joint", "axis"):
+            if key in d:
+                kw[key] = _vector3(f"{f}.{key}", d[key])
+        if "rotation" in d:
+            kw["rotation"] = _matrix3(f"{f}.rotation", d["rotation"], "[[1, 0, 0], [0, 0, -1], [0, 1, 0]]")
+        for key in ("lower", "upper"):
+            if key in d:
+                kw[key] = _number(f"{f}.{key}", d[key], MAX_ANGLE, "angles")
+        if "velocity" in d:
+            kw["velocity"] = _number(f"{f}.velocity", d["velocity"], MAX_BODY, "rates")
+        kw.setdefault("parent", None)
+        links.append(SpatialLink(**kw))
+    return links
+
+
+def _spatial_body(data: dict, limits: dict | None, *, base, degrees: bool):
+    """A :class:`~acroplan.families.spatial.model.SpatialBody` from ``[body]`` with
+    ``angular_momentum = [Lx, Ly, Lz]`` (module docstring)."""
+    from ..families.spatial.links import SpatialLinkTable
+    from ..families.spatial.model import SpatialBody
+
+    human = [k for k in HUMAN_KEYS if k in data]
+    if human:
+        raise InvalidInputError(f"body.{human[0]}", "is a key of a human (planar) body, and angular_momentum is a "
+                                "vector [Lx, Ly, Lz], which makes the body spatial",
+                                "give a spatial body by urdf or [[body.link]] tables, or a human body with "
+                                "angular_momentum a number")
+    if "urdf" in data and "link" in data:
+        raise InvalidInputError("body", "gives both urdf and [[body.link]] tables",
+                                "describe the body one way: a URDF file or link tables")
+    if "urdf" not in data and "link" not in data:
+        raise InvalidInputError("body.urdf", "is missing, and there are no [[body.link]] tables",
+                                "give urdf = \"body.urdf\" or one [[body.link]] table per link (name, parent, mass, "
+                                "inertia, com, joint, axis)")
+    L = _vector3("body.angular_momentum", data["angular_momentum"])
+    where = "body.urdf" if "urdf" in data else "body.link"
+    if "urdf" in data:
+        table = _urdf_table(data["urdf"], base, spatial=True)
+    else:
+        try:
+            table = SpatialLinkTable(_spatial_links_from_tables(data["link"]))
+        except InvalidInputError as e:
+            raise _renamed(e, "links", "body.link") from None
+    table = _apply_limits(table, {} if limits is None else limits, degrees)
+    try:
+        return SpatialBody(table, L=L)
+    except InvalidInputError as e:
+        raise _renamed(_renamed(e, "links", where), "L", "body.angular_momentum") from None
+
+
+def _is_spatial(system) -> bool:
+    return type(system).__name__ == "SpatialBody" and type(system).__module__.startswith("acroplan.families.spatial")
+
+
+def _attitude_entry(field: str, value, single: str | None):
+    """One attitude as :func:`~acroplan.families.spatial.rotations.as_quaternion` takes it, its
+    numbers read here (arithmetic with pi allowed): a quaternion ``[w, x, y, z]``, an inline table
+    ``{euler_deg = [...]}`` (``quaternion``, ``rotvec``, ``rotvec_deg``, ``euler``, ``euler_deg``,
+    optional ``seq``), or, under ``single`` (a form's own key), that form's three numbers."""
+    if single is not None:
+        return {single: list(_vector3(field, value, MAX_ANGLE, "angles"))}
+    if isinstance(value, list):
+        return list(_numbers(field, value, MAX_ANGLE, "angles"))
+    if isinstance(value, dict):
+        out = {}
+        for k, v in value.items():
+            if k == "seq":
+                if not isinstance(v, str):
+                    raise InvalidInputError(f"{field}.seq", f"must be a name in quotes, got {_short(v)}",
+                                            "write seq = \"yeadon\" or for example \"ZYX\"")
+                out[k] = v
+            elif k in ATTITUDE_FORMS:
+                out[k] = list(_numbers(f"{field}.{k}", v, MAX_ANGLE, "angles"))
+            else:
+                raise InvalidInputError(f"{field}.{k}", "is not a form of attitude",
+                                        f"give one of {list(ATTITUDE_FORMS)} (and optionally seq)")
+        return out
+    raise InvalidInputError(field, f"must be a quaternion [w, x, y, z] or a table such as {{euler_deg = [0, 0, 90]}}, "
+                            f"got {_short(value)}", "write for example [1, 0, 0, 0]")
+
+
+def _attitude_key(table: str, d: dict) -> str:
+    """The one attitude key of ``d`` (``[plan]`` or ``[simulate]``), refusing none or several."""
+    given = [k for k in ATTITUDE_KEYS if k in d]
+    if not given:
+        raise InvalidInputError(f"{table}.attitude", "is missing: a spatial body's state starts with the root's "
+                                "attitude", "give attitude = [[w, x, y, z], ...] (one per waypoint; or "
+                                "attitude_euler_deg = [[somersault, tilt, twist], ...], attitude_rotvec_deg, ...)"
+                                if table == "plan" else "give attitude = [w, x, y, z] (the initial attitude; or "
+                                "attitude_euler_deg = [somersault, tilt, twist], ...)")
+    if len(given) > 1:
+        raise InvalidInputError(f"{table}.{given[1]}", f"is given together with {table}.{given[0]}",
+                                "give the attitude in one form")
+    return given[0]
+
+
+def _euler_seq(table: str, d: dict, key: str):
+    seq = d.get("attitude_seq")
+    if seq is None:
+        return None
+    if key not in ("attitude_euler", "attitude_euler_deg"):
+        raise InvalidInputError(f"{table}.attitude_seq", f"is the sequence of Euler angles, and the attitude is "
+                                f"given by {table}.{key}", f"drop {table}.attitude_seq, or give the attitude in Euler "
+                                "angles")
+    if not isinstance(seq, str):
+        raise InvalidInputError(f"{table}.attitude_seq", f"must be a name in quotes, got {_short(seq)}",
+                                "write attitude_seq = \"yeadon\" or for example \"ZYX\"")
+    return seq
+
+
+def _attitudes(table: str, d: dict, count: int | None) -> dict[str, tuple]:
+    """The waypoints ``qw, qx, qy, qz`` from the attitude keys of ``d`` (``count`` waypoints; ``None``:
+    one initial attitude)."""
+    from ..families.spatial.rotations import attitude_states
+
+    key = _attitude_key(table, d)
+    field = f"{table}.{key}"
+    seq = _euler_seq(table, d, key)
+    single = ATTITUDE_KEYS[key]
+    values = d[key] if count is not None else [d[key]]
+    if count is not None:
+        if not isinstance(values, list):
+            raise InvalidInputError(field, f"must be a list of attitudes, one per waypoint, got {_short(values)}",
+                                    "write for example [[1, 0, 0, 0], [0, 0, 0, 1]]" if key == "attitude" else
+                                    "write for example [[0, 0, 0], [0, 0, 90]]")
+        if len(values) != count:
+            raise InvalidInputError(field, f"has {len(values)} attitude(s) but {table}.times has {count}",
+                                    "give one attitude per waypoint")
+    entries = []
+    for i, v in enumerate(values):
+        e = _attitude_entry(f"{field}[{i}]" if count is not None else field, v, single)
+        if seq is not None:
+            e["seq"] = seq
+        entries.append(e)
+    try:
+        kw = attitude_states(entries, field=field)
+    except InvalidInputError as e:
+        f = e.field if e.field.startswith(field) else f"{field}.{e.field}"
+        if count is None:
+            f = f.replace(f"{field}[0]", field)
+        raise InvalidInputError(f, e.problem, e.fix) from None
+    return {k: tuple(v) for k, v in kw.items()}
 
 
 _INSTALL_HUMAN = 'pip install "acroplan[human]"'
@@ -1210,16 +1426,22 @@ def parse_problem(data: dict, name: str = "", base=None) -> Problem:
                                  else ""))
     system, defaults = _parse_system(data, base)
     acrobot = isinstance(system, Acrobot)
+    spatial = _is_spatial(system)
     states = system.state_names
+    # a spatial body's attitude (qw, qx, qy, qz) is given by one of ATTITUDE_KEYS, its joints by name
+    given = tuple(n for n in states if n not in ("qw", "qx", "qy", "qz")) if spatial else tuple(states)
     p = data["plan"]
-    _check_keys("plan", p, ("times",) + tuple(states) + ("conditions",))
-    for key in ("times",) + tuple(states):
+    _check_keys("plan", p, ("times",) + given + (tuple(ATTITUDE_KEYS) + ("attitude_seq",) if spatial else ())
+                + ("conditions",))
+    for key in ("times",) + given:
         if key not in p:
             raise InvalidInputError(f"plan.{key}", "is missing", "give one value per waypoint" +
                                     ("" if acrobot or key == "times" else
+                                     f" (every joint of {list(given)})" if spatial else
                                      f" (every state: theta and the joints {list(states[1:])})"))
     times = _numbers("plan.times", p["times"], MAX_TIME, "times")
-    waypoints = {k: _states(f"plan.{k}", p[k]) for k in states}
+    waypoints = {k: _states(f"plan.{k}", p[k]) for k in given}
+    attitude = _attitudes("plan", p, len(times)) if spatial else {}
     conditions = p.get("conditions", "spline")
     if "conditions" in p and (not isinstance(conditions, str) or conditions not in ("spline", "free")):
         raise InvalidInputError("plan.conditions", f"must be \"spline\" or \"free\", got {_short(conditions)}",
@@ -1250,6 +1472,8 @@ def parse_problem(data: dict, name: str = "", base=None) -> Problem:
             if key in options:
                 v = options[key]
                 options[key] = {k: math.radians(x) for k, x in v.items()} if isinstance(v, dict) else math.radians(v)
+    if spatial:  # the attitude in state order (its forms carry their own units)
+        waypoints = {k: attitude[k] if k in attitude else waypoints[k] for k in states}
     if "conditions" not in p and ("objective" in options or "tau_max" in options):
         conditions = None  # plan()'s default for an optimal plan ("free": the end inputs left to the optimiser)
     problem = Problem(system, times, waypoints, conditions, options, name)
@@ -1266,6 +1490,8 @@ def _file_field(field: str, system) -> str:
     """plan()'s field as the problem file names it (``times`` -> ``plan.times``, ``u_max`` ->
     ``limits.u_max``, ``start_rate.u_hip`` -> ``options.start_rate.u_hip``)."""
     head = field.split(".", 1)[0].split("[", 1)[0]
+    if _is_spatial(system) and head in ("attitude", "qw", "qx", "qy", "qz"):
+        return "plan.attitude" if head in ("qw", "qx", "qy", "qz") else f"plan.{field}"
     if head in ("times", "conditions") or head in system.state_names:
         return f"plan.{field}"
     if head in LIMIT_KEYS and isinstance(system, Acrobot):
@@ -1338,6 +1564,12 @@ def parse_simulation(data: dict, name: str = "", base=None) -> Simulation:
     sim = data["simulate"]
     states, inputs = tuple(system.state_names), tuple(system.input_names)
     input_of = {s: u for u, s in system.rate_inputs.items()}
+    if _is_spatial(system):  # the initial attitude by one of ATTITUDE_KEYS, as qw, qx, qy, qz below
+        joints = tuple(n for n in states if n not in ("qw", "qx", "qy", "qz"))
+        _check_keys("simulate", sim, ("times",) + tuple(ATTITUDE_KEYS) + ("attitude_seq",) + joints + inputs)
+        q0 = _attitudes("simulate", sim, None)
+        sim = {**{k: v for k, v in sim.items() if k not in ATTITUDE_KEYS and k != "attitude_seq"},
+               **{k: v[0] for k, v in q0.items()}}
     _check_keys("simulate", sim, ("times",) + states + inputs)
     if "times" not in sim:
         raise InvalidInputError("simulate.times", "is missing", "give the segment boundaries, for example [0, 1, 2]")

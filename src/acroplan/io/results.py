@@ -13,7 +13,7 @@ from ..core.errors import InvalidInputError
 from ..core.limits import Limits
 from ..core.result import PlanResult, SegmentResult, Status
 from ..core.system import ControlAffineSystem
-from ..families import acrobot, planar, small  # noqa: F401  (the system types a file may name)
+from ..families import acrobot, planar, small, spatial  # noqa: F401  (the system types a file may name)
 
 __all__ = ["load_result", "result_from_dict"]
 
