@@ -7,8 +7,7 @@ it); a file may name another file beside it (the diver's URDF), which :func:`fil
 
 :func:`names` lists them with one line each: the text's two-link body (``pike-dive``,
 ``pike-dive-limited``, ``chapter4``), planar bodies (``diver-somersault``, ``space-robot-turn``,
-``three-rods-turn``, ``space-robot-arm-loop``), a spatial body (``falling-cat``: Kane and Scher's
-cat turns over at zero angular momentum, docs/spatial.md) and a human body, ``platform-dive``: the 10 m
+``three-rods-turn``, ``space-robot-arm-loop``) and a human body, ``platform-dive``: the 10 m
 platform dive, 3.5 forward somersaults in pike, of Yeadon's bundled ``male1`` split at the hips,
 energy-optimal within a diver's hip range and rate (the problem of
 :func:`acroplan.families.human.examples.platform_dive_pike`; needs ``pip install
