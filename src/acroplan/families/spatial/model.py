@@ -411,6 +411,10 @@ class SpatialBody(ControlAffineSystem):
             object.__setattr__(self, "_acroplan_params", cached)
         return cached
 
+    def lumped(self) -> dict[str, float]:
+        """The runtime parameters by name (they are computed from the link table, not attributes)."""
+        return dict(zip(self.param_names, (float(v) for v in self._param_tuple)))
+
     @property
     def n_links(self) -> int:
         return len(self.links)
