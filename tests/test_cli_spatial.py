@@ -223,3 +223,26 @@ def test_simulate_attitude_forms_and_errors():
     with pytest.raises(Exception) as e:
         parse_simulation(_doc(SIMULATE.replace("attitude_euler_deg = [0.0, 20.0, 0.0]", "attitude = [2, 0, 0, 0]")))
     assert e.value.field == "simulate.attitude"
+
+
+def test_plan_the_bundled_cat_through_the_cli(tmp_path):
+    """acroplan plan --example falling-cat (about 11 s): the cat turns over (180 degrees) at L = 0 and
+    ends in its starting shape; the end state is the file's target, re-checked by Pinocchio to 1e-9,
+    and the joint ranges hold."""
+    out = tmp_path / "cat"
+    res = _run("plan", "--example", "falling-cat", "--out", out, "--no-plots")
+    assert res.exit_code == 0, res.output
+    doc = json.loads((out / "solution.json").read_text())
+    assert doc["verification"] == "family" and max(s["verified_error"] for s in doc["segments"]) < 1e-9
+    prob = parse_problem(tomllib.loads(CAT), name="falling-cat")
+    result = load_result(out / "solution.json")
+    q0 = np.array([prob.waypoints[n][0] for n in ("qw", "qx", "qy", "qz")])
+    q1 = np.array([prob.waypoints[n][-1] for n in ("qw", "qx", "qy", "qz")])
+    assert rot.angle_between(q0, q1) == pytest.approx(math.pi, abs=1e-9)
+    end = result.segments[-1].target
+    assert rot.angle_between(np.asarray(end[:4]), q1) < 1e-9
+    for j, name in enumerate(result.system.links.joint_names):
+        assert abs(end[4 + j] - prob.waypoints[name][-1]) < 1e-9 and prob.waypoints[name][-1] == prob.waypoints[name][0]
+        lo, hi = doc["state_ranges"][name]
+        link = result.system.links[result.system.links.joints[j]]
+        assert link.lower - 1e-9 <= lo and hi <= link.upper + 1e-9
