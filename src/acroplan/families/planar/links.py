@@ -48,6 +48,7 @@ import math
 from typing import Any, Iterable, Mapping
 
 from ...core.errors import InvalidInputError
+from ..tree import LinkTree
 
 __all__ = ["Link", "LinkTable", "RESERVED_NAMES"]
 
@@ -169,7 +170,7 @@ def _identifier(field: str, value, what: str) -> str:
 
 
 @dataclasses.dataclass(frozen=True, init=False)
-class LinkTable:
+class LinkTable(LinkTree):
     """A checked, immutable link table: the links of one planar body and their tree.
 
     Parameters
@@ -306,92 +307,6 @@ class LinkTable:
                 raise InvalidInputError(f"{field}.velocity", f"must be > 0, got {velocity:g}",
                                         "give the joint's top speed in rad/s, or None")
         return Link(name, parent, mass, inertia, com, joint, jn, lower, upper, velocity)
-
-    # ------------------------------------------------------------------ the tree
-    def __len__(self) -> int:
-        return len(self.links)
-
-    def __iter__(self):
-        return iter(self.links)
-
-    def __getitem__(self, i):
-        return self.links[i]
-
-    @property
-    def root(self) -> int:
-        return self._derived["root"]
-
-    @property
-    def parents(self) -> tuple[int, ...]:
-        return self._derived["parents"]
-
-    @property
-    def joints(self) -> tuple[int, ...]:
-        return self._derived["joints"]
-
-    @property
-    def joint_names(self) -> tuple[str, ...]:
-        return self._derived["joint_names"]
-
-    @property
-    def names(self) -> tuple[str, ...]:
-        return tuple(link.name for link in self.links)
-
-    def index(self, name: str) -> int:
-        """Index of the link called ``name``."""
-        return self.names.index(name)
-
-    def children(self, i: int) -> tuple[int, ...]:
-        """Indices of link ``i``'s children, in table order."""
-        return tuple(k for k, p in enumerate(self.parents) if p == i)
-
-    def path(self, i: int) -> tuple[int, ...]:
-        """The non-root links from the root down to link ``i`` (``i`` included unless it is the
-        root): their joints are the joints whose angles add up to link ``i``'s angle."""
-        out = []
-        while self.parents[i] != -1:
-            out.append(i)
-            i = self.parents[i]
-        return tuple(reversed(out))
-
-    def ancestors(self, i: int) -> tuple[int, ...]:
-        """Link ``i`` and every link above it, up to the root (``i`` first)."""
-        out = [i]
-        while self.parents[out[-1]] != -1:
-            out.append(self.parents[out[-1]])
-        return tuple(out)
-
-    def subtree(self, i: int) -> tuple[int, ...]:
-        """Link ``i`` and every link below it, in table order."""
-        return tuple(k for k in range(len(self.links)) if i in self.ancestors(k))
-
-    def topological_order(self) -> tuple[int, ...]:
-        """Link indices with every parent before its children (root first), depth first: each
-        link's subtree is a run of consecutive indices. Pinocchio's algorithms that work on blocks
-        of the mass matrix (``crba``, ``computeRNEADerivatives``) need that numbering of the joints;
-        a breadth-first one gives them wrong matrices on a branched tree."""
-        order, todo = [], [self.root]
-        while todo:
-            i = todo.pop()
-            order.append(i)
-            todo.extend(reversed(self.children(i)))
-        return tuple(order)
-
-    def joint_index(self, name: str) -> int:
-        """Position of joint ``name`` among the joint angles (0-based; state index minus 1)."""
-        try:
-            return self.joint_names.index(name)
-        except ValueError:
-            raise InvalidInputError("joint", f"{name!r} is not a joint of this body",
-                                    f"joints are {list(self.joint_names)}") from None
-
-    @property
-    def total_mass(self) -> float:
-        return sum(link.mass for link in self.links)
-
-    def to_dicts(self) -> list[dict[str, Any]]:
-        """The table as plain data, one dict per link (:meth:`Link.to_dict`)."""
-        return [link.to_dict() for link in self.links]
 
     def __repr__(self) -> str:
         return f"LinkTable({list(self.links)!r})"

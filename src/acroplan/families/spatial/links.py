@@ -38,6 +38,7 @@ from typing import Any, Iterable, Mapping
 import numpy as np
 
 from ...core.errors import InvalidInputError
+from ..tree import LinkTree
 from ..planar.links import RESERVED_NAMES as _PLANAR_RESERVED
 from ..planar.links import _identifier, _real
 
@@ -213,7 +214,7 @@ class SpatialLink:
 
 
 @dataclasses.dataclass(frozen=True, init=False)
-class SpatialLinkTable:
+class SpatialLinkTable(LinkTree):
     """A checked, immutable link table of a spatial body (a tree).
 
     Parameters
@@ -353,80 +354,6 @@ class SpatialLinkTable:
                 raise InvalidInputError(f"{field}.velocity", f"must be > 0, got {velocity:g}",
                                         "give the joint's top speed in rad/s, or None")
         return SpatialLink(name, parent, mass, inertia, com, joint, axis, rotation, jn, lower, upper, velocity)
-
-    # ------------------------------------------------------------------ the tree
-    def __len__(self) -> int:
-        return len(self.links)
-
-    def __iter__(self):
-        return iter(self.links)
-
-    def __getitem__(self, i):
-        return self.links[i]
-
-    @property
-    def root(self) -> int:
-        return self._derived["root"]
-
-    @property
-    def parents(self) -> tuple[int, ...]:
-        return self._derived["parents"]
-
-    @property
-    def joints(self) -> tuple[int, ...]:
-        return self._derived["joints"]
-
-    @property
-    def joint_names(self) -> tuple[str, ...]:
-        return self._derived["joint_names"]
-
-    @property
-    def names(self) -> tuple[str, ...]:
-        return tuple(link.name for link in self.links)
-
-    def index(self, name: str) -> int:
-        """Index of the link called ``name``."""
-        return self.names.index(name)
-
-    def children(self, i: int) -> tuple[int, ...]:
-        return tuple(k for k, p in enumerate(self.parents) if p == i)
-
-    def ancestors(self, i: int) -> tuple[int, ...]:
-        """Link ``i`` and every link above it, up to the root (``i`` first)."""
-        out = [i]
-        while self.parents[out[-1]] != -1:
-            out.append(self.parents[out[-1]])
-        return tuple(out)
-
-    def subtree(self, i: int) -> tuple[int, ...]:
-        """Link ``i`` and every link below it, in table order."""
-        return tuple(k for k in range(len(self.links)) if i in self.ancestors(k))
-
-    def topological_order(self) -> tuple[int, ...]:
-        """Link indices with every parent before its children (root first), depth first: each
-        link's subtree is a run of consecutive indices, as Pinocchio's block algorithms (``crba``,
-        ``computeRNEADerivatives``) need of the joints' numbering."""
-        order, todo = [], [self.root]
-        while todo:
-            i = todo.pop()
-            order.append(i)
-            todo.extend(reversed(self.children(i)))
-        return tuple(order)
-
-    def joint_index(self, name: str) -> int:
-        """Position of joint ``name`` among the joint angles (0-based)."""
-        try:
-            return self.joint_names.index(name)
-        except ValueError:
-            raise InvalidInputError("joint", f"{name!r} is not a joint of this body",
-                                    f"joints are {list(self.joint_names)}") from None
-
-    @property
-    def total_mass(self) -> float:
-        return sum(link.mass for link in self.links)
-
-    def to_dicts(self) -> list[dict[str, Any]]:
-        return [link.to_dict() for link in self.links]
 
     def __repr__(self) -> str:
         return f"SpatialLinkTable({list(self.links)!r})"
