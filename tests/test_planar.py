@@ -613,3 +613,19 @@ def test_degrees_apply_to_every_angle_of_a_body():
                         q2=[np.degrees(-0.1)] * 2, conditions="free", degrees=True)
     assert rad.success and deg.success
     np.testing.assert_allclose(deg.waypoints, rad.waypoints, rtol=0, atol=1e-12)
+
+
+def test_tree_errors_name_the_field_in_both_families():
+    """One tree check (families/tree.py) for planar and spatial link tables."""
+    from acroplan.core.errors import InvalidInputError
+    from acroplan.families.planar import Link, LinkTable
+    from acroplan.families.spatial import SpatialLink, SpatialLinkTable
+
+    loop = [Link("a", None, 1, 0.1), Link("b", "c", 1, 0.1, joint=(1, 0)), Link("c", "b", 1, 0.1, joint=(1, 0))]
+    with pytest.raises(InvalidInputError, match=r"links\[1\]\.parent: the parents form a loop \(b -> c -> b\)"):
+        LinkTable(loop)
+    spatial = [SpatialLink("a", None, 1, (0.1, 0.1, 0.1)), SpatialLink("b", "b", 1, (0.1, 0.1, 0.1))]
+    with pytest.raises(InvalidInputError, match=r"links\[1\]\.parent: link 'b' is its own parent"):
+        SpatialLinkTable(spatial)
+    with pytest.raises(InvalidInputError, match=r"links: has no root.*attitude is the state"):
+        SpatialLinkTable([SpatialLink("a", "b", 1, (0.1, 0.1, 0.1)), SpatialLink("b", "a", 1, (0.1, 0.1, 0.1))])

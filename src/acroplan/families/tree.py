@@ -13,7 +13,7 @@ from typing import Any
 
 from ..core.errors import InvalidInputError
 
-__all__ = ["LinkTree"]
+__all__ = ["LinkTree", "tree_of"]
 
 
 class LinkTree:
@@ -105,3 +105,58 @@ class LinkTree:
     def to_dicts(self) -> list[dict[str, Any]]:
         """The table as plain data, one dict per link (its ``to_dict``)."""
         return [link.to_dict() for link in self.links]
+
+
+def tree_of(links, root_state: str) -> tuple[int, tuple[int, ...]]:
+    """The root and the parents of checked links (each with ``name`` and ``parent``), or an
+    :class:`InvalidInputError` naming the field: duplicate names, no root or two roots, an unknown
+    parent, a link its own parent, a loop of parents.
+
+    Parameters
+    ----------
+    links : sequence of links
+    root_state : str
+        What the root's state is, for the message when no root is given ("angle is the state
+        theta", "attitude is the state").
+
+    Returns
+    -------
+    root : int
+    parents : tuple of int, -1 for the root
+    """
+    names = [link.name for link in links]
+    for i, name in enumerate(names):
+        if name in names[:i]:
+            raise InvalidInputError(f"links[{i}].name", f"{name!r} is already the name of links[{names.index(name)}]",
+                                    "give every link its own name")
+    roots = [i for i, link in enumerate(links) if link.parent is None]
+    if not roots:
+        raise InvalidInputError("links", "has no root (every link has a parent)",
+                                f"give exactly one link parent=None: the root, whose {root_state}")
+    if len(roots) > 1:
+        raise InvalidInputError(f"links[{roots[1]}].parent", f"is None, but links[{roots[0]}] "
+                                f"({names[roots[0]]!r}) is the root already",
+                                "give exactly one root; name the parent of every other link")
+    index = {name: i for i, name in enumerate(names)}
+    parents = []
+    for i, link in enumerate(links):
+        if link.parent is None:
+            parents.append(-1)
+            continue
+        if link.parent not in index:
+            raise InvalidInputError(f"links[{i}].parent", f"{link.parent!r} is not the name of a link",
+                                    f"link names are {names}")
+        if link.parent == link.name:
+            raise InvalidInputError(f"links[{i}].parent", f"link {link.name!r} is its own parent",
+                                    "name another link, or None for the root")
+        parents.append(index[link.parent])
+    for i in range(len(links)):  # every link must lead to the root
+        seen, j = [i], parents[i]
+        while j != -1:
+            if j in seen:
+                loop = " -> ".join(names[k] for k in seen[seen.index(j):] + [j])
+                raise InvalidInputError(f"links[{i}].parent", f"the parents form a loop ({loop})",
+                                        "a body is a tree: every chain of parents must end at the root")
+            seen.append(j)
+            j = parents[j]
+    return roots[0], tuple(parents)

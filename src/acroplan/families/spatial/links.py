@@ -38,7 +38,7 @@ from typing import Any, Iterable, Mapping
 import numpy as np
 
 from ...core.errors import InvalidInputError
-from ..tree import LinkTree
+from ..tree import LinkTree, tree_of
 from ..planar.links import RESERVED_NAMES as _PLANAR_RESERVED
 from ..planar.links import _identifier, _real
 
@@ -260,42 +260,7 @@ class SpatialLinkTable(LinkTree):
                                         "build it with acroplan.families.spatial.SpatialLink(...)")
             checked.append(self._check(field, link))
         links = tuple(checked)
-        names = [link.name for link in links]
-        for i, name in enumerate(names):
-            if name in names[:i]:
-                raise InvalidInputError(f"links[{i}].name", f"{name!r} is already the name of links[{names.index(name)}]",
-                                        "give every link its own name")
-        roots = [i for i, link in enumerate(links) if link.parent is None]
-        if not roots:
-            raise InvalidInputError("links", "has no root (every link has a parent)",
-                                    "give exactly one link parent=None: the root, whose attitude is the state")
-        if len(roots) > 1:
-            raise InvalidInputError(f"links[{roots[1]}].parent", f"is None, but links[{roots[0]}] "
-                                    f"({names[roots[0]]!r}) is the root already",
-                                    "give exactly one root; name the parent of every other link")
-        index = {name: i for i, name in enumerate(names)}
-        parents = []
-        for i, link in enumerate(links):
-            if link.parent is None:
-                parents.append(-1)
-                continue
-            if link.parent not in index:
-                raise InvalidInputError(f"links[{i}].parent", f"{link.parent!r} is not the name of a link",
-                                        f"link names are {names}")
-            if link.parent == link.name:
-                raise InvalidInputError(f"links[{i}].parent", f"link {link.name!r} is its own parent",
-                                        "name another link, or None for the root")
-            parents.append(index[link.parent])
-        for i in range(len(links)):
-            seen, j = [i], parents[i]
-            while j != -1:
-                if j in seen:
-                    loop = " -> ".join(names[k] for k in seen[seen.index(j):] + [j])
-                    raise InvalidInputError(f"links[{i}].parent", f"the parents form a loop ({loop})",
-                                            "a body is a tree: every chain of parents must end at the root")
-                seen.append(j)
-                j = parents[j]
-        root = roots[0]
+        root, parents = tree_of(links, "attitude is the state")
         r = links[root]
         if r.joint != (0.0, 0.0, 0.0):
             raise InvalidInputError(f"links[{root}].joint", f"the root has no joint to a parent, got {r.joint}",
