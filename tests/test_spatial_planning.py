@@ -182,7 +182,7 @@ def _figures(folder):  # pragma: no cover - run by hand: python tests/test_spati
         fig = drawing.attitude_figure(res)
         FigureCanvasAgg(fig)
         fig.savefig(out / f"spatial-{name}-angles.png", dpi=90)
-        if name in ("falling-cat", "twisting-somersault"):
+        if name in ("falling-cat", "twisting-somersault", "astronaut-somersault"):
             speed = 0.25 if name == "falling-cat" else 1.0
             drawing.animate(res, out / f"spatial-{name}.gif", fps=15, speed=speed, dpi=64)
         if name == "falling-cat":
