@@ -87,14 +87,13 @@ from __future__ import annotations
 
 import dataclasses
 import functools
-import threading
 
 import numpy as np
 
 from ...core.errors import InvalidInputError
 from .guess import shape_guesses
 from .links import LinkTable
-from .pin import INSTALL_HINT, PinocchioBody, build_model, require_pinocchio
+from .pin import INSTALL_HINT, PinocchioBody, build_model, require_pinocchio, thread_data
 
 __all__ = ["InverseDynamics", "inverse_dynamics", "PlanarTorque", "ROOTS", "optimal_starts"]
 
@@ -112,20 +111,6 @@ def _model(table: LinkTable, root: str) -> PinocchioBody:
     pb = build_model(table, root)
     pb.model.gravity = pin.Motion.Zero()
     return pb
-
-
-_LOCAL = threading.local()
-
-
-def _data(pb: PinocchioBody):
-    """One ``pinocchio.Data`` per model and thread (Pinocchio's algorithms write into it)."""
-    cache = getattr(_LOCAL, "data", None)
-    if cache is None:
-        cache = _LOCAL.data = {}
-    d = cache.get(id(pb))
-    if d is None or d[0] is not pb:
-        d = cache[id(pb)] = (pb, pb.model.createData())
-    return d[1]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -219,7 +204,7 @@ def inverse_dynamics(body, q, u, du, *, root: str = "planar", derivatives: bool 
         raise InvalidInputError("u", f"q, u and du must have the same number of instants, got {Q.shape[1]}, "
                                 f"{U.shape[1]}, {DU.shape[1]}", "give one column per instant in each")
     pb = _model(table, root)
-    model, data = pb.model, _data(pb)
+    model, data = pb.model, thread_data(pb)
     rc, jc = pb.root_columns, pb.joint_columns
     nv = model.nv
     root_rows = [i for i in range(nv) if i not in set(jc)]

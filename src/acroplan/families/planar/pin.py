@@ -17,13 +17,14 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import threading
 
 import numpy as np
 
 from ...core.errors import InvalidInputError
 from .links import LinkTable
 
-__all__ = ["require_pinocchio", "PinocchioBody", "build_model"]
+__all__ = ["require_pinocchio", "PinocchioBody", "build_model", "thread_data"]
 
 INSTALL_HINT = "pip install acroplan[bodies] (or pip install pin)"
 
@@ -151,3 +152,18 @@ def build_model(links, root: str = "planar") -> PinocchioBody:
         model.appendBodyToJoint(jid, inertia(link), pin.SE3.Identity())
         ids[i] = jid
     return PinocchioBody(model, table, root, tuple(ids))
+
+
+_LOCAL = threading.local()
+
+
+def thread_data(pb):
+    """One ``pinocchio.Data`` per Pinocchio model and thread (Pinocchio's algorithms write into it):
+    for any body whose ``model`` is a ``pinocchio.Model`` (planar and spatial)."""
+    cache = getattr(_LOCAL, "data", None)
+    if cache is None:
+        cache = _LOCAL.data = {}
+    d = cache.get(id(pb))
+    if d is None or d[0] is not pb:
+        d = cache[id(pb)] = (pb, pb.model.createData())
+    return d[1]

@@ -93,14 +93,13 @@ from __future__ import annotations
 
 import dataclasses
 import functools
-import threading
 
 import numpy as np
 
 from ...core import backend
 from ...core.errors import InvalidInputError
 from ...core.system import register_torque_model
-from ..planar.pin import INSTALL_HINT, require_pinocchio
+from ..planar.pin import INSTALL_HINT, require_pinocchio, thread_data
 from .links import SpatialLinkTable
 from .model import SpatialBody
 from .pin import SpatialPinocchioBody, build_model
@@ -116,20 +115,6 @@ def _model(table: SpatialLinkTable) -> SpatialPinocchioBody:
     pb = build_model(table)  # SpatialLinkTable.topological_order is depth first
     pb.model.gravity = pin.Motion.Zero()
     return pb
-
-
-_LOCAL = threading.local()
-
-
-def _data(pb: SpatialPinocchioBody):
-    """One ``pinocchio.Data`` per model and thread (Pinocchio's algorithms write into it)."""
-    cache = getattr(_LOCAL, "data", None)
-    if cache is None:
-        cache = _LOCAL.data = {}
-    d = cache.get(id(pb))
-    if d is None or d[0] is not pb:
-        d = cache[id(pb)] = (pb, pb.model.createData())
-    return d[1]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -214,7 +199,7 @@ def inverse_dynamics(body, attitude, q, u, du, *, derivatives: bool = False) -> 
                                 f"{Qa.shape[1]}, {Q.shape[1]}, {U.shape[1]}, {DU.shape[1]}",
                                 "give one column per instant in each")
     pb = _model(body.links)
-    model, data = pb.model, _data(pb)
+    model, data = pb.model, thread_data(pb)
     nv = model.nv
     jc = pb.idx_v
     h0 = np.concatenate([np.zeros(3), np.asarray(body.L, dtype=float)])
