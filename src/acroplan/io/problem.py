@@ -702,11 +702,10 @@ def _renamed(e: InvalidInputError, old: str, new: str) -> InvalidInputError:
     return InvalidInputError(field, e.problem, e.fix)
 
 
-def _links_from_tables(tables) -> list:
-    """:class:`~acroplan.families.planar.links.Link` records from ``[[body.link]]`` tables (numbers
-    checked and arithmetic read here; the tree is checked by ``LinkTable``)."""
-    from ..families.planar.links import Link
-
+def _link_records(tables, allowed, joint_keys: str):
+    """``(field, table, names)`` for each ``[[body.link]]`` table: the array checked (not empty, at
+    most :data:`MAX_LINKS`), each table's keys checked against ``allowed``, its name fields read; the
+    families' readers add the numbers."""
     if not isinstance(tables, list) or not tables or not all(isinstance(t, dict) for t in tables):
         raise InvalidInputError("body.link", f"must be an array of tables ([[body.link]]), got {_short(tables)}",
                                 "write one [[body.link]] table per link (docs/problem-files.md)")
@@ -714,15 +713,23 @@ def _links_from_tables(tables) -> list:
         raise InvalidInputError("body.link", f"has {len(tables)} links, more than {MAX_LINKS}: the compiled "
                                 "integrator of such a body takes hours to build", f"give at most {MAX_LINKS} links "
                                 "(join links that move together)")
-    links = []
     for i, d in enumerate(tables):
         f = f"body.link[{i}]"
-        _check_keys(f, d, LINK_KEYS)
+        _check_keys(f, d, allowed)
         for key in ("name", "mass", "inertia"):
             if key not in d:
                 raise InvalidInputError(f"{f}.{key}", "is missing", "give every link a name, mass and inertia (and "
-                                        "every link but the root its parent and joint)")
-        kw: dict[str, Any] = {k: _name_field(f"{f}.{k}", d[k]) for k in ("name", "parent", "joint_name") if k in d}
+                                        f"every link but the root its {joint_keys})")
+        yield f, d, {k: _name_field(f"{f}.{k}", d[k]) for k in ("name", "parent", "joint_name") if k in d}
+
+
+def _links_from_tables(tables) -> list:
+    """:class:`~acroplan.families.planar.links.Link` records from ``[[body.link]]`` tables (numbers
+    checked and arithmetic read here; the tree is checked by ``LinkTable``)."""
+    from ..families.planar.links import Link
+
+    links = []
+    for f, d, kw in _link_records(tables, LINK_KEYS, "parent and joint"):
         for key in ("mass", "inertia"):
             v = _number(f"{f}.{key}", d[key], MAX_BODY, _BODY)
             if 0 < v < MIN_BODY:
@@ -933,21 +940,8 @@ def _spatial_links_from_tables(tables) -> list:
     (numbers checked and arithmetic read here; the tree and the inertias by ``SpatialLinkTable``)."""
     from ..families.spatial.links import SpatialLink
 
-    if not isinstance(tables, list) or not tables or not all(isinstance(t, dict) for t in tables):
-        raise InvalidInputError("body.link", f"must be an array of tables ([[body.link]]), got {_short(tables)}",
-                                "write one [[body.link]] table per link (docs/problem-files.md)")
-    if len(tables) > MAX_LINKS:
-        raise InvalidInputError("body.link", f"has {len(tables)} links, more than {MAX_LINKS}", f"give at most "
-                                f"{MAX_LINKS} links (join links that move together)")
     links = []
-    for i, d in enumerate(tables):
-        f = f"body.link[{i}]"
-        _check_keys(f, d, SPATIAL_LINK_KEYS)
-        for key in ("name", "mass", "inertia"):
-            if key not in d:
-                raise InvalidInputError(f"{f}.{key}", "is missing", "give every link a name, mass and inertia (and "
-                                        "every link but the root its parent, joint and axis)")
-        kw: dict[str, Any] = {k: _name_field(f"{f}.{k}", d[k]) for k in ("name", "parent", "joint_name") if k in d}
+    for f, d, kw in _link_records(tables, SPATIAL_LINK_KEYS, "parent, joint and axis"):
         kw["mass"] = _number(f"{f}.mass", d["mass"], MAX_BODY, _BODY)
         inertia = d["inertia"]
         if isinstance(inertia, list) and inertia and all(isinstance(r, list) for r in inertia):
