@@ -98,14 +98,13 @@ def _solution_doc(result, simulation=None) -> dict:
 
 
 def _verify_method(system) -> str:
-    """How the command line checks a motion independently: a planar or spatial body by its own check
-    (Pinocchio's centroidal map), any other system by the DOP853 re-simulation (``"ode"``)."""
-    from ..families.planar.model import PlanarBody
+    """How the command line checks a motion independently: the acrobot by the DOP853 re-simulation
+    (``"ode"``; 10 ms do not matter here), any other system by its family's own check where it has
+    one (Pinocchio's centroidal momentum for planar and spatial bodies), else by DOP853."""
+    from ..core.verify import resolve_verify
+    from ..families.acrobot.model import Acrobot
 
-    if isinstance(system, PlanarBody):
-        return "family"
-    spatial = type(system).__name__ == "SpatialBody" and type(system).__module__.startswith("acroplan.families.spatial")
-    return "family" if spatial else "ode"
+    return "ode" if isinstance(system, Acrobot) else resolve_verify(system, True)
 
 
 def _formats(text: str) -> tuple[str, ...]:
