@@ -46,7 +46,7 @@ import numpy as np
 
 from ...core.errors import InvalidInputError
 from ..acrobot.model import Acrobot
-from ..acrobot.momentum import SomersaultTable, least_momentum
+from ..acrobot.momentum import SomersaultTable, somersault_table
 from .body import SagittalBody
 from .examples import THETA0, flight_time
 from .limits import human_limits, position
@@ -219,23 +219,12 @@ def least_momentum_table(body=None, positions=("pike", "tuck", "straight"), some
                                 "give for example [1.3, 1.5, 1.7]")
     bodies = _bodies(body, names)
     limits = {name: human_limits(bodies[name], name, links=2) for name in names}
-    P = np.full((len(names), S.size, F.size), np.nan)
-    messages = []
-    for i, name in enumerate(names):
-        b = bodies[name]
-        robot = b.two_link(angular_momentum=1.0)
-        phi0 = float(b.phi(0.0))
-        block = []
-        for j, n in enumerate(S):
-            row = []
-            for k, T in enumerate(F):
-                m = least_momentum(robot, theta0=0.0, thetaT=2.0 * math.pi * float(n), phi0=phi0, phiT=phi0,
-                                   T=float(T), limits=limits[name])
-                P[i, j, k] = m.P0 if m.success else math.nan
-                row.append(m.message)
-            block.append(tuple(row))
-        messages.append(tuple(block))
-    return LeastMomentumTable(names, S, F, P, bodies, limits, tuple(messages))
+    # forward somersaults turn theta up in this family's convention: the table's "backward" sign
+    tables = [somersault_table(bodies[name].two_link(angular_momentum=1.0), somersaults=S, flight_times=F,
+                               phi0=float(bodies[name].phi(0.0)), phiT=float(bodies[name].phi(0.0)),
+                               limits=limits[name], backward=True) for name in names]
+    return LeastMomentumTable(names, S, F, np.stack([t.P0 for t in tables]), bodies, limits,
+                              tuple(t.messages for t in tables))
 
 
 def plot_least_momentum(table: LeastMomentumTable, *, boards: bool = True):
