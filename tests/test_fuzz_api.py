@@ -3,13 +3,13 @@ has no NaN or infinity, within its time budget, or in an InvalidInputError that 
 
 import json
 import math
-import time
 
 import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import acroplan
+from acroplan.core import budget
 
 ROBOT = acroplan.Acrobot(M1=0.8172764227642276, A1=-0.47560975609756095, M2=0.28, A2=-0.23780487804878048,
                          P0=1.25)
@@ -59,15 +59,32 @@ def plan_calls(draw):
 @settings(max_examples=80, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(plan_calls())
 def test_plan_never_crashes_never_writes_nan_never_overruns(kw):
-    t = time.perf_counter()
+    # Overruns are counted, not timed (wall-clock times belong to benchmarks/fuzz.py): on a virtual
+    # clock moving 1 ms per reading, the first budget check past the deadline must end the plan, so
+    # no check is ever made after one that was past it.
+    late, real_clock, real_check = [], budget._clock, budget.check
+    clock = [0.0]
+
+    def tick():
+        clock[0] += 1e-3
+        return clock[0]
+
+    def check():
+        d = budget._DEADLINE.get()
+        if d is not None and clock[0] + 1e-3 > d[0]:
+            late.append(clock[0])
+        real_check()
+
+    budget._clock, budget.check = tick, check
     try:
         res = acroplan.plan(ROBOT, **kw)
     except acroplan.InvalidInputError as e:
         assert e.field and str(e).startswith(e.field + ":")
         return
-    elapsed = time.perf_counter() - t
+    finally:
+        budget._clock, budget.check = real_clock, real_check
     assert res.status in ("success", "infeasible", "not_converged")
     json.loads(res.to_json())  # allow_nan=False inside: raises on NaN or infinity
-    budget = kw.get("time_limit") if isinstance(kw.get("time_limit"), float) else LIMIT
-    # the budget, plus one DOP853 batch or one endpoint evaluation past the deadline, plus setup
-    assert elapsed < budget + 2.0
+    assert len(late) <= 1, late
+    if late:
+        assert res.status == "not_converged" and "time budget" in res.message

@@ -127,6 +127,38 @@ def _numbers(doc, keys=("basis_coefficients", "t0", "t1", "final_error", "max_ab
     return np.concatenate(out)
 
 
+#: Tolerances for numbers recorded on another machine. heyoka compiles for the host processor and BLAS
+#: picks kernels per processor, so an endpoint evaluation differs between machines in its last bits
+#: (a few ulps of the state). A plan's coefficients solve Phi(c) = x_T; a change dx of the endpoint
+#: map moves the solution by about |dx| / sigma_min (the reduced Jacobian's smallest singular value,
+#: recorded per segment). With |dx| <= ENDPOINT_ULPS (1e-13: the polish level, ~500 ulps of the
+#: states) the coefficients may differ by 1e-13 (1 + max|c|) / sigma_min, here at most ~3e-11;
+#: measured between two x86-64 processors (an AVX-512 EPYC and the recording machine): 3.6e-14.
+#: Any change of the algorithm moves them by far more (a different Newton path: ~1e-3).
+ENDPOINT_ULPS = 1e-13
+
+
+def _close_segments(new, old):
+    for a, b in zip(new["segments"], old["segments"]):
+        assert a["basis_coefficients"].keys() == b["basis_coefficients"].keys()
+        ca = np.concatenate([np.asarray(v, float) for v in a["basis_coefficients"].values()])
+        cb = np.concatenate([np.asarray(v, float) for v in b["basis_coefficients"].values()])
+        tol = ENDPOINT_ULPS * (1 + np.abs(cb).max()) / min(1.0, b["sigma_min"])
+        assert ca.shape == cb.shape and np.abs(ca - cb).max() <= tol, (b["index"], np.abs(ca - cb).max(), tol)
+        # times are data of the problem (exact); extremes are functions of the coefficients, |u| of
+        # a Legendre series is Lipschitz in c with constant sum |P_i| <= n on [0, 1]
+        assert (a["t0"], a["t1"]) == (b["t0"], b["t1"])
+        assert abs(a["max_abs_u"] - b["max_abs_u"]) <= ca.size * tol
+        if b["state_range"] is not None:  # the limited joint's range over the segment
+            assert np.allclose(a["state_range"], b["state_range"], rtol=0, atol=ca.size * tol * (b["t1"] - b["t0"]))
+        # endpoint errors are rounding-level numbers (~1e-14): compared as such
+        assert a["final_error"] <= 1e-12 and b["final_error"] <= 1e-12
+        # the solver took the same route: the method, and the counts (a last-bit difference could
+        # move one convergence comparison, so one evaluation either way is allowed)
+        assert a["method"] == b["method"]
+        assert abs(a["iterations"] - b["iterations"]) <= 1 and abs(a["evaluations"] - b["evaluations"]) <= 1
+
+
 @pytest.mark.parametrize("name", ["pike-dive", "pike-dive-limited"])
 def test_bundled_examples_give_the_recorded_numbers(tmp_path, name):
     res = CliRunner().invoke(main, ["plan", "--example", name, "--out", str(tmp_path / "o"), "--no-plots", "--quiet"])
@@ -135,12 +167,19 @@ def test_bundled_examples_give_the_recorded_numbers(tmp_path, name):
     old = json.loads((BASELINE / f"{name}.json").read_text())
     assert new["status"] == old["status"] and len(new["segments"]) == len(old["segments"])
     assert new["waypoints"] == old["waypoints"] and new["system"] == old["system"]
-    # the coefficients, times and extremes bit for bit; endpoint errors are ~1e-14 values
-    keys = ("basis_coefficients", "t0", "t1", "max_abs_u", "state_range")
-    assert np.array_equal(_numbers(new, keys), _numbers(old, keys))
-    assert np.allclose(_numbers(new, ("final_error",)), _numbers(old, ("final_error",)), rtol=1e-6, atol=1e-15)
-    for a, b in zip(new["segments"], old["segments"]):
-        assert (a["iterations"], a["evaluations"], a["method"]) == (b["iterations"], b["evaluations"], b["method"])
+    _close_segments(new, old)
+
+
+def test_bundled_examples_are_deterministic(tmp_path):
+    """Bit for bit where it is promised: the same input twice on one machine, in one process."""
+    runs = []
+    for k in range(2):
+        res = CliRunner().invoke(main, ["plan", "--example", "pike-dive-limited", "--out", str(tmp_path / f"o{k}"),
+                                        "--no-plots", "--quiet"])
+        assert res.exit_code == 0, res.output
+        doc = json.loads((tmp_path / f"o{k}" / "solution.json").read_text())
+        runs.append(_numbers(doc, ("basis_coefficients", "final_error", "max_abs_u")))
+    assert np.array_equal(runs[0], runs[1])
 
 
 def test_bundled_nilpotent_example_gives_the_recorded_numbers(tmp_path):
@@ -149,5 +188,13 @@ def test_bundled_nilpotent_example_gives_the_recorded_numbers(tmp_path):
     assert res.exit_code == 0, res.output
     new = json.loads((tmp_path / "o" / "solution.json").read_text())
     old = json.loads((BASELINE / "chapter4.json").read_text())
-    assert new["status"] == old["status"] and new["coefficients"] == old["coefficients"]
-    assert new["u1_margin"] == old["u1_margin"]
+    assert new["status"] == old["status"] and new["coefficients"].keys() == old["coefficients"].keys()
+    # The coefficients are roots of the nilpotent system's endpoint equations (polynomials with
+    # coefficients from the compiled integrator), polished by Newton to machine precision; their
+    # Jacobian is well conditioned here, so a few ulps of difference in the integrals give a few
+    # ulps here: 1e-12 relative to the largest coefficient is 100x the 1.0e-14 measured between
+    # two processors (v1[0]: 0.8980524143132835 against 0.8980524143132734).
+    for key, old_v in old["coefficients"].items():
+        new_v, old_v = np.asarray(new["coefficients"][key]), np.asarray(old_v)
+        assert np.abs(new_v - old_v).max() <= 1e-12 * np.abs(old_v).max(), key
+    assert new["u1_margin"] == pytest.approx(old["u1_margin"], rel=1e-12)

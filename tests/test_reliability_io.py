@@ -287,9 +287,9 @@ def test_the_fallback_swap_leaves_no_litter(tmp_path, monkeypatch):
 def test_a_folder_being_written_is_refused_at_once(tmp_path, no_planning):
     out = tmp_path / "out"
     with output.OutputFolder(out, force=True):
-        t0 = time.monotonic()
+        # refused, not queued: the folder stays held while this runs, so a run that waited for it
+        # would never return, and one that went on would plan (no_planning fails on that)
         res = run(["plan", write(tmp_path, GOOD), "--out", out, "--force", "--no-plots"])
-        assert time.monotonic() - t0 < 2
         assert res.exit_code == 2 and f"another acroplan run is writing to {out}" in res.output, res.output
     assert sorted(p.name for p in tmp_path.iterdir()) == ["p.toml"]
 

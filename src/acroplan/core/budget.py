@@ -16,6 +16,10 @@ import time
 
 __all__ = ["BudgetExceeded", "budget", "check", "remaining"]
 
+#: The clock of every budget (monotonic seconds). A module attribute, so that tests can replace it
+#: with a virtual clock and assert on counts of checks instead of wall-clock times.
+_clock = time.monotonic
+
 _DEADLINE: contextvars.ContextVar[tuple[float, float] | None] = contextvars.ContextVar("acroplan_deadline",
                                                                                       default=None)
 
@@ -31,7 +35,7 @@ class BudgetExceeded(RuntimeError):
 @contextlib.contextmanager
 def budget(seconds: float | None):
     """Run the body with a deadline ``seconds`` from now (``None``: no deadline)."""
-    token = _DEADLINE.set(None if seconds is None else (time.monotonic() + float(seconds), float(seconds)))
+    token = _DEADLINE.set(None if seconds is None else (_clock() + float(seconds), float(seconds)))
     try:
         yield
     finally:
@@ -41,11 +45,11 @@ def budget(seconds: float | None):
 def check() -> None:
     """Raise :class:`BudgetExceeded` when the current budget is spent."""
     d = _DEADLINE.get()
-    if d is not None and time.monotonic() > d[0]:
+    if d is not None and _clock() > d[0]:
         raise BudgetExceeded(d[1])
 
 
 def remaining() -> float | None:
     """Seconds left in the current budget (``None`` without one)."""
     d = _DEADLINE.get()
-    return None if d is None else d[0] - time.monotonic()
+    return None if d is None else d[0] - _clock()
