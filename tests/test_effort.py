@@ -16,6 +16,7 @@ import json
 import math
 import re
 
+import mpmath
 import numpy as np
 import pytest
 import sympy as sp
@@ -116,16 +117,21 @@ def test_torque_matches_euler_lagrange_of_the_full_free_body():
     k = (S["M2"] + S["A2"] * sp.cos(S["phi"])).subs(lumped)
     tau_full = tau_full.subs(vel[2], (S["P0"] - k * S["u"]) / h)
     # exact comparison: the difference vanishes identically, whatever theta (checked at random
-    # rational points with 60 significant digits: a non-zero expression would not vanish there)
+    # rational points with 60 significant digits: a non-zero expression would not vanish there);
+    # the expression is evaluated by mpmath at 60 digits (lambdify), as sympy's N would, 10x faster
     diff = tau_full - d.tau
     rng = np.random.default_rng(3)
     names = ["M", "m", "J", "j", "L", "l", "P0", "phi", "u", "du"]
-    for _ in range(6):
-        point = {S[n]: sp.Rational(int(rng.integers(1, 400)), int(rng.integers(1, 97))) * (-1 if n in ("P0", "u",
-                 "du", "phi") and rng.random() < 0.5 else 1) for n in names}
-        value = sp.N(diff.subs(th, sp.Rational(int(rng.integers(-700, 700)), 100)).subs(point), 60)
-        scale = sp.N(sp.Abs(d.tau.subs(point)), 60) + 1
-        assert abs(value) < 1e-45 * scale
+    f = sp.lambdify([S[n] for n in names] + [th], diff, "mpmath")
+    g = sp.lambdify([S[n] for n in names], d.tau, "mpmath")
+    with mpmath.workdps(60):
+        for _ in range(6):
+            point = [sp.Rational(int(rng.integers(1, 400)), int(rng.integers(1, 97))) * (-1 if n in ("P0", "u",
+                     "du", "phi") and rng.random() < 0.5 else 1) for n in names]
+            point.append(sp.Rational(int(rng.integers(-700, 700)), 100))
+            exact = [mpmath.mpf(r.p) / r.q for r in point]
+            value, scale = f(*exact), abs(g(*exact[:-1])) + 1
+            assert abs(value) < 1e-45 * scale
     # and symbolically, with the lumped coefficients
     a, b, c = d.a.subs(lumped), d.b.subs(lumped), d.c.subs(lumped)
     assert sp.simplify(a * S["du"] + b * S["u"] ** 2 + c * S["P0"] ** 2 - d.tau) == 0

@@ -14,10 +14,11 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import shutil
 import warnings
 
 import numpy as np
+
+from ...core.animation import write_frames
 
 __all__ = ["Geometry", "geometry_of", "pose", "animate", "strobe", "MAX_FRAMES"]
 
@@ -112,7 +113,6 @@ def animate(t, theta, phi, u, g: Geometry, path, *, speed: float = 1.0, fps: int
     """
     import matplotlib
     import matplotlib.patches
-    from matplotlib.animation import FFMpegWriter, FuncAnimation, PillowWriter
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
@@ -166,11 +166,8 @@ def animate(t, theta, phi, u, g: Geometry, path, *, speed: float = 1.0, fps: int
         text.set_text(f"t = {tf[i]:7.3f} s\nθ = {th[i]:7.3f} rad\nφ = {ph[i]:7.3f} rad\nu = {uf[i]:7.3f} rad/s")
         return torso, leg, joint, head, tr_t, tr_l, text
 
-    anim = FuncAnimation(fig, draw, frames=len(tf), blit=False)
-    anim.save(str(path), writer=PillowWriter(fps=fps))
-    if mp4_path is not None and shutil.which("ffmpeg"):
-        anim.save(str(mp4_path), writer=FFMpegWriter(fps=fps))
-    return len(tf)
+    return write_frames(fig, (torso, leg, joint, head, tr_t, tr_l, text), draw, len(tf), path, fps=fps,
+                        mp4_path=mp4_path)
 
 
 def strobe(t, theta, phi, g: Geometry, *, poses: int = 9, ax=None):

@@ -1,5 +1,5 @@
 """Drawings of planar bodies: a strobe of a planned motion (:func:`strobe`, saved by :func:`save_strobe`),
-an animation (:func:`animate`: an animated GIF through matplotlib's PillowWriter, headless), and the
+an animation (:func:`animate`: an animated GIF, blitted by :mod:`acroplan.core.animation`, headless), and the
 link table's conventions (:func:`conventions_figure`).
 
 Every link is drawn as in :func:`link_segments` (from its joint to each child's joint; a leaf on
@@ -18,6 +18,8 @@ backend or pyplot state is touched.
 from __future__ import annotations
 
 import numpy as np
+
+from ...core.animation import write_frames
 
 __all__ = ["strobe", "save_strobe", "animate", "link_segments", "conventions_figure", "MAX_FRAMES"]
 
@@ -158,9 +160,6 @@ def animate(result, path, *, speed: float = 1.0, fps: int = 25, max_frames: int 
     int
         The number of frames.
     """
-    import shutil
-
-    from matplotlib.animation import FFMpegWriter, FuncAnimation, PillowWriter
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
@@ -207,11 +206,8 @@ def animate(result, path, *, speed: float = 1.0, fps: int = 25, max_frames: int 
                                                           for i, n in enumerate(names)))
         return (*lines, joint_dots, root_dot, arrow, text)
 
-    anim = FuncAnimation(fig, draw, frames=tf.size, blit=False)
-    anim.save(str(path), writer=PillowWriter(fps=fps))
-    if mp4_path is not None and shutil.which("ffmpeg"):
-        anim.save(str(mp4_path), writer=FFMpegWriter(fps=fps))
-    return int(tf.size)
+    return write_frames(fig, (*lines, joint_dots, root_dot, arrow, text), draw, int(tf.size), path, fps=fps,
+                        mp4_path=mp4_path)
 
 
 def _no_effort(result) -> dict:

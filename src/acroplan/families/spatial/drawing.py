@@ -1,5 +1,5 @@
 """Drawings of spatial bodies (matplotlib 3-D, headless): an animation (:func:`animate`, an animated
-GIF through matplotlib's PillowWriter), a strobe (:func:`strobe`), and the attitude as Euler angles
+GIF blitted by :mod:`acroplan.core.animation`), a strobe (:func:`strobe`), and the attitude as Euler angles
 over time (:func:`attitude_figure`).
 
 Every link with mass is drawn as its **equivalent box**: the uniform box with the link's mass and
@@ -20,6 +20,7 @@ import math
 
 import numpy as np
 
+from ...core.animation import write_frames
 from . import rotations as rot
 
 __all__ = ["equivalent_boxes", "draw_body", "strobe", "save_strobe", "attitude_figure", "animate", "MAX_FRAMES"]
@@ -239,9 +240,9 @@ def animate(result, path, *, fps: int = 20, speed: float = 1.0, dpi: int = 80, t
     int
         The number of frames written (at most :data:`MAX_FRAMES`).
     """
-    from matplotlib.animation import PillowWriter
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
     body = result.system
     T = result.times[-1] - result.times[0]
@@ -249,15 +250,40 @@ def animate(result, path, *, fps: int = 20, speed: float = 1.0, dpi: int = 80, t
     t = np.linspace(result.times[0], result.times[-1], frames)
     X = _states(result, t)
     scale = _size(body, X)
-    fig = Figure(figsize=(4.8, 4.8))
+    fig = Figure(figsize=(4.8, 4.8), dpi=dpi)
     FigureCanvasAgg(fig)
     ax = fig.add_subplot(1, 1, 1, projection="3d")
-    writer = PillowWriter(fps=fps)
-    with writer.saving(fig, str(path), dpi):
-        for k in range(frames):
-            ax.cla()
-            draw_body(ax, body, X[k], scale=scale)
-            _setup(ax, scale)
-            ax.set_title(title + "\n" + _title(body, t[k]) if title else _title(body, t[k]), fontsize=9)
-            writer.grab_frame()
-    return frames
+    _setup(ax, scale)
+    # the still parts (axes, the angular momentum's arrow) drawn once; the body's boxes, joints,
+    # the root's axes and the title move (acroplan.core.animation)
+    boxes = equivalent_boxes(body)
+    pc = Poly3DCollection([np.zeros((4, 3))] * (6 * len(boxes)), edgecolors=(0, 0, 0, 0.25), linewidths=0.3)
+    ax.add_collection3d(pc)
+    joints = [i for i in range(len(body.links)) if body.links.parents[i] != -1]
+    dots, = ax.plot([], [], [], "o", ms=3, color="k", linestyle="none")
+    root_axes = [ax.plot([], [], [], color=c, lw=1.5)[0] for c in ("#d62728", "#2ca02c", "#1f77b4")]
+    L = body.angular_momentum
+    nL = float(np.linalg.norm(L))
+    if nL > 0:
+        ax.quiver(0, 0, 0, *(0.9 * scale * L / nL), color="k", linewidth=2.0, arrow_length_ratio=0.15)
+    ttl = ax.set_title("", fontsize=9)
+
+    def update(k):
+        Rs, org, coms = body.link_poses(X[k])
+        polys, colors = [], []
+        for j, (i, half, V) in enumerate(boxes):
+            p, n = _box_polys(coms[i], Rs[i] @ V, half)
+            polys += p
+            colors += _shade(_COLORS[j % len(_COLORS)], n)
+        pc.set_verts(polys)
+        pc.set_facecolor(colors)
+        if joints:
+            dots.set_data_3d(org[joints, 0], org[joints, 1], org[joints, 2])
+        r = body.links.root
+        for line, axis in zip(root_axes, Rs[r].T):
+            end = org[r] + 0.45 * scale * axis
+            line.set_data_3d([org[r][0], end[0]], [org[r][1], end[1]], [org[r][2], end[2]])
+        ttl.set_text(title + "\n" + _title(body, t[k]) if title else _title(body, t[k]))
+
+    update(0)
+    return write_frames(fig, (pc, dots, *root_axes, ttl), update, frames, path, fps=fps)
