@@ -12,7 +12,7 @@ from pathlib import Path
 
 import acroplan
 from acroplan.core import lie, strategies
-from acroplan.families.acrobot import nilpotent, reach
+from acroplan.families.acrobot import nilpotent
 
 SECTIONS = [
     ("Planning", acroplan, ["plan", "plan_many", "simulate", "warm_up", "PlanResult", "SegmentResult", "Samples",

@@ -21,7 +21,7 @@ from acroplan.core.limits import Limits
 from acroplan.families.planar import (Link, LinkTable, PlanarBody, diver_with_arms, momentum_from_definition,
                                       planar_space_robot, random_body, read_link_table, read_urdf, three_rods,
                                       to_urdf)
-from acroplan.families.planar.check import centroidal_momentum, centroidal_rows, simulate_with_pinocchio
+from acroplan.families.planar.check import centroidal_momentum, simulate_with_pinocchio
 from acroplan.families.planar.pin import build_model
 
 pin = pytest.importorskip("pinocchio")

@@ -143,7 +143,6 @@ def free_simulation(body, basis, x0, T, c, t_eval, scale=None):
     m, nq, nv = body.n_inputs, pb.model.nq, pb.model.nv
     jc = pb.idx_v
     scale = np.ones(m) if scale is None else scale
-    tm = body.torque_model()
     s0 = np.asarray(x0, dtype=float)[4:]
 
     def planned(t, qp):
