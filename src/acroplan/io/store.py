@@ -47,7 +47,9 @@ import numpy as np
 
 from ..core.errors import EXIT_INVALID, EXIT_SUCCESS, InvalidInputError
 from ..sweep import Sweep  # noqa: F401  (the front door this module stores)
-from .problem import _arith, _check_keys, load_toml, parse_problem
+from ..core.validate import arith as _arith
+from ..core.validate import check_keys as _check_keys
+from .problem import load_toml, parse_problem
 
 #: the sweep module (``acroplan.sweep`` may be the function of that name once the package exports it)
 _sw = sys.modules["acroplan.sweep"]

@@ -33,14 +33,12 @@ import sympy as sp
 
 from ...core.errors import InvalidInputError, finite_number
 from ...core.system import ControlAffineSystem, Infeasibility
+from ...core.validate import MAX_MAGNITUDE
 from .reach import reachable_set
 
 __all__ = ["Acrobot", "PhysicalParameters"]
 
 
-#: The largest parameter magnitude the arithmetic carries (squares and products of parameters
-#: must stay finite in double precision).
-MAX_MAGNITUDE = 1e100
 
 
 def _finite(field: str, value) -> float:
