@@ -131,13 +131,13 @@ def test_console_script_runs():
 
 
 def test_a_failure_while_writing_leaves_nothing(tmp_path, monkeypatch):
-    import acroplan.io.cli as cli
+    import acroplan.io.cli.plan as cli  # the plan command's figures
 
     def boom(figs, folder, fmts):
         (folder / "input.png").write_bytes(b"partial")
         raise RuntimeError("disk full")
 
-    monkeypatch.setattr(cli, "_save", boom)
+    monkeypatch.setattr(cli, "save", boom)
     out = tmp_path / "out"
     res = run(["plan", "--example", "pike-dive", "--out", str(out)])
     assert res.exit_code != 0 and isinstance(res.exception, RuntimeError)
@@ -149,7 +149,7 @@ def test_readme_problem_file_is_valid_and_feasible(tmp_path):
     import re
 
     readme = (pathlib.Path(__file__).parents[1] / "README.md").read_text()
-    block = re.search(r"```toml\n(.*?)```", readme, re.S).group(1)
+    block = re.search(r"## Problem file.*?```toml\n(.*?)```", readme, re.S).group(1)
     out = tmp_path / "out"
     res = run(["plan", write(tmp_path, block), "--out", str(out), "--no-plots"])
     assert res.exit_code == 0, res.output

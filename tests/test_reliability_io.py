@@ -18,7 +18,8 @@ import pytest
 from click.testing import CliRunner
 
 from acroplan.io import output
-from acroplan.io.cli import _json_text, main
+from acroplan.io.cli import json_text as _json_text
+from acroplan.io.cli import main
 
 import texts  # the shared problem texts (tests/texts.py)
 

@@ -19,7 +19,7 @@
 
 The same problems are bundled as problem files, under the same names (``acroplan plan --example
 diver-somersault``: the diver through a URDF file, the others through link tables;
-``acroplan/io/data/``); ``tests/test_cli_bodies.py`` checks that the files give these bodies (lumped
+``acroplan/families/planar/data/``); ``tests/test_cli_bodies.py`` checks that the files give these bodies (lumped
 parameters to 1e-12), waypoints and limits.
 """
 

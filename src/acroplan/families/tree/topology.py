@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..core.errors import InvalidInputError
+from ...core.errors import InvalidInputError
 
 __all__ = ["LinkTree", "tree_of"]
 

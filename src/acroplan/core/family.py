@@ -1,0 +1,213 @@
+"""Body families as plug-ins: the contract between a family and the layers above it.
+
+A *family* is a kind of body (the two-link acrobot, planar bodies of any number of links, bodies in
+3-D, human bodies from anthropometric data, the small kinematic systems). Its model, planners and
+checks live in its own folder under ``acroplan/families``; what the problem files, the command line,
+the sweeps and the result files need of it is one :class:`Family` object that the family registers.
+The I/O layer and the front doors ask this registry; they never name a family, so a new family is a
+new folder and one registration.
+
+Registration
+------------
+A family is found through the entry point group ``acroplan.families`` (``pyproject.toml``:
+``[project.entry-points."acroplan.families"]``, ``name = "package.module:FAMILY"``), so a family in
+another package registers the same way as acroplan's own; or by :func:`register_family` at run time
+(tests, notebooks). Entry points are loaded on first use of the registry, not at import: a command
+that needs no family loads none.
+
+The contract (for implementers)
+-------------------------------
+A family is a frozen :class:`Family`. Everything but ``name`` and ``system_types`` is optional; a
+missing hook means the family does not offer that job, and the layer asking says so to the user.
+
+1. ``name`` (str): unique; ``system_types`` (tuple of classes): the systems it owns;
+   :func:`family_of` finds a system's family along its class's MRO.
+2. ``tables``: the problem-file tables it may read (``"robot"``, ``"body"``), with their keys
+   ``table_keys`` (a key no family knows is refused with the nearest known one);
+   ``reads(table, data) -> bool``: whether it reads this one (``data`` the table). Families are
+   asked in order of ``priority`` (higher first), so a family keyed on a few distinctive keys (a
+   human body's ``yeadon``) is asked before a general one (a link table).
+3. ``read(table, data, limits, context) -> (system, options)``: the system, and the :func:`plan`
+   keywords that the file's ``[limits]`` table gives (the acrobot's ``phi_min``, ...); a family
+   that writes the limits into its body returns ``{}`` and sets ``limits_in_body`` (the reader of
+   ``[plan]`` then turns the file's angles into radians when ``options.degrees`` is set; otherwise
+   ``degrees`` is a plan keyword). ``context`` is a :class:`ReadContext`.
+   Messages name the file's fields (``body.link[2].mass``) through
+   :class:`~acroplan.core.errors.InvalidInputError`.
+4. ``waypoints(system, table, data, count) -> dict`` (optional): the waypoints of the states
+   ``waypoint_states`` that a ``[plan]`` (``count`` waypoints) or ``[simulate]`` (``count=None``: the
+   initial state) table gives in other forms than one list per state (a spatial body's attitude
+   ``qw, qx, qy, qz`` as quaternions, Euler angles or rotation vectors), through the keys
+   ``waypoint_keys``.
+5. ``reach(problem) -> list of dict`` (optional): what can be proven about each segment of a
+   problem (``acroplan reach``), and ``reach_figure(problem, rows) -> Figure``.
+6. ``two_link(problem)`` (optional): the problem's body as the acrobot of the text, the offsets
+   of its angles, its joint's name and its limits, for the exact answers of the two-link body
+   (``acroplan least-momentum``); ``least_momentum`` and ``somersault_table`` (the acrobot's): the
+   exact least angular momentum of a turn, and its table over somersaults and flight times.
+7. ``examples``: the bundled problems, ``{name: Example}``; ``commands``: extra command-line
+   commands, ``{name: "module:function"}``.
+8. ``draw(folder, solution, gif, strobe, mp4, *, speed, fps, load) -> int`` (optional): write the
+   animation (``gif``, and ``mp4`` when not ``None`` and ffmpeg is there) and the strobe figure of
+   the motion an output folder holds (``solution``: its ``solution.json``; ``load()``: the
+   :class:`~acroplan.core.result.PlanResult` it records); returns the number of frames.
+   ``animate(result, path, **kw) -> int`` (optional): the animation of a result.
+9. ``cli_verify`` (str or None): the check the command line asks for (``"ode"``: the DOP853
+   re-simulation, which the acrobot affords at any size); ``None``: the family's own check where
+   it has one.
+10. ``torque_hint`` (``(problem, fix)`` or None): what to tell a user whose body of this family
+    gives no torques (the acrobot given by its lumped parameters).
+11. ``describe(system) -> str`` (optional): one line saying what the body is, for the command
+    line's summaries.
+
+Worked examples: ``acroplan/families/small/family.py`` (the unicycle and the chained form: a
+name, the classes, nothing else) and ``acroplan/families/planar/family.py`` (link tables and URDF,
+the reach bound, drawings, examples).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import importlib
+import threading
+from pathlib import Path
+from typing import Any, Callable, Mapping
+
+__all__ = ["Family", "Example", "ReadContext", "register_family", "families", "family_of", "family_named",
+           "reader_for", "ENTRY_POINT_GROUP"]
+
+#: The entry point group a family is registered under.
+ENTRY_POINT_GROUP = "acroplan.families"
+
+
+@dataclasses.dataclass(frozen=True)
+class Example:
+    """A bundled problem: its file (inside the package: ``package`` and ``resource``), what it
+    shows (one line), the command that runs it (``"plan"``, ``"simulate"``, ``"nilpotent"``) and
+    files it needs beside it (a URDF)."""
+
+    package: str
+    resource: str
+    description: str
+    command: str = "plan"
+    companions: tuple[str, ...] = ()
+    extra: str | None = None  # the pip extra it needs, if any
+
+
+@dataclasses.dataclass(frozen=True)
+class ReadContext:
+    """What a family's reader knows of the file: its folder (relative paths are read from it),
+    whether ``options.degrees`` is set, and the folders outside it that the user allowed."""
+
+    base: Path | None = None
+    degrees: bool = False
+    allowed: tuple[Path, ...] = ()
+
+
+@dataclasses.dataclass(frozen=True)
+class Family:
+    """A body family's contract with the I/O layer and the front doors (module docstring)."""
+
+    name: str
+    system_types: tuple[type, ...]
+    priority: int = 0
+    tables: tuple[str, ...] = ()
+    reads: Callable[[str, Mapping], bool] | None = None
+    read: Callable[..., tuple[Any, dict]] | None = None
+    table_keys: tuple[str, ...] = ()
+    waypoints: Callable[..., dict] | None = None
+    waypoint_keys: tuple[str, ...] = ()
+    waypoint_states: tuple[str, ...] = ()
+    reach: Callable[[Any], list] | None = None
+    reach_figure: Callable[[Any, list], Any] | None = None
+    two_link: Callable[[Any], tuple] | None = None
+    least_momentum: Callable[..., Any] | None = None
+    somersault_table: Callable[..., Any] | None = None
+    examples: Mapping[str, Example] = dataclasses.field(default_factory=dict)
+    commands: Mapping[str, str] = dataclasses.field(default_factory=dict)
+    draw: Callable[..., int] | None = None
+    animate: Callable[..., int] | None = None
+    limits_in_body: bool = False
+    cli_verify: str | None = None
+    torque_hint: tuple[str, str] | None = None
+    describe: Callable[[Any], str] | None = None
+
+    def owns(self, system) -> bool:
+        """Whether ``system`` (an instance) is of this family."""
+        return isinstance(system, self.system_types)
+
+
+_FAMILIES: dict[str, Family] = {}
+_LOADED = False
+_LOCK = threading.RLock()
+
+
+def register_family(family: Family, *, replace: bool = False) -> Family:
+    """Register ``family`` (by its name). Registering the same name again needs ``replace=True``,
+    unless it is the same object (a module imported twice)."""
+    from .errors import InvalidInputError
+
+    if not isinstance(family, Family):
+        raise InvalidInputError("family", f"must be an acroplan.core.family.Family, got {type(family).__name__}",
+                                "build one with Family(name=..., system_types=(...))")
+    with _LOCK:
+        old = _FAMILIES.get(family.name)
+        if old is not None and old is not family and not replace and old != family:
+            raise InvalidInputError("family", f"the name {family.name!r} is taken", "give another name, or "
+                                    "replace=True to replace it")
+        _FAMILIES[family.name] = family
+    return family
+
+
+def _load_entry_points() -> None:
+    global _LOADED
+    if _LOADED:
+        return
+    with _LOCK:
+        if _LOADED:
+            return
+        from importlib.metadata import entry_points
+
+        for ep in sorted(entry_points(group=ENTRY_POINT_GROUP), key=lambda e: e.name):
+            module, _, attr = ep.value.partition(":")
+            fam = getattr(importlib.import_module(module), attr or "FAMILY")
+            if fam.name not in _FAMILIES:
+                register_family(fam)
+        _LOADED = True
+
+
+def families() -> tuple[Family, ...]:
+    """Every registered family, highest ``priority`` first (then by name)."""
+    _load_entry_points()
+    return tuple(sorted(_FAMILIES.values(), key=lambda f: (-f.priority, f.name)))
+
+
+def family_named(name: str) -> Family:
+    """The family registered as ``name``."""
+    from .errors import InvalidInputError
+
+    _load_entry_points()
+    if name not in _FAMILIES:
+        raise InvalidInputError("family", f"no family is registered as {name!r}",
+                                f"registered: {sorted(_FAMILIES)}")
+    return _FAMILIES[name]
+
+
+def family_of(system) -> Family | None:
+    """The family of ``system`` (an instance or a class): the first family owning a class along its
+    MRO; ``None`` for a system of no registered family (a user's own class)."""
+    _load_entry_points()
+    cls = system if isinstance(system, type) else type(system)
+    for base in cls.__mro__:
+        for fam in families():
+            if base in fam.system_types:
+                return fam
+    return None
+
+
+def reader_for(table: str, data: Mapping) -> Family | None:
+    """The family that reads the system table ``table`` (``"robot"``, ``"body"``) holding ``data``."""
+    for fam in families():
+        if fam.read is not None and fam.reads is not None and fam.reads(table, data):
+            return fam
+    return None

@@ -1,0 +1,178 @@
+"""A human body's problem-file table: ``[body]`` with ``yeadon`` (a measurement file, or a bundled
+sample by name) or ``height``, ``mass`` and ``sex`` (de Leva's tables), ``split``, ``position``,
+``knee_flexion``, ``shoulder_flexion`` and ``angular_momentum`` (docs/problem-files.md). Split at the
+hips the body is an :class:`~acroplan.Acrobot`, whose ``[limits]`` are plan keywords over the
+position's; split at the hips and shoulders a :class:`~acroplan.PlanarBody`, whose limits are in its
+link table.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+from ...core.errors import InvalidInputError
+from ...core.validate import BODY_VALUES, MAX_ANGLE, MAX_BODY, MAX_FILE_BYTES, check_keys, choice_field, number, short
+from ..acrobot.problem import read_limits as acrobot_limits
+from ..planar.model import PlanarBody
+from ..tree.problem import apply_limits
+from .deleva import from_height_mass
+from .limits import POSITIONS, human_limits, position
+from .yeadon_body import SAMPLES, from_yeadon, sample_measurements
+
+__all__ = ["reads", "read", "HUMAN_KEYS", "SPLITS"]
+
+#: the keys of a human body in [body]
+HUMAN_KEYS = ("yeadon", "height", "mass", "sex", "split", "position", "knee_flexion", "shoulder_flexion")
+#: how a human body is split: at the hips (the two-link body), at the hips and the shoulders
+SPLITS = ("hips", "hips+shoulders")
+#: what [body] may hold beside the human keys (refused with a message naming the clash)
+OTHER_KEYS = ("urdf", "link", "angular_momentum")
+
+
+def reads(table: str, data) -> bool:
+    """A ``[body]`` with any of :data:`HUMAN_KEYS`."""
+    return table == "body" and isinstance(data, dict) and any(k in data for k in HUMAN_KEYS)
+
+
+def read(table: str, data: dict, limits: dict | None, context):
+    """The human body of ``[body]`` and, split at the hips (an acrobot), the plan keywords of the
+    file's ``[limits]`` over the position's."""
+    check_keys("body", data, HUMAN_KEYS + OTHER_KEYS)
+    given = [k for k in HUMAN_KEYS if k in data]
+    if isinstance(data.get("angular_momentum"), list):
+        raise InvalidInputError(f"body.{given[0]}", "is a key of a human (planar) body, and angular_momentum is a "
+                                "vector [Lx, Ly, Lz], which makes the body spatial",
+                                "give a spatial body by urdf or [[body.link]] tables, or a human body with "
+                                "angular_momentum a number")
+    system, defaults = _human_body(data, given, limits, base=context.base, degrees=context.degrees)
+    if defaults or not isinstance(system, PlanarBody):
+        return system, acrobot_limits(limits, defaults, degrees=context.degrees)
+    return system, {}
+
+
+_INSTALL_HUMAN = 'pip install "acroplan[human]"'
+
+
+def yeadon_path(value, base) -> str:
+    """The measurement file ``body.yeadon`` names: a bundled sample by name, or a path relative to the
+    problem file's folder."""
+    if not isinstance(value, str) or not value.strip():
+        raise InvalidInputError("body.yeadon", "must be a measurement file or a bundled sample's name in quotes, "
+                                f"got {short(value)}", "write for example yeadon = \"male1\" (bundled: "
+                                f"{sorted(SAMPLES)}) or yeadon = \"measurements.txt\"")
+    if value in SAMPLES:
+        return sample_measurements(value)
+    path = Path(value)
+    if not path.is_absolute() and base is not None:
+        path = Path(base) / path
+    if not path.is_file():
+        raise InvalidInputError("body.yeadon", f"no such file: {short(str(path), 200)}",
+                                "give a yeadon measurement file (95 measurements in yeadon's format; a relative path "
+                                "is read from the problem file's folder) or a bundled sample's name "
+                                f"({sorted(SAMPLES)})")
+    if path.stat().st_size > MAX_FILE_BYTES:
+        raise InvalidInputError("body.yeadon", f"{path.name} is larger than {MAX_FILE_BYTES // 1_000_000} MB",
+                                "give a yeadon measurement file (95 measurements, a few kB)")
+    return str(path)
+
+
+#: the human family's argument names as the file names them
+_HUMAN_FIELDS = {"height": "body.height", "mass": "body.mass", "sex": "body.sex", "knee_flexion": "body.knee_flexion",
+                 "measurements": "body.yeadon", "shoulder_flexion": "body.shoulder_flexion",
+                 "angular_momentum": "body.angular_momentum"}
+
+
+def human_error(e: InvalidInputError, source: str) -> InvalidInputError:
+    """The human family's error with its field as the file names it (a part's mass or inertia that a
+    measurement file makes non-physical: the file's field ``source``)."""
+    head = e.field.split(".", 1)[0].split("[", 1)[0]
+    if head in _HUMAN_FIELDS and not (head == "mass" and source == "body.yeadon"):
+        return InvalidInputError(_HUMAN_FIELDS[head] + e.field[len(head):], e.problem, e.fix)
+    return InvalidInputError(source, f"makes {e.field} {e.problem}", e.fix)
+
+
+def _human_body(data: dict, given: list, limits: dict | None, *, base, degrees: bool):
+    """A human body from ``[body]`` (``yeadon`` or ``height``/``mass``; module docstring), and the
+    default limits of an acrobot (split at the hips) in radians."""
+    other = [k for k in ("urdf", "link") if k in data]
+    if other:
+        what = "urdf" if other[0] == "urdf" else "[[body.link]] tables"
+        raise InvalidInputError(f"body.{given[0]}", f"is a key of a human body, and this [body] gives {what}",
+                                f"describe the body one way: a URDF, link tables, or a human body (yeadon, or height "
+                                f"and mass); drop body.{given[0]} or body.{other[0]}")
+    deleva = [k for k in ("height", "mass", "sex") if k in data]
+    if "yeadon" in data and deleva:
+        raise InvalidInputError(f"body.{deleva[0]}", "is given together with body.yeadon: the measurement file gives "
+                                "the whole body", "give yeadon = \"...\" (Yeadon's 95 measurements) or height and "
+                                "mass (de Leva's tables), not both")
+    if "yeadon" not in data:
+        for key in ("height", "mass"):
+            if key not in data:
+                raise InvalidInputError(f"body.{key}", "is missing" + ("" if deleva else
+                                        ": a human body needs yeadon = \"...\" or height and mass"),
+                                        "give height (m) and mass (kg) for de Leva's tables, or yeadon = \"male1\" "
+                                        "(a measurement file or a bundled sample)")
+    if "angular_momentum" not in data:
+        raise InvalidInputError("body.angular_momentum", "is missing", "give P0, the angular momentum about the "
+                                "somersault axis in kg m^2/s (> 0 for a forward somersault; acroplan least-momentum "
+                                "gives the least one for the file's turn)")
+    P0 = number("body.angular_momentum", data["angular_momentum"], MAX_BODY, BODY_VALUES)
+    split = choice_field("body.split", data.get("split", "hips"), SPLITS, "hips")
+    pos = data.get("position")
+    if pos is not None:
+        pos = choice_field("body.position", pos, tuple(POSITIONS), "pike")
+    kappa = (number("body.knee_flexion", data["knee_flexion"], MAX_ANGLE, "angles") if "knee_flexion" in data
+             else position(pos).knee_flexion if pos is not None else 0.0)
+    sigma = 0.0
+    if "shoulder_flexion" in data:
+        if split != "hips":
+            raise InvalidInputError("body.shoulder_flexion", f"is the arms' fixed angle of split = \"hips\", and this "
+                                    f"body is split = \"{split}\": its arms move (the joint shoulder)",
+                                    "give the shoulder's angles in [plan].shoulder, and drop body.shoulder_flexion")
+        sigma = number("body.shoulder_flexion", data["shoulder_flexion"], MAX_ANGLE, "angles")
+        if not -math.pi <= sigma <= math.pi:
+            raise InvalidInputError("body.shoulder_flexion", f"must be an angle in radians in [-pi, pi], got {sigma:g}",
+                                    "write for example shoulder_flexion = \"pi/2\" (arms forward; 0: at the sides, "
+                                    "pi: overhead)")
+    source = "body.yeadon" if "yeadon" in data else "body.height"
+    try:
+        if "yeadon" in data:
+            path = yeadon_path(data["yeadon"], base)
+            try:
+                body = from_yeadon(path, knee_flexion=kappa)
+            except ImportError:
+                raise InvalidInputError("body.yeadon", "needs the yeadon package (Yeadon's inertia model), which is "
+                                        "not installed", f"{_INSTALL_HUMAN}; or give height and mass instead of "
+                                        "yeadon (de Leva's tables need nothing more)") from None
+        else:
+            height = number("body.height", data["height"], MAX_BODY, BODY_VALUES)
+            mass = number("body.mass", data["mass"], MAX_BODY, BODY_VALUES)
+            sex = data.get("sex", "male")
+            if not isinstance(sex, str):
+                raise InvalidInputError("body.sex", f"must be \"male\" or \"female\" in quotes, got {short(sex)}",
+                                        "write sex = \"female\" or leave it out (male)")
+            body = from_height_mass(height, mass, sex=sex, knee_flexion=kappa)
+    except InvalidInputError as e:
+        raise (e if e.field.startswith("body.") else human_error(e, source)) from None
+    lim = None
+    if pos is not None:
+        try:
+            lim = human_limits(body, pos, links=2 if split == "hips" else 3, shoulder_flexion=sigma)
+        except InvalidInputError as e:
+            if e.field != "position":  # pragma: no cover - the arguments were checked above
+                raise human_error(e, "body.position") from None
+            raise InvalidInputError("body.knee_flexion", f"is {kappa:.6g} rad, and position = \"{pos}\" holds the "
+                                    f"knees at {position(pos).knee_flexion:.6g} rad", "leave body.knee_flexion out "
+                                    "(the position's knees), or drop body.position and give the [limits]") from None
+    try:
+        if split == "hips":
+            robot = body.two_link(angular_momentum=P0, shoulder_flexion=sigma)
+            defaults = {} if lim is None else {**{f"phi_{e}": v for e, v in zip(("min", "max"), lim.bounds("phi"))},
+                                               "u_max": lim.u_max}
+            return robot, defaults
+        planar = body.three_part(angular_momentum=P0, limits=lim)
+    except InvalidInputError as e:  # pragma: no cover - a human body's parts are physical
+        raise human_error(e, source) from None
+    table = apply_limits(planar.links, {} if limits is None else limits, degrees)
+    return (planar if table is planar.links else PlanarBody(table, P0=P0)), {}

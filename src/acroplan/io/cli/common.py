@@ -1,0 +1,228 @@
+"""What every command shares: output folders checked before any work, figures, JSON without NaN,
+one-line errors with their exit code, progress bars on a terminal, the problem named by a file or
+``--example``."""
+
+from __future__ import annotations
+
+import json
+import math
+import sys
+from pathlib import Path
+
+import click
+
+from ...core.errors import EXIT_INFEASIBLE, EXIT_INVALID, EXIT_NOT_CONVERGED, EXIT_SUCCESS, InvalidInputError
+from ..output import check_out_dir
+
+
+EXIT_BY_STATUS = {"success": EXIT_SUCCESS, "infeasible": EXIT_INFEASIBLE, "not_converged": EXIT_NOT_CONVERGED}
+
+FORMATS = ("png", "pdf")
+
+def one_line(message: str, most: int = 2000) -> str:
+    message = str(message).replace("\r", "\\r").replace("\n", "\\n")
+    return message if len(message) <= most else message[:most - 3] + "..."
+
+def fail(message: str, code: int = EXIT_INVALID):
+    click.echo(click.style("acroplan: error: ", fg="red", bold=True) + one_line(message), err=True)
+    sys.exit(code)
+
+def json_safe(value, where: str = "", warnings: list | None = None):
+    """``value`` with every non-finite float replaced by None; each replacement is named in
+    ``warnings`` (``"segments[0].final_error: was nan, written as null"``)."""
+    import numpy as np
+
+    if warnings is None:
+        warnings = []
+    if isinstance(value, dict):
+        return {k: json_safe(v, f"{where}.{k}" if where else str(k), warnings) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [json_safe(v, f"{where}[{i}]", warnings) for i, v in enumerate(value)]
+    if isinstance(value, np.ndarray):
+        return json_safe(value.tolist(), where, warnings)
+    if isinstance(value, (float, np.floating)) and not isinstance(value, bool):
+        if not math.isfinite(value):
+            warnings.append(f"{where or 'value'}: was {float(value)}, written as null")
+            return None
+        return float(value)
+    if isinstance(value, np.integer):
+        return int(value)
+    if isinstance(value, np.bool_):
+        return bool(value)
+    return value
+
+def json_text(doc: dict, **kwargs) -> str:
+    """``doc`` as JSON with no NaN or infinity: those become null, listed under ``warnings``."""
+    warnings: list[str] = []
+    clean = json_safe(doc, "", warnings)
+    if warnings:
+        clean["warnings"] = list(clean.get("warnings") or []) + warnings
+    return json.dumps(clean, allow_nan=False, **kwargs)
+
+def write_json(path: Path, doc: dict) -> None:
+    path.write_text(json_text(doc, indent=2) + "\n", encoding="utf-8")
+
+def solution_doc(result, simulation=None) -> dict:
+    """``result.to_dict()`` with, after ``system``, the list ``inputs``: each input's name and the
+    joint (state) whose rate it is, ``[{"name": "u_shoulder", "joint": "shoulder"}, ...]`` (a body's
+    link table is in ``system.links``); for a simulation, how each input was given."""
+    d = result.to_dict()
+    system = result.system
+    rates = dict(getattr(system, "rate_inputs", {}) or {})
+    inputs = [{"name": n, "joint": rates.get(n)} for n in system.input_names]
+    out = {}
+    for k, v in d.items():
+        out[k] = v
+        if k == "system":
+            out["inputs"] = inputs
+    out.setdefault("inputs", inputs)
+    if simulation is not None:
+        out["simulate"] = {"motion": dict(simulation.motion),
+                           "note": "spline: the clamped cubic spline through the file's joint angles (its rate is "
+                                   "exact in 3 Legendre coefficients); coefficients: the file's Legendre "
+                                   "coefficients of the rate"}
+    return out
+
+def verify_method(system) -> str:
+    """How the command line checks a motion independently: as the system's family asks
+    (:attr:`Family.cli_verify <acroplan.core.family.Family.cli_verify>`: the acrobot by the DOP853
+    re-simulation, ``"ode"``), else by the family's own check where it has one (Pinocchio's
+    centroidal momentum for planar and spatial bodies), else by DOP853."""
+    from ...core.family import family_of
+    from ...core.verify import resolve_verify
+
+    fam = family_of(system)
+    return fam.cli_verify if fam is not None and fam.cli_verify else resolve_verify(system, True)
+
+def formats(text: str) -> tuple[str, ...]:
+    fmts = tuple(f.strip().lower() for f in text.split(",") if f.strip())
+    bad = [f for f in fmts if f not in FORMATS]
+    if bad or not fmts:
+        raise InvalidInputError("--format", f"unknown figure format {bad[0] if bad else text!r}",
+                                "use png, pdf or png,pdf")
+    return fmts
+
+def check_outputs(out, force: bool, fmt: str, hint: str, inputs=()) -> tuple[str, ...]:
+    """Validate --out, --force and --format before any work; returns the figure formats.
+
+    ``inputs``: the problem files or folders read; --force must not replace a folder holding them.
+    """
+    if out is None:
+        raise InvalidInputError("--out", "is required", f"give an output folder, for example --out {hint}")
+    fmts = formats(fmt)
+    check_out_dir(out, force)
+    target = Path(out).absolute().resolve()
+    for p in inputs:
+        if p is not None and Path(p).absolute().resolve().is_relative_to(target):
+            raise InvalidInputError("--out", f"{out} holds the problem {p}, which replacing it would delete",
+                                    "give another output folder")
+    return fmts
+
+def save(figs: dict, folder: Path, fmts) -> None:
+    import matplotlib.pyplot as plt
+
+    try:
+        for name, fig in figs.items():
+            for f in fmts:
+                fig.savefig(folder / f"{name}.{f}", dpi=120)
+    finally:
+        for fig in figs.values():
+            plt.close(fig)
+
+def progress(total: int, desc: str):
+    """A tqdm bar on a terminal, nothing otherwise; returns (callback, close)."""
+    from tqdm import tqdm
+
+    bar = tqdm(total=total, desc=desc, leave=False, disable=not sys.stderr.isatty(), file=sys.stderr)
+
+    def update(done, _total):
+        bar.update(done - bar.n)
+
+    return update, bar.close
+
+def report(summary: dict, as_json: bool, quiet: bool, lines: list[str], code: int) -> None:
+    if as_json:
+        click.echo(json_text(summary))
+    elif code != EXIT_SUCCESS:
+        for line in lines:
+            click.echo(click.style("acroplan: ", fg="yellow", bold=True) + line, err=True)
+    elif not quiet:
+        for line in lines:
+            click.echo(line)
+    sys.exit(code)
+
+_COMMON = [
+    click.option("--out", "out", type=click.Path(file_okay=False, path_type=Path),
+                 help="Output folder (created; written atomically)."),
+    click.option("--force", is_flag=True, help="Replace a non-empty output folder."),
+    click.option("--quiet", "-q", is_flag=True, help="Print nothing on success."),
+    click.option("--json", "as_json", is_flag=True, help="Print a machine-readable summary on stdout."),
+]
+
+def common(f):
+    for opt in reversed(_COMMON):
+        f = opt(f)
+    return f
+
+def option_overrides(objective, tau_max) -> dict:
+    """The ``[options]`` that --objective and --tau-max write over the problem file's."""
+    out = {}
+    if objective is not None:
+        out["objective"] = objective
+    if tau_max:
+        number, table = None, {}
+        fix = "write --tau-max 50 (every joint), or --tau-max JOINT=50 once per limited joint"
+        for text in tau_max:
+            joint, sep, value = text.rpartition("=")
+            joint, value = joint.strip(), value.strip()
+            field = f"--tau-max {joint}" if sep else "--tau-max"
+            if sep and not joint:
+                raise InvalidInputError("--tau-max", f"{one_line(text, 80)!r} names no joint", fix)
+            try:
+                v = float(value)
+            except ValueError:
+                raise InvalidInputError(field, f"{one_line(value, 80)!r} is not a number", fix) from None
+            if sep:
+                if joint in table:
+                    raise InvalidInputError(field, "is given twice", "give each joint once")
+                table[joint] = v
+            elif number is not None:
+                raise InvalidInputError("--tau-max", "gives two numbers for every joint", "give one")
+            else:
+                number = v
+        if number is not None and table:
+            raise InvalidInputError("--tau-max", "mixes a number for every joint with JOINT=VALUE",
+                                    "give one number for every joint, or JOINT=VALUE for each limited joint")
+        out["tau_max"] = number if number is not None else table
+    return out
+
+def override_error(e: InvalidInputError, overrides: dict) -> InvalidInputError:
+    """``e`` naming the command line's option when it is about a value the option gave."""
+    for key, flag in (("tau_max", "--tau-max"), ("objective", "--objective")):
+        head = f"options.{key}"
+        if key in overrides and (e.field == head or e.field.startswith(head + ".")):
+            rest = e.field[len(head) + 1:]
+            fix = e.fix.replace(f"leave {head} out", f"leave {flag} out").replace(
+                f"write {key} = ", f"give {flag} ")
+            return InvalidInputError(f"{flag} {rest}".strip(), e.problem, fix)
+    return e
+
+def load_problem_arg(problem, example, overrides: dict | None = None):
+    """The problem of a PROBLEM argument or ``--example NAME`` (exactly one), with ``overrides``
+    (:func:`option_overrides`) written over its ``[options]``."""
+    from .. import examples as _examples
+    from ..problem import load_problem
+    if (problem is None) == (example is None):
+        raise InvalidInputError("PROBLEM", "give either a problem file or --example NAME, not both or neither",
+                                "for example: --example pike-dive")
+    if not overrides:
+        return _examples.load(example) if example is not None else load_problem(problem)
+    from ..problem import load_toml, parse_problem, with_options
+
+    try:
+        if example is not None:
+            return _examples.load(example, options=overrides)
+        return parse_problem(with_options(load_toml(problem), overrides), name=Path(problem).stem,
+                             base=Path(problem).parent)
+    except InvalidInputError as e:
+        raise override_error(e, overrides) from None
