@@ -28,6 +28,7 @@ from .core import backend
 from .core.basis import InputBasis, make_basis
 from .core.conditions import CONDITIONS, Conditions, check_conditions
 from .core.errors import InvalidInputError
+from .core.keywords import PLAN_KEYWORDS
 from .core.limits import Limits
 from .core.optimal import OBJECTIVES, EnergyOptimal, _tau_vector, objective_strategy
 from .core.result import PlanResult, SegmentResult, Status
@@ -50,10 +51,8 @@ TIME_LIMIT = 60.0
 MIN_DURATION, MAX_DURATION, MAX_TIME = 1e-6, 1e6, 1e12
 
 
-#: plan()'s own keywords, for suggestions when one is mistyped
-_OPTIONS = ("times", "conditions", "method", "basis", "n_coefficients", "limits", "u_max", "state_bounds",
-            "input_bounds", "verify", "tol", "max_evaluations", "time_limit", "start_rate", "end_rate", "degrees",
-            "objective", "tau_max", "progress")
+#: plan()'s own keywords, for suggestions when one is mistyped (the one table, acroplan.core.keywords)
+_OPTIONS = PLAN_KEYWORDS
 
 
 def _waypoints(field, value, length) -> np.ndarray:

@@ -43,25 +43,17 @@ Links may be listed in any order; chains and branched trees are both allowed, lo
 from __future__ import annotations
 
 import dataclasses
-import keyword
-import math
-from typing import Any, Iterable, Mapping
+from typing import Iterable, Mapping
 
-from ...core.errors import InvalidInputError
-from ..tree import LinkTree, tree_of
+from ...core.keywords import RESERVED_NAMES
+from ...core.validate import pair, real
+from ..tree.links import LinkRecord, TreeLinkTable, check_joint_fields
 
 __all__ = ["Link", "LinkTable", "RESERVED_NAMES"]
 
-#: Names a joint may not take: the root angle, and the keywords of ``plan()`` and ``simulate()``
-#: (a joint's name is a keyword argument of both).
-RESERVED_NAMES = frozenset({
-    "theta", "times", "conditions", "method", "basis", "n_coefficients", "limits", "u_max", "state_bounds",
-    "input_bounds", "verify", "tol", "max_evaluations", "progress", "inputs", "system",
-})
-
 
 @dataclasses.dataclass(frozen=True)
-class Link:
+class Link(LinkRecord):
     """One rigid link of a planar body (see the module docstring for the conventions).
 
     Parameters
@@ -113,64 +105,9 @@ class Link:
     def is_root(self) -> bool:
         return self.parent is None
 
-    def to_dict(self) -> dict[str, Any]:
-        """The link as plain data (what a result file records)."""
-        out = dataclasses.asdict(self)
-        out["com"], out["joint"] = list(self.com), list(self.joint)
-        return out
 
-    @classmethod
-    def from_dict(cls, d: Mapping[str, Any], field: str = "link") -> "Link":
-        """Build from :meth:`to_dict`'s output (unknown keys are refused, naming ``field``)."""
-        if not isinstance(d, Mapping):
-            raise InvalidInputError(field, f"must be a table of link fields, got {type(d).__name__}",
-                                    "give name, parent, mass, inertia, com, joint")
-        names = {f.name for f in dataclasses.fields(cls)}
-        unknown = sorted(set(d) - names)
-        if unknown:
-            raise InvalidInputError(f"{field}.{unknown[0]}", "is not a link field",
-                                    f"link fields are {sorted(names)}")
-        missing = [n for n in ("name", "mass", "inertia") if n not in d]
-        if missing:
-            raise InvalidInputError(f"{field}.{missing[0]}", "is missing", "give name, parent, mass and inertia")
-        d = dict(d)
-        d.setdefault("parent", None)
-        return cls(**d)
-
-
-def _real(field: str, value, *, positive: bool = False, allow_none: bool = False) -> float | None:
-    if value is None and allow_none:
-        return None
-    if isinstance(value, bool) or not isinstance(value, (int, float)) and not hasattr(value, "__float__"):
-        raise InvalidInputError(field, f"must be a real number, got {value!r}", "give a finite number")
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise InvalidInputError(field, f"must be a real number, got {value!r}", "give a finite number") from None
-    if not math.isfinite(v):
-        raise InvalidInputError(field, f"must be finite, got {v}", "give a finite number")
-    if positive and not v > 0:
-        raise InvalidInputError(field, f"must be > 0, got {v:g}", "give a positive value")
-    return v
-
-
-def _pair(field: str, value) -> tuple[float, float]:
-    try:
-        x, y = value
-    except (TypeError, ValueError):
-        raise InvalidInputError(field, f"must be a pair (x, y), got {value!r}", "give for example (0.5, 0.0)") from None
-    return (_real(f"{field}[0]", x), _real(f"{field}[1]", y))
-
-
-def _identifier(field: str, value, what: str) -> str:
-    if not isinstance(value, str) or not value.isidentifier() or keyword.iskeyword(value):
-        raise InvalidInputError(field, f"must be a Python identifier, got {value!r}",
-                                f"give the {what} a name of letters, digits and underscores (for example 'arm1')")
-    return value
-
-
-@dataclasses.dataclass(frozen=True, init=False)
-class LinkTable(LinkTree):
+@dataclasses.dataclass(frozen=True, init=False, repr=False)
+class LinkTable(TreeLinkTable):
     """A checked, immutable link table: the links of one planar body and their tree.
 
     Parameters
@@ -199,79 +136,20 @@ class LinkTable(LinkTree):
     """
 
     links: tuple[Link, ...]
+    LINK = Link
+    EXAMPLE = "[Link('a', None, 1.0, 0.1), Link('b', 'a', 1.0, 0.1, joint=(1.0, 0.0))]"
+    ROOT_STATE = "angle is the state theta"
+    RESERVED_WHY = "it is the root angle or a keyword of plan() or simulate()"
 
     def __init__(self, links: Iterable[Link | Mapping]):
-        if isinstance(links, LinkTable):
-            links = links.links
-        if isinstance(links, (str, bytes, Mapping)) or not isinstance(links, Iterable):
-            raise InvalidInputError("links", f"must be a list of Link, got {type(links).__name__}",
-                                    "give for example [Link('a', None, 1.0, 0.1), Link('b', 'a', 1.0, 0.1, "
-                                    "joint=(1.0, 0.0))]")
-        raw = list(links)
-        if not raw:
-            raise InvalidInputError("links", "is empty", "give at least one link (the root)")
-        checked = []
-        for i, link in enumerate(raw):
-            field = f"links[{i}]"
-            if isinstance(link, Mapping):
-                link = Link.from_dict(link, field)
-            if not isinstance(link, Link):
-                raise InvalidInputError(field, f"must be a Link, got {type(link).__name__}",
-                                        "build it with acroplan.families.planar.Link(...)")
-            checked.append(self._check(field, link))
-        links = tuple(checked)
-        root, parents = tree_of(links, "angle is the state theta")
-        r = links[root]
-        if r.joint != (0.0, 0.0):
-            raise InvalidInputError(f"links[{root}].joint", f"the root has no joint to a parent, got {r.joint}",
-                                    "leave it out (its frame is any point of the root; put that offset in com)")
-        for f in ("joint_name", "lower", "upper", "velocity"):
-            if getattr(r, f) is not None:
-                raise InvalidInputError(f"links[{root}].{f}", "the root has no joint to a parent",
-                                        "leave it out: the root's angle theta is free")
-        joints = tuple(i for i in range(len(links)) if i != root)
-        jnames = []
-        for i in joints:
-            jn = links[i].joint_name or links[i].name
-            field = f"links[{i}].joint_name" if links[i].joint_name else f"links[{i}].name"
-            if jn in RESERVED_NAMES:
-                raise InvalidInputError(field, f"{jn!r} cannot name a joint (it is the root angle or a keyword of "
-                                        "plan() or simulate())", "give the joint another name with joint_name=")
-            if jn in jnames:
-                raise InvalidInputError(field, f"joint name {jn!r} is used twice", "give every joint its own name "
-                                        "(joint_name= defaults to the child link's name)")
-            jnames.append(jn)
-        object.__setattr__(self, "links", links)
-        object.__setattr__(self, "_derived", {
-            "root": root, "parents": tuple(parents), "joints": joints, "joint_names": tuple(jnames),
-        })
+        super().__init__(links)
 
     @staticmethod
     def _check(field: str, link: Link) -> Link:
-        name = _identifier(f"{field}.name", link.name, "link")
-        parent = link.parent
-        if parent is not None and not isinstance(parent, str):
-            raise InvalidInputError(f"{field}.parent", f"must be a link name or None, got {parent!r}",
-                                    "give the parent link's name, or None for the root")
-        mass = _real(f"{field}.mass", link.mass, positive=True)
-        inertia = _real(f"{field}.inertia", link.inertia, positive=True)
-        com = _pair(f"{field}.com", link.com)
-        joint = _pair(f"{field}.joint", link.joint)
-        jn = link.joint_name
-        if jn is not None:
-            jn = _identifier(f"{field}.joint_name", jn, "joint")
-        lower = _real(f"{field}.lower", link.lower, allow_none=True)
-        upper = _real(f"{field}.upper", link.upper, allow_none=True)
-        if lower is not None and upper is not None and not lower < upper:
-            raise InvalidInputError(f"{field}.lower", f"must be < upper, got lower = {lower:g}, upper = {upper:g}",
-                                    "swap or widen the joint limits")
-        velocity = link.velocity
-        if velocity is not None:
-            velocity = _real(f"{field}.velocity", velocity)
-            if not velocity > 0:
-                raise InvalidInputError(f"{field}.velocity", f"must be > 0, got {velocity:g}",
-                                        "give the joint's top speed in rad/s, or None")
-        return Link(name, parent, mass, inertia, com, joint, jn, lower, upper, velocity)
-
-    def __repr__(self) -> str:
-        return f"LinkTable({list(self.links)!r})"
+        common = check_joint_fields(field, link)
+        mass = real(f"{field}.mass", link.mass, positive=True)
+        inertia = real(f"{field}.inertia", link.inertia, positive=True)
+        com = pair(f"{field}.com", link.com)
+        joint = pair(f"{field}.joint", link.joint)
+        return Link(common["name"], common["parent"], mass, inertia, com, joint, common["joint_name"],
+                    common["lower"], common["upper"], common["velocity"])

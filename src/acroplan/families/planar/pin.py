@@ -17,26 +17,14 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import threading
 
 import numpy as np
 
 from ...core.errors import InvalidInputError
+from ..tree.pin import INSTALL_HINT, build_tree, require_pinocchio, thread_data
 from .links import LinkTable
 
-__all__ = ["require_pinocchio", "PinocchioBody", "build_model", "thread_data"]
-
-INSTALL_HINT = "pip install acroplan[bodies] (or pip install pin)"
-
-
-def require_pinocchio():
-    """The ``pinocchio`` module, or an :class:`InvalidInputError` saying how to install it."""
-    try:
-        import pinocchio
-    except ImportError as e:  # pragma: no cover - exercised only without the extra
-        raise InvalidInputError("pinocchio", f"is needed for this and is not installed ({e})", INSTALL_HINT) from None
-    return pinocchio
-
+__all__ = ["require_pinocchio", "PinocchioBody", "build_model", "thread_data", "INSTALL_HINT"]
 
 @dataclasses.dataclass(frozen=True, eq=False)
 class PinocchioBody:
@@ -132,38 +120,13 @@ def build_model(links, root: str = "planar") -> PinocchioBody:
     table = table if isinstance(table, LinkTable) else LinkTable(table)
     if root not in ("planar", "freeflyer"):
         raise InvalidInputError("root", f"must be 'planar' or 'freeflyer', got {root!r}", "give root='planar'")
-    model = pin.Model()
-    model.name = "planar_body"
-    ids = [0] * len(table)
+    def joint_of(link):
+        return pin.JointModelRZ(), pin.SE3(np.eye(3), np.array([link.joint[0], link.joint[1], 0.0]))
 
     def inertia(link):
         return pin.Inertia(link.mass, np.array([link.com[0], link.com[1], 0.0]),
                            np.diag([link.inertia / 2.0, link.inertia / 2.0, link.inertia]))
 
-    for i in table.topological_order():
-        link = table[i]
-        if i == table.root:
-            jmodel = pin.JointModelPlanar() if root == "planar" else pin.JointModelFreeFlyer()
-            jid = model.addJoint(0, jmodel, pin.SE3.Identity(), "root_joint")
-        else:
-            placement = pin.SE3(np.eye(3), np.array([link.joint[0], link.joint[1], 0.0]))
-            name = table.joint_names[table.joints.index(i)]
-            jid = model.addJoint(ids[table.parents[i]], pin.JointModelRZ(), placement, name)
-        model.appendBodyToJoint(jid, inertia(link), pin.SE3.Identity())
-        ids[i] = jid
-    return PinocchioBody(model, table, root, tuple(ids))
-
-
-_LOCAL = threading.local()
-
-
-def thread_data(pb):
-    """One ``pinocchio.Data`` per Pinocchio model and thread (Pinocchio's algorithms write into it):
-    for any body whose ``model`` is a ``pinocchio.Model`` (planar and spatial)."""
-    cache = getattr(_LOCAL, "data", None)
-    if cache is None:
-        cache = _LOCAL.data = {}
-    d = cache.get(id(pb))
-    if d is None or d[0] is not pb:
-        d = cache[id(pb)] = (pb, pb.model.createData())
-    return d[1]
+    model, ids = build_tree(table, "planar_body", pin.JointModelPlanar() if root == "planar" else
+                            pin.JointModelFreeFlyer(), joint_of, inertia)
+    return PinocchioBody(model, table, root, ids)

@@ -30,7 +30,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from ...core.errors import InvalidInputError
-from ..planar.pin import require_pinocchio
+from ..tree.pin import require_pinocchio
 from . import rotations as rot
 from .links import SpatialLinkTable
 from .pin import SpatialPinocchioBody, build_model

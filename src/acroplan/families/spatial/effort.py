@@ -99,7 +99,7 @@ import numpy as np
 from ...core import backend
 from ...core.errors import InvalidInputError
 from ...core.system import register_torque_model
-from ..planar.pin import INSTALL_HINT, require_pinocchio, thread_data
+from ..tree.pin import INSTALL_HINT, require_pinocchio, thread_data
 from .links import SpatialLinkTable
 from .model import SpatialBody
 from .pin import SpatialPinocchioBody, build_model

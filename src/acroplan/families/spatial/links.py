@@ -38,16 +38,16 @@ from typing import Any, Iterable, Mapping
 import numpy as np
 
 from ...core.errors import InvalidInputError
-from ..tree import LinkTree, tree_of
-from ..planar.links import RESERVED_NAMES as _PLANAR_RESERVED
-from ..planar.links import _identifier, _real
+from ...core.keywords import RESERVED_NAMES as _KEYWORDS
+from ...core.validate import real as _real
+from ..tree.links import LinkRecord, TreeLinkTable, check_joint_fields
 
 __all__ = ["SpatialLink", "SpatialLinkTable", "RESERVED_NAMES", "QUATERNION_NAMES"]
 
 #: The state names of the root's attitude quaternion ``[w, x, y, z]``.
 QUATERNION_NAMES = ("qw", "qx", "qy", "qz")
 #: Names a joint may not take: the attitude's, and the keywords of ``plan()`` and ``simulate()``.
-RESERVED_NAMES = frozenset(_PLANAR_RESERVED | set(QUATERNION_NAMES) | {"attitude", "angular_momentum", "L"})
+RESERVED_NAMES = frozenset(_KEYWORDS | set(QUATERNION_NAMES) | {"attitude", "angular_momentum", "L"})
 
 
 def _vec3(field: str, value, *, nonzero: bool = False) -> tuple[float, float, float]:
@@ -118,7 +118,7 @@ def _rotation(field: str, value) -> tuple[tuple[float, ...], ...] | None:
 
 
 @dataclasses.dataclass(frozen=True)
-class SpatialLink:
+class SpatialLink(LinkRecord):
     """One rigid link of a spatial body (see the module docstring for the conventions).
 
     Parameters
@@ -185,36 +185,9 @@ class SpatialLink:
         """``rotation`` as a (3, 3) array (the identity when not given)."""
         return np.eye(3) if self.rotation is None else np.asarray(self.rotation, dtype=float)
 
-    def to_dict(self) -> dict[str, Any]:
-        """The link as plain data (lists)."""
-        out = {}
-        for f in dataclasses.fields(self):
-            v = getattr(self, f.name)
-            if isinstance(v, tuple):
-                v = [list(r) if isinstance(r, tuple) else r for r in v]
-            out[f.name] = v
-        return out
 
-    @classmethod
-    def from_dict(cls, d: Mapping[str, Any], field: str = "link") -> "SpatialLink":
-        """Build from :meth:`to_dict`'s output (unknown keys are refused, naming ``field``)."""
-        if not isinstance(d, Mapping):
-            raise InvalidInputError(field, f"must be a table of link fields, got {type(d).__name__}",
-                                    "give name, parent, mass, inertia, com, joint, axis")
-        names = {f.name for f in dataclasses.fields(cls)}
-        unknown = sorted(set(d) - names)
-        if unknown:
-            raise InvalidInputError(f"{field}.{unknown[0]}", "is not a link field", f"link fields are {sorted(names)}")
-        missing = [n for n in ("name", "mass", "inertia") if n not in d]
-        if missing:
-            raise InvalidInputError(f"{field}.{missing[0]}", "is missing", "give name, parent, mass and inertia")
-        d = dict(d)
-        d.setdefault("parent", None)
-        return cls(**d)
-
-
-@dataclasses.dataclass(frozen=True, init=False)
-class SpatialLinkTable(LinkTree):
+@dataclasses.dataclass(frozen=True, init=False, repr=False)
+class SpatialLinkTable(TreeLinkTable):
     """A checked, immutable link table of a spatial body (a tree).
 
     Parameters
@@ -240,60 +213,24 @@ class SpatialLinkTable(LinkTree):
     """
 
     links: tuple[SpatialLink, ...]
+    LINK = SpatialLink
+    EXAMPLE = "[SpatialLink('a', None, 1.0, (0.1, 0.1, 0.1)), ...]"
+    ROOT_STATE = "attitude is the state"
+    ROOT_FREE = ("rotation", "joint_name", "lower", "upper", "velocity")
+    RESERVED = RESERVED_NAMES
+    RESERVED_WHY = "it is an attitude state or a keyword of plan() or simulate()"
+    MIN_LINKS = "at least two links (the root and one more)"
 
     def __init__(self, links: Iterable[SpatialLink | Mapping]):
-        if isinstance(links, SpatialLinkTable):
-            links = links.links
-        if isinstance(links, (str, bytes, Mapping)) or not isinstance(links, Iterable):
-            raise InvalidInputError("links", f"must be a list of SpatialLink, got {type(links).__name__}",
-                                    "give for example [SpatialLink('a', None, 1.0, (0.1, 0.1, 0.1)), ...]")
-        raw = list(links)
-        if not raw:
-            raise InvalidInputError("links", "is empty", "give at least two links (the root and one more)")
-        checked = []
-        for i, link in enumerate(raw):
-            field = f"links[{i}]"
-            if isinstance(link, Mapping):
-                link = SpatialLink.from_dict(link, field)
-            if not isinstance(link, SpatialLink):
-                raise InvalidInputError(field, f"must be a SpatialLink, got {type(link).__name__}",
-                                        "build it with acroplan.families.spatial.SpatialLink(...)")
-            checked.append(self._check(field, link))
-        links = tuple(checked)
-        root, parents = tree_of(links, "attitude is the state")
-        r = links[root]
-        if r.joint != (0.0, 0.0, 0.0):
-            raise InvalidInputError(f"links[{root}].joint", f"the root has no joint to a parent, got {r.joint}",
-                                    "leave it out (the root's frame is any frame fixed in it)")
-        for f in ("rotation", "joint_name", "lower", "upper", "velocity"):
-            if getattr(r, f) is not None:
-                raise InvalidInputError(f"links[{root}].{f}", "the root has no joint to a parent",
-                                        "leave it out: the root's attitude is free")
+        super().__init__(links)
+
+    def _check_links(self, links) -> None:
         if sum(link.mass for link in links) <= 0.0:
             raise InvalidInputError("links", "have no mass", "give at least one link mass > 0")
-        joints = tuple(i for i in range(len(links)) if i != root)
-        jnames = []
-        for i in joints:
-            jn = links[i].joint_name or links[i].name
-            field = f"links[{i}].joint_name" if links[i].joint_name else f"links[{i}].name"
-            if jn in RESERVED_NAMES:
-                raise InvalidInputError(field, f"{jn!r} cannot name a joint (it is an attitude state or a keyword of "
-                                        "plan() or simulate())", "give the joint another name with joint_name=")
-            if jn in jnames:
-                raise InvalidInputError(field, f"joint name {jn!r} is used twice", "give every joint its own name "
-                                        "(joint_name= defaults to the child link's name)")
-            jnames.append(jn)
-        object.__setattr__(self, "links", links)
-        object.__setattr__(self, "_derived", {"root": root, "parents": tuple(parents), "joints": joints,
-                                              "joint_names": tuple(jnames)})
 
     @staticmethod
     def _check(field: str, link: SpatialLink) -> SpatialLink:
-        name = _identifier(f"{field}.name", link.name, "link")
-        parent = link.parent
-        if parent is not None and not isinstance(parent, str):
-            raise InvalidInputError(f"{field}.parent", f"must be a link name or None, got {parent!r}",
-                                    "give the parent link's name, or None for the root")
+        common = check_joint_fields(field, link)
         mass = _real(f"{field}.mass", link.mass)
         if mass < 0:
             raise InvalidInputError(f"{field}.mass", f"must be >= 0, got {mass:g}", "give the link's mass in kg")
@@ -304,21 +241,5 @@ class SpatialLinkTable(LinkTree):
         n = math.sqrt(sum(v * v for v in axis))
         axis = tuple(v / n for v in axis)
         rotation = _rotation(f"{field}.rotation", link.rotation)
-        jn = link.joint_name
-        if jn is not None:
-            jn = _identifier(f"{field}.joint_name", jn, "joint")
-        lower = _real(f"{field}.lower", link.lower, allow_none=True)
-        upper = _real(f"{field}.upper", link.upper, allow_none=True)
-        if lower is not None and upper is not None and not lower < upper:
-            raise InvalidInputError(f"{field}.lower", f"must be < upper, got lower = {lower:g}, upper = {upper:g}",
-                                    "swap or widen the joint limits")
-        velocity = link.velocity
-        if velocity is not None:
-            velocity = _real(f"{field}.velocity", velocity)
-            if not velocity > 0:
-                raise InvalidInputError(f"{field}.velocity", f"must be > 0, got {velocity:g}",
-                                        "give the joint's top speed in rad/s, or None")
-        return SpatialLink(name, parent, mass, inertia, com, joint, axis, rotation, jn, lower, upper, velocity)
-
-    def __repr__(self) -> str:
-        return f"SpatialLinkTable({list(self.links)!r})"
+        return SpatialLink(common["name"], common["parent"], mass, inertia, com, joint, axis, rotation,
+                           common["joint_name"], common["lower"], common["upper"], common["velocity"])

@@ -2,7 +2,7 @@
 configuration and velocity vectors.
 
 Pinocchio (PyPI ``pin``) is optional (the extra ``bodies``) and imported on first use
-(:func:`~acroplan.families.planar.pin.require_pinocchio`).
+(:func:`~acroplan.families.tree.pin.require_pinocchio`).
 
 The model: a ``JointModelFreeFlyer`` root (configuration :math:`(p, q_x, q_y, q_z, q_w)`, velocity
 :math:`(v, \\omega)` in the root frame), then per non-root link a revolute joint placed at
@@ -20,7 +20,7 @@ import dataclasses
 import numpy as np
 
 from ...core.errors import InvalidInputError
-from ..planar.pin import require_pinocchio
+from ..tree.pin import build_tree, require_pinocchio
 from .links import SpatialLinkTable
 
 __all__ = ["SpatialPinocchioBody", "build_model"]
@@ -90,22 +90,15 @@ def build_model(links) -> SpatialPinocchioBody:
     pin = require_pinocchio()
     table = getattr(links, "links", links)
     table = table if isinstance(table, SpatialLinkTable) else SpatialLinkTable(table)
-    model = pin.Model()
-    model.name = "spatial_body"
-    ids = [0] * len(table)
-    for i in table.topological_order():
-        link = table[i]
-        if i == table.root:
-            jid = model.addJoint(0, pin.JointModelFreeFlyer(), pin.SE3.Identity(), "root_joint")
-        else:
-            Rf = link.rotation_matrix
-            placement = pin.SE3(Rf, np.asarray(link.joint, dtype=float))
-            name = table.joint_names[table.joints.index(i)]
-            jid = model.addJoint(ids[table.parents[i]], _axis_joint(pin, Rf.T @ np.asarray(link.axis)), placement, name)
-        model.appendBodyToJoint(jid, pin.Inertia(link.mass, np.asarray(link.com, dtype=float), link.inertia_matrix),
-                                pin.SE3.Identity())
-        ids[i] = jid
+    def joint_of(link):
+        Rf = link.rotation_matrix
+        return _axis_joint(pin, Rf.T @ np.asarray(link.axis)), pin.SE3(Rf, np.asarray(link.joint, dtype=float))
+
+    def inertia(link):
+        return pin.Inertia(link.mass, np.asarray(link.com, dtype=float), link.inertia_matrix)
+
+    model, ids = build_tree(table, "spatial_body", pin.JointModelFreeFlyer(), joint_of, inertia)
     if model.nv != 6 + len(table.joints):
         raise InvalidInputError("links", f"the Pinocchio model has {model.nv} velocity coordinates, expected "
                                 f"{6 + len(table.joints)}", "report this: every joint must be revolute")
-    return SpatialPinocchioBody(model, table, tuple(ids))
+    return SpatialPinocchioBody(model, table, ids)

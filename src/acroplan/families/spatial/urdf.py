@@ -22,37 +22,14 @@ clash with the attitude's ``qw, qx, qy, qz`` or a keyword of ``plan()`` gets a `
 
 from __future__ import annotations
 
-import pathlib
 from typing import Mapping
-from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
-from ...core.errors import InvalidInputError
-from ..planar.pin import require_pinocchio
-from ..planar.urdf import _frame_link_name, _limit
+from ..tree.urdf import inertial_xml, joint_limits, joint_xml, limit_overrides, load_model, revolute_motion, table_names
 from .links import RESERVED_NAMES, SpatialLink, SpatialLinkTable
 
 __all__ = ["read_link_table", "read_urdf", "to_urdf"]
-
-_LIMIT_KEYS = ("lower", "upper", "velocity")
-
-
-def _identifier(name: str, taken: set, suffix: str) -> str:
-    import keyword
-    import re
-
-    out = re.sub(r"\W", "_", name) or "_"
-    if out[0].isdigit():
-        out = "_" + out
-    if keyword.iskeyword(out) or out in RESERVED_NAMES:
-        out = out + suffix
-    base, k = out, 1
-    while out in taken:
-        k += 1
-        out = f"{base}_{k}"
-    taken.add(out)
-    return out
 
 
 def read_link_table(path, *, limits: bool = True, overrides: Mapping[str, Mapping] | None = None) -> SpatialLinkTable:
@@ -77,56 +54,17 @@ def read_link_table(path, *, limits: bool = True, overrides: Mapping[str, Mappin
         Pinocchio missing, the file missing or unreadable, a joint that is not revolute (named), an
         unknown override.
     """
-    pin = require_pinocchio()
-    p = pathlib.Path(path)
-    if not p.is_file():
-        raise InvalidInputError("urdf", f"no such file: {str(p)!r}", "give the path of a .urdf file")
-    try:
-        model = pin.buildModelFromUrdf(str(p), pin.JointModelFreeFlyer())
-    except Exception as e:  # Pinocchio raises ValueError or RuntimeError on a bad file
-        raise InvalidInputError("urdf", f"Pinocchio could not read {p.name}: {e}", "check the URDF") from None
-    if model.njoints < 3:
-        raise InvalidInputError("urdf", f"{p.name} has no moving joint", "give a URDF with revolute joints")
-    data = model.createData()
-    pin.forwardKinematics(model, data, pin.neutral(model))
+    pin, model, data = load_model(path, "freeflyer")
     link_names, joint_names = set(), set()
     rows = []
     for jid in range(1, model.njoints):
-        jm = model.joints[jid]
-        jname = model.names[jid]
         axis = None
         if jid > 1:
-            kind = jm.shortname()
-            if jm.nv != 1:
-                raise InvalidInputError(f"urdf joint {jname!r}", f"is a {kind} with {jm.nv} degrees of freedom, not a "
-                                        "revolute joint", "a spatial body has only revolute joints (revolute or "
-                                        "continuous); make a multi-axis joint of revolute joints through massless links")
-            S = np.asarray(data.joints[jid].S).reshape(6)
-            if np.linalg.norm(S[:3]) > 1e-9 or abs(np.linalg.norm(S[3:]) - 1.0) > 1e-9:
-                raise InvalidInputError(f"urdf joint {jname!r}", f"is not a revolute joint ({kind}: it translates)",
-                                        "a spatial body has only revolute joints (revolute or continuous)")
+            S = revolute_motion(model, data, jid, "spatial", "a spatial body has only revolute joints (revolute or "
+                                "continuous); make a multi-axis joint of revolute joints through massless links")
             axis = S[3:] / np.linalg.norm(S[3:])
-            if model.parents[jid] < 1:
-                raise InvalidInputError(f"urdf joint {jname!r}", "is not below the root link", "check the URDF tree")
-        lname = _frame_link_name(model, jid, pin)
-        rows.append((jid, _identifier(lname, link_names, "_link"), lname, jname,
-                     _identifier(jname, joint_names, "_joint") if jid > 1 else None, axis))
-    by_name = {}
-    for jid, _, _, jname, tname, _ in rows[1:]:
-        by_name[jname] = jid
-        by_name[tname] = jid
-    over: dict[int, dict] = {}
-    for key, values in dict(overrides or {}).items():
-        if key not in by_name:
-            raise InvalidInputError(f"overrides.{key}", "is not a joint of the URDF",
-                                    f"joints are {[r[3] for r in rows[1:]]}")
-        if not isinstance(values, Mapping):
-            raise InvalidInputError(f"overrides.{key}", f"must be a table of limits, got {values!r}",
-                                    "give for example {'lower': -1.0, 'upper': 1.0, 'velocity': 5.0}")
-        bad = sorted(set(values) - set(_LIMIT_KEYS))
-        if bad:
-            raise InvalidInputError(f"overrides.{key}.{bad[0]}", "is not a joint limit", f"give any of {list(_LIMIT_KEYS)}")
-        over.setdefault(by_name[key], {}).update(values)
+        rows.append((jid, *table_names(model, jid, pin, link_names, joint_names, RESERVED_NAMES), axis))
+    over = limit_overrides({k: r[0] for r in rows[1:] for k in (r[3], r[4])}, [r[3] for r in rows[1:]], overrides)
     names = {r[0]: r[1] for r in rows}
     links = []
     for jid, tlink, lname, jname, tname, axis in rows:
@@ -139,21 +77,7 @@ def read_link_table(path, *, limits: bool = True, overrides: Mapping[str, Mappin
             continue
         P = model.jointPlacements[jid]
         Rf = np.asarray(P.rotation, dtype=float)
-        lo = up = vel = None
-        if limits:
-            jm = model.joints[jid]
-            if jm.nq == 1:  # revolute; a continuous joint (nq = 2) has no position limits
-                lo = _limit(model.lowerPositionLimit[jm.idx_q])
-                up = _limit(model.upperPositionLimit[jm.idx_q])
-            vel = _limit(model.velocityLimit[jm.idx_v])
-            if vel is not None and vel <= 0:
-                vel = None
-        for k, v in over.get(jid, {}).items():
-            v = None if v is None else float(v)
-            lo, up, vel = (v, up, vel) if k == "lower" else (lo, v, vel) if k == "upper" else (lo, up, v)
-        if lo is not None and up is not None and not lo < up:
-            raise InvalidInputError(f"urdf joint {jname!r}", f"has lower = {lo:g} >= upper = {up:g}",
-                                    "fix its <limit>, or override it (overrides=)")
+        lo, up, vel = joint_limits(model, jid, over, limits)
         rotation = None if np.allclose(Rf, np.eye(3), rtol=0.0, atol=1e-15) else Rf
         links.append(SpatialLink(tlink, names[model.parents[jid]], mass, inertia, com=tuple(com),
                                  joint=tuple(np.asarray(P.translation, dtype=float)), axis=tuple(Rf @ axis),
@@ -175,10 +99,6 @@ def read_urdf(path, L=(0.0, 0.0, 0.0), *, limits: bool = True, overrides=None):
     return SpatialBody(read_link_table(path, limits=limits, overrides=overrides), L=L)
 
 
-def _num(v: float) -> str:
-    return repr(float(v))
-
-
 def to_urdf(links, name: str = "spatial_body", effort: float = 1000.0) -> str:
     """A URDF document of a spatial link table.
 
@@ -196,41 +116,19 @@ def to_urdf(links, name: str = "spatial_body", effort: float = 1000.0) -> str:
 
     table = getattr(links, "links", links)
     table = table if isinstance(table, SpatialLinkTable) else SpatialLinkTable(table)
+    from xml.sax.saxutils import quoteattr
+
     out = ['<?xml version="1.0"?>', f"<robot name={quoteattr(name)}>"]
     for link in table:
         out.append(f"  <link name={quoteattr(link.name)}>")
         if link.mass > 0:
-            I = link.inertia_matrix  # noqa: E741
-            c = link.com
-            out += ["    <inertial>",
-                    f'      <origin xyz="{_num(c[0])} {_num(c[1])} {_num(c[2])}" rpy="0 0 0"/>',
-                    f'      <mass value="{_num(link.mass)}"/>',
-                    f'      <inertia ixx="{_num(I[0, 0])}" ixy="{_num(I[0, 1])}" ixz="{_num(I[0, 2])}" '
-                    f'iyy="{_num(I[1, 1])}" iyz="{_num(I[1, 2])}" izz="{_num(I[2, 2])}"/>',
-                    "    </inertial>"]
+            out += inertial_xml(link.com, link.mass, link.inertia_matrix)
         out.append("  </link>")
     for i in table.topological_order():
-        if i == table.root:
-            continue
-        link = table[i]
-        jname = table.joint_names[table.joints.index(i)]
-        Rf = link.rotation_matrix
-        r, p, y = Rotation.from_matrix(Rf).as_euler("xyz")
-        a = Rf.T @ np.asarray(link.axis)
-        bounded = link.lower is not None or link.upper is not None
-        j = link.joint
-        out += [f"  <joint name={quoteattr(jname)} type=\"{'revolute' if bounded else 'continuous'}\">",
-                f"    <parent link={quoteattr(link.parent)}/>",
-                f"    <child link={quoteattr(link.name)}/>",
-                f'    <origin xyz="{_num(j[0])} {_num(j[1])} {_num(j[2])}" rpy="{_num(r)} {_num(p)} {_num(y)}"/>',
-                f'    <axis xyz="{_num(a[0])} {_num(a[1])} {_num(a[2])}"/>']
-        attrs = []
-        if bounded:
-            attrs += [f'lower="{_num(-1e300 if link.lower is None else link.lower)}"',
-                      f'upper="{_num(1e300 if link.upper is None else link.upper)}"']
-        if bounded or link.velocity is not None:
-            attrs += [f'effort="{_num(effort)}"', f'velocity="{_num(link.velocity or 0.0)}"']
-            out.append(f"    <limit {' '.join(attrs)}/>")
-        out.append("  </joint>")
+        if i != table.root:
+            link = table[i]
+            Rf = link.rotation_matrix
+            out += joint_xml(table.joint_names[table.joints.index(i)], link, link.joint,
+                             Rotation.from_matrix(Rf).as_euler("xyz"), Rf.T @ np.asarray(link.axis), effort)
     out.append("</robot>")
     return "\n".join(out) + "\n"

@@ -1,0 +1,67 @@
+"""Pinocchio for tree bodies: importing it (an optional dependency, the extra ``bodies``), building
+the model of a link table, and one ``pinocchio.Data`` per model and thread.
+
+Pinocchio (PyPI ``pin``, import name ``pinocchio``) is imported inside the functions that need it,
+never at module import, and its absence is an :class:`~acroplan.core.errors.InvalidInputError`
+that says how to install it.
+"""
+
+from __future__ import annotations
+
+import threading
+
+__all__ = ["require_pinocchio", "INSTALL_HINT", "build_tree", "thread_data"]
+
+INSTALL_HINT = "pip install acroplan[bodies] (or pip install pin)"
+
+
+def require_pinocchio():
+    """The ``pinocchio`` module, or an :class:`InvalidInputError` saying how to install it."""
+    from ...core.errors import InvalidInputError
+
+    try:
+        import pinocchio
+    except ImportError as e:  # pragma: no cover - exercised only without the extra
+        raise InvalidInputError("pinocchio", f"is needed for this and is not installed ({e})", INSTALL_HINT) from None
+    return pinocchio
+
+
+def build_tree(table, name: str, root_joint, joint_of, inertia_of):
+    """A ``pinocchio.Model`` of the link table ``table``: the root on ``root_joint`` (a Pinocchio
+    joint model), each other link on the joint ``joint_of(link) -> (joint model, placement)`` in its
+    parent's joint frame, named by its table joint name, carrying ``inertia_of(link)`` (a
+    ``pinocchio.Inertia``); links added in depth-first order (Pinocchio's).
+
+    Returns
+    -------
+    (model, joint ids per link in table order)
+    """
+    pin = require_pinocchio()
+    model = pin.Model()
+    model.name = name
+    ids = [0] * len(table)
+    for i in table.topological_order():
+        link = table[i]
+        if i == table.root:
+            jid = model.addJoint(0, root_joint, pin.SE3.Identity(), "root_joint")
+        else:
+            jmodel, placement = joint_of(link)
+            jid = model.addJoint(ids[table.parents[i]], jmodel, placement, table.joint_names[table.joints.index(i)])
+        model.appendBodyToJoint(jid, inertia_of(link), pin.SE3.Identity())
+        ids[i] = jid
+    return model, tuple(ids)
+
+
+_LOCAL = threading.local()
+
+
+def thread_data(pb):
+    """One ``pinocchio.Data`` per Pinocchio model and thread (Pinocchio's algorithms write into it):
+    for any body whose ``model`` is a ``pinocchio.Model`` (planar and spatial)."""
+    cache = getattr(_LOCAL, "data", None)
+    if cache is None:
+        cache = _LOCAL.data = {}
+    d = cache.get(id(pb))
+    if d is None or d[0] is not pb:
+        d = cache[id(pb)] = (pb, pb.model.createData())
+    return d[1]
