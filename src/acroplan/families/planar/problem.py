@@ -14,7 +14,7 @@ from ...core.errors import InvalidInputError
 from ...core.limits import Limits
 from ...core.validate import BODY_VALUES, MAX_ANGLE, MAX_BODY, MIN_BODY, check_keys, number, pair_field
 from ..acrobot.reach import reachable_set
-from ..tree.problem import apply_limits, link_records, renamed, urdf_table
+from ..tree.problem import link_records, read_tree_body
 from .links import Link, LinkTable
 from .model import PlanarBody
 from .urdf import read_link_table
@@ -69,45 +69,39 @@ def _looks_spatial(tables) -> bool:
     return False
 
 
+def _momentum(data) -> float:
+    if "angular_momentum" not in data:
+        raise InvalidInputError("body.angular_momentum", "is missing", "give P0, the angular momentum about the "
+                                "axis normal to the plane (0 for a body that starts at rest)")
+    return number("body.angular_momentum", data["angular_momentum"], MAX_BODY, BODY_VALUES)
+
+
+def _link_error(e: InvalidInputError, tables) -> InvalidInputError:
+    if e.field.startswith("body.link[") and _looks_spatial(tables):
+        return InvalidInputError(e.field, e.problem, e.fix + "; for a body in 3-D give angular_momentum = "
+                                 "[Lx, Ly, Lz] (a list of three numbers makes the body spatial)")
+    return e
+
+
+def _body(table, P0) -> PlanarBody:
+    body = PlanarBody(table, P0=P0)
+    for k, v in body.lumped().items():
+        if not (math.isfinite(v) and abs(v) <= MAX_BODY):
+            raise InvalidInputError("links", f"makes the lumped parameter {k} = {v:.3g}, beyond {MAX_BODY:g} in size: "
+                                    "more than the arithmetic carries",
+                                    "change the units so that the numbers come nearer to 1")
+    return body
+
+
 def read(table: str, data: dict, limits: dict | None, context) -> tuple[PlanarBody, dict]:
     """A :class:`~acroplan.families.planar.model.PlanarBody` from ``[body]`` (``urdf`` or
     ``[[body.link]]`` tables, ``angular_momentum`` a number) with the file's ``[limits]`` written
     into its link table."""
     check_keys("body", data, BODY_KEYS)
-    base, degrees = context.base, context.degrees
-    if "urdf" in data and "link" in data:
-        raise InvalidInputError("body", "gives both urdf and [[body.link]] tables",
-                                "describe the body one way: a URDF file or link tables")
-    if "urdf" not in data and "link" not in data:
-        raise InvalidInputError("body.urdf", "is missing, and there are no [[body.link]] tables",
-                                "give urdf = \"body.urdf\" or one [[body.link]] table per link; for a human body "
-                                "yeadon = \"male1\" (a measurement file or a bundled sample) or height and mass")
-    if "angular_momentum" not in data:
-        raise InvalidInputError("body.angular_momentum", "is missing", "give P0, the angular momentum about the "
-                                "axis normal to the plane (0 for a body that starts at rest)")
-    P0 = number("body.angular_momentum", data["angular_momentum"], MAX_BODY, BODY_VALUES)
-    where = "body.urdf" if "urdf" in data else "body.link"
-    if "urdf" in data:
-        table = urdf_table(data["urdf"], base, read_link_table, "planar")
-    else:
-        try:
-            table = LinkTable(links_from_tables(data["link"]))
-        except InvalidInputError as e:
-            e = renamed(e, "links", "body.link")
-            if e.field.startswith("body.link[") and _looks_spatial(data["link"]):
-                raise InvalidInputError(e.field, e.problem, e.fix + "; for a body in 3-D give angular_momentum = "
-                                        "[Lx, Ly, Lz] (a list of three numbers makes the body spatial)") from None
-            raise e from None
-    table = apply_limits(table, {} if limits is None else limits, degrees)
-    try:
-        body = PlanarBody(table, P0=P0)
-    except InvalidInputError as e:
-        raise renamed(renamed(e, "links", where), "P0", "body.angular_momentum") from None
-    for k, v in body.lumped().items():
-        if not (math.isfinite(v) and abs(v) <= MAX_BODY):
-            raise InvalidInputError(where, f"makes the lumped parameter {k} = {v:.3g}, beyond {MAX_BODY:g} in size: "
-                                    "more than the arithmetic carries",
-                                    "change the units so that the numbers come nearer to 1")
+    body = read_tree_body(data, limits, context, kind="planar", read_link_table=read_link_table,
+                          table_of_links=lambda t: LinkTable(links_from_tables(t)), momentum=_momentum,
+                          make_body=_body, links_hint="; for a human body yeadon = \"male1\" (a measurement file "
+                          "or a bundled sample) or height and mass", link_error=_link_error)
     return body, {}
 
 

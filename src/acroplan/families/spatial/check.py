@@ -29,7 +29,7 @@ import functools
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from ...core.errors import InvalidInputError
+from ..tree.check import simulate_driven
 from ..tree.pin import require_pinocchio
 from . import rotations as rot
 from .links import SpatialLinkTable
@@ -120,23 +120,14 @@ def simulate_with_pinocchio(body, x0, t0: float, t1: float, u_of_t, rtol: float 
     """
     twist = _Twist(body)
     m = len(twist.iv)
-    t0, t1 = float(t0), float(t1)
-    if not t1 > t0:
-        raise InvalidInputError("t1", f"must be > t0, got t0 = {t0}, t1 = {t1}", "give an interval forward in time")
+    t0 = float(t0)
 
     def fun(tau, x):
         u = np.asarray(u_of_t(t0 + tau), dtype=float).reshape(m)
         w = twist(x[:4], x[4:], u)
         return np.concatenate([0.5 * rot.xi(x[:4]) @ w, u])
 
-    T = t1 - t0
-    te = None if t_eval is None else np.asarray(t_eval, dtype=float) - t0
-    sol = solve_ivp(fun, (0.0, T), np.asarray(x0, dtype=float), method="DOP853", rtol=rtol, atol=atol,
-                    max_step=T / 16, t_eval=te if te is not None else [T])
-    if not sol.success:
-        raise RuntimeError(f"the Pinocchio-driven simulation failed: {sol.message}")
-    sol.t = sol.t + t0
-    return sol
+    return simulate_driven(fun, x0, t0, t1, rtol=rtol, atol=atol, t_eval=t_eval)
 
 
 def pinocchio_segment(body, x0, T: float, basis, coefficients, *, twist=None):

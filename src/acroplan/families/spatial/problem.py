@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from ...core.errors import InvalidInputError
 from ...core.validate import MAX_ANGLE, MAX_BODY, BODY_VALUES, check_keys, matrix3, number, numbers, short, vector3
-from ..tree.problem import apply_limits, link_records, renamed, urdf_table
+from ..tree.problem import link_records, read_tree_body
 from .links import SpatialLink, SpatialLinkTable
 from .model import SpatialBody
 from .rotations import attitude_states
@@ -70,28 +70,12 @@ def read(table: str, data: dict, limits: dict | None, context) -> tuple[SpatialB
     ``angular_momentum = [Lx, Ly, Lz]`` (``urdf`` or ``[[body.link]]`` tables), the file's
     ``[limits]`` written into its link table."""
     check_keys("body", data, BODY_KEYS)
-    base, degrees = context.base, context.degrees
-    if "urdf" in data and "link" in data:
-        raise InvalidInputError("body", "gives both urdf and [[body.link]] tables",
-                                "describe the body one way: a URDF file or link tables")
-    if "urdf" not in data and "link" not in data:
-        raise InvalidInputError("body.urdf", "is missing, and there are no [[body.link]] tables",
-                                "give urdf = \"body.urdf\" or one [[body.link]] table per link (name, parent, mass, "
-                                "inertia, com, joint, axis)")
-    L = vector3("body.angular_momentum", data["angular_momentum"])
-    where = "body.urdf" if "urdf" in data else "body.link"
-    if "urdf" in data:
-        table = urdf_table(data["urdf"], base, read_link_table, "spatial")
-    else:
-        try:
-            table = SpatialLinkTable(links_from_tables(data["link"]))
-        except InvalidInputError as e:
-            raise renamed(e, "links", "body.link") from None
-    table = apply_limits(table, {} if limits is None else limits, degrees)
-    try:
-        return SpatialBody(table, L=L), {}
-    except InvalidInputError as e:
-        raise renamed(renamed(e, "links", where), "L", "body.angular_momentum") from None
+    body = read_tree_body(data, limits, context, kind="spatial", read_link_table=read_link_table,
+                          table_of_links=lambda t: SpatialLinkTable(links_from_tables(t)),
+                          momentum=lambda d: vector3("body.angular_momentum", d["angular_momentum"]),
+                          make_body=lambda table, L: SpatialBody(table, L=L),
+                          links_hint=" (name, parent, mass, inertia, com, joint, axis)")
+    return body, {}
 
 
 def attitude_entry(field: str, value, single: str | None):

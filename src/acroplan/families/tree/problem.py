@@ -11,7 +11,7 @@ from ...core.errors import InvalidInputError
 from ...core.validate import (MAX_ANGLE, MAX_BODY, MAX_FILE_BYTES, MAX_LINKS, check_keys, name_field,
                               number, short)
 
-__all__ = ["renamed", "link_records", "urdf_table", "apply_limits"]
+__all__ = ["renamed", "link_records", "urdf_table", "apply_limits", "read_tree_body"]
 
 
 def renamed(e: InvalidInputError, old: str, new: str) -> InvalidInputError:
@@ -110,3 +110,37 @@ def apply_limits(table, lim, degrees: bool):
                                     "swap or widen the joint limits")
         links[i] = dataclasses.replace(link, lower=lo, upper=hi, velocity=vel)
     return type(table)(links)  # a planar LinkTable or a SpatialLinkTable
+
+
+def read_tree_body(data: dict, limits, context, *, kind: str, read_link_table, table_of_links, momentum,
+                   make_body, links_hint: str, link_error=None):
+    """The body of a ``[body]`` table of a tree family: a URDF (``urdf``, read by the family's
+    ``read_link_table``) or ``[[body.link]]`` tables (``table_of_links(tables)``: the family's link
+    table), the file's ``[limits]`` written into it, and ``make_body(table, momentum(data))``.
+
+    ``kind`` names the body in messages (``"planar"``); ``links_hint`` says what a link table
+    holds; ``link_error(e, tables)``, optional, adds a hint to an error of the link tables. The
+    messages name the file's fields (``body.link[2].mass``, ``body.angular_momentum``).
+    """
+    if "urdf" in data and "link" in data:
+        raise InvalidInputError("body", "gives both urdf and [[body.link]] tables",
+                                "describe the body one way: a URDF file or link tables")
+    if "urdf" not in data and "link" not in data:
+        raise InvalidInputError("body.urdf", "is missing, and there are no [[body.link]] tables",
+                                f"give urdf = \"body.urdf\" or one [[body.link]] table per link{links_hint}")
+    moment = momentum(data)
+    where = "body.urdf" if "urdf" in data else "body.link"
+    if "urdf" in data:
+        table = urdf_table(data["urdf"], context.base, read_link_table, kind)
+    else:
+        try:
+            table = table_of_links(data["link"])
+        except InvalidInputError as e:
+            e = renamed(e, "links", "body.link")
+            raise (link_error(e, data["link"]) if link_error is not None else e) from None
+    table = apply_limits(table, {} if limits is None else limits, context.degrees)
+    try:
+        return make_body(table, moment)
+    except InvalidInputError as e:
+        raise renamed(renamed(renamed(e, "links", where), "P0", "body.angular_momentum"), "L",
+                      "body.angular_momentum") from None
