@@ -1,7 +1,7 @@
 """How limits are enforced, measured: random single-segment problems with joint and rate limits.
 
 Two populations, each target drawn by its relative position w in the exact reachable interval
-*under the limits* (acroplan.reachable_interval with u_max, phi_min, phi_max):
+*under the limits* (acroplan.reachable_set with u_max, phi_min, phi_max):
 
 old    acroplan.zoo bodies; u_max = f * |phi(T) - phi(0)| / T with f uniform in [1.5, 5] (at least
        0.5 rad/s), joint limits 0.5 rad beyond the motion's ends, T in [0.5, 3], w uniform in

@@ -10,8 +10,8 @@ import acroplan
 robot = acroplan.Acrobot.from_physical(torso_mass=40.0, leg_mass=20.0, torso_inertia=1.8, leg_inertia=1.2,
                                        torso_length=0.35, leg_length=0.45, angular_momentum=10.0)
 segment = dict(theta0=0.0, phi0=-2.0, phiT=-0.5, T=1.5)
-free = acroplan.reachable_interval(robot, **segment)
-limited = acroplan.reachable_interval(robot, **segment, u_max=4.0)
+free = acroplan.reachable_set(robot, **segment).interval
+limited = acroplan.reachable_set(robot, **segment, u_max=4.0).interval
 print(f"reachable theta(T): {free} (open), with |u| <= 4: {limited} (closed)")
 
 target = limited[0] + 0.7 * (limited[1] - limited[0])

@@ -39,18 +39,25 @@ def _rank(module: str) -> int:
     return 4  # the package's own __init__ (lazy names only)
 
 
+def _is_module(name: str) -> bool:
+    base = SRC.parent / name.replace(".", "/")
+    return base.with_suffix(".py").exists() or (base / "__init__.py").exists()
+
+
+def _package_of(module: str) -> str:
+    return module if (SRC.parent / module.replace(".", "/") / "__init__.py").exists() else module.rsplit(".", 1)[0]
+
+
 def _imports(path: pathlib.Path):
-    """Every acroplan module ``path`` imports, anywhere in the file, with whether at top level."""
+    """Every acroplan module ``path`` imports, counted strictly: anywhere in the file (function
+    level and ``if TYPE_CHECKING:`` blocks too); ``from P import name`` is an edge to the module
+    ``P.name`` when there is one, else to ``P`` itself (a package's ``__init__`` when ``P`` is a
+    package: importing a name a package defines imports its ``__init__``). Yields ``(target,
+    imported names)``."""
     name = _module_name(path)
     package = name if path.name == "__init__.py" else name.rsplit(".", 1)[0]
     tree = ast.parse(path.read_text(encoding="utf-8"))
-    top = {id(n) for n in tree.body}
-    typing_only = {id(n) for block in ast.walk(tree)  # `if TYPE_CHECKING:` imports never run
-                   if isinstance(block, ast.If) and getattr(block.test, "id", None) == "TYPE_CHECKING"
-                   for n in ast.walk(block)}
     for node in ast.walk(tree):
-        if id(node) in typing_only:
-            continue
         if isinstance(node, ast.ImportFrom):
             if node.level:
                 base = package.split(".")
@@ -58,15 +65,15 @@ def _imports(path: pathlib.Path):
                 target = ".".join(base + ([node.module] if node.module else []))
             else:
                 target = node.module or ""
-            targets = [target] + [f"{target}.{a.name}" for a in node.names]
+            if not target.startswith("acroplan"):
+                continue
+            for a in node.names:
+                sub = f"{target}.{a.name}"
+                yield (sub, ()) if _is_module(sub) else (target, (a.name,))
         elif isinstance(node, ast.Import):
-            targets = [a.name for a in node.names]
-        else:
-            continue
-        for t in targets:
-            if t.startswith("acroplan") and (SRC.parent / (t.replace(".", "/") + ".py")).exists() or \
-                    (SRC.parent / t.replace(".", "/") / "__init__.py").exists():
-                yield t, id(node) in top
+            for a in node.names:
+                if a.name.startswith("acroplan") and _is_module(a.name):
+                    yield a.name, ()
 
 
 MODULES = sorted(p for p in SRC.rglob("*.py"))
@@ -83,15 +90,16 @@ def test_imports_point_one_way():
 
 
 def test_no_import_circles():
+    """No circle of imports of any kind: function-level, under TYPE_CHECKING, or through a package's
+    ``__init__`` (a module importing a name its own package defines, which that package imports)."""
     graph = {_module_name(p): {t for t, _ in _imports(p)} for p in MODULES}
-    # a package imports its parents implicitly; only edges between distinct modules count
     state, stack = {}, []
 
     def visit(node):
         state[node] = 1
         stack.append(node)
         for nxt in sorted(graph.get(node, ())):
-            if nxt == node or node.startswith(nxt + ".") or nxt not in graph:
+            if nxt == node or nxt not in graph:
                 continue
             if state.get(nxt) == 1:
                 cycle = stack[stack.index(nxt):] + [nxt]
@@ -104,6 +112,60 @@ def test_no_import_circles():
     for node in sorted(graph):
         if node not in state:
             visit(node)
+
+
+def test_no_private_name_is_imported_across_packages():
+    bad = []
+    for path in MODULES:
+        me = _module_name(path)
+        mine = me if path.name == "__init__.py" else me.rsplit(".", 1)[0]
+        for target, names in _imports(path):
+            for n in names:
+                if n.startswith("_") and not n.startswith("__") and _package_of(target) != mine:
+                    bad.append(f"{me} imports {target}.{n}")
+    assert not bad, "private names imported across packages: " + ", ".join(bad)
+
+
+def _family_classes() -> set[str]:
+    from acroplan.core.family import families
+
+    return {t.__name__ for fam in families() for t in fam.system_types} | {"SagittalBody"}
+
+
+def test_outside_the_families_no_family_type_is_tested():
+    """The I/O layer, the front doors and the core name no family (issue #21): no isinstance or
+    issubclass of a family class, no type-name string of one."""
+    names = _family_classes()
+    bad = []
+    for path in MODULES:
+        me = _module_name(path)
+        if me.startswith("acroplan.families") or me == "acroplan":
+            continue
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Call) and getattr(node.func, "id", None) in ("isinstance", "issubclass"):
+                for arg in ast.walk(node.args[1]) if len(node.args) > 1 else ():
+                    if isinstance(arg, (ast.Name, ast.Attribute)) and getattr(arg, "id", getattr(arg, "attr", "")) in names:
+                        bad.append(f"{me}:{node.lineno} {ast.unparse(node)}")
+            if isinstance(node, ast.Constant) and isinstance(node.value, str) and node.value in names:
+                bad.append(f"{me}:{node.lineno} {node.value!r}")
+    assert not bad, "family types named outside families/: " + "; ".join(bad)
+
+
+def test_one_table_of_plan_keywords():
+    """plan() and simulate() take exactly the keywords of acroplan.core.keywords (families refuse
+    joint names that clash with them)."""
+    import inspect
+
+    import acroplan
+    from acroplan.core.keywords import PLAN_KEYWORDS, RESERVED_NAMES, SIMULATE_KEYWORDS
+
+    plan = [p for p in inspect.signature(acroplan.plan).parameters if p not in ("system", "waypoints")]
+    sim = [p for p in inspect.signature(acroplan.simulate).parameters if p not in ("system", "initial")]
+    assert tuple(plan) == PLAN_KEYWORDS and tuple(sim) == SIMULATE_KEYWORDS
+    from acroplan.families.planar.links import RESERVED_NAMES as planar
+    from acroplan.families.spatial.links import RESERVED_NAMES as spatial
+
+    assert RESERVED_NAMES <= planar and RESERVED_NAMES <= spatial
 
 
 def test_the_core_imports_alone():

@@ -23,7 +23,7 @@ def simulate_pieces(robot, theta0, phi0, pieces):
 def test_extremal_controls_reach_the_interval_ends(pike_robot, u_max, phis):
     phi0, phiT = phis
     R = reachable_set(pike_robot, theta0=0.1, phi0=phi0, phiT=phiT, T=2.0, limits=Limits(u_max=u_max))
-    assert R.closed and not R.empty and R.low < R.high
+    assert R.closed and R.success and R.status == "success" and R.low < R.high
     for end in ("low", "high"):
         pieces = R.extremal[end]
         assert all(abs(u) <= u_max * (1 + 1e-15) for _, u in pieces)
@@ -95,7 +95,12 @@ def test_joint_limits_narrow_the_interval(pike_robot):
 
 def test_impossible_joint_motion_is_said(pike_robot):
     R = reachable_set(pike_robot, theta0=0, phi0=0.0, phiT=3.0, T=1.0, limits=Limits(u_max=2.0))
-    assert R.empty and "allows only 2 rad" in R.reason
+    assert not R.success and R.status == acroplan.Status.INFEASIBLE and "allows only 2 rad" in R.message
+    # the names of before the one vocabulary (issue #21) still work, with a warning naming the new ones
+    with pytest.warns(DeprecationWarning, match="not reach.success"):
+        assert R.empty
+    with pytest.warns(DeprecationWarning, match="Reach.message"):
+        assert "allows only 2 rad" in R.reason
     with pytest.raises(acroplan.InvalidInputError, match="allows only 2 rad"):
         acroplan.reachable_interval(pike_robot, theta0=0, phi0=0.0, phiT=3.0, T=1.0, u_max=2.0)
 

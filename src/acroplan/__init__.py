@@ -25,7 +25,7 @@ Effort and optimal plans
     :class:`TorqueOptimal`, :class:`JointEffort` (``PlanResult.effort()``),
     :func:`register_torque_model`.
 Feasibility
-    :func:`reachable_interval`, :func:`reachable_set`, :class:`Reach`.
+    :func:`reachable_set` (a :class:`Reach`), :func:`reachable_interval` (deprecated: ``reachable_set(...).interval``).
 Input bases
     :class:`Legendre`, :class:`Monomial`.
 Problems and results

@@ -30,7 +30,7 @@ from .core.conditions import CONDITIONS, Conditions, check_conditions
 from .core.errors import InvalidInputError
 from .core.keywords import PLAN_KEYWORDS
 from .core.limits import Limits
-from .core.optimal import OBJECTIVES, EnergyOptimal, _tau_vector, objective_strategy
+from .core.optimal import OBJECTIVES, EnergyOptimal, tau_vector, objective_strategy
 from .core.result import PlanResult, SegmentResult, Status
 from .core.budget import BudgetExceeded, budget
 from .core.strategies import STRATEGIES, Interval, IntervalOutcome, Strategy, resolve_strategy
@@ -299,7 +299,7 @@ def _optimal_strategy(system, method, objective, tau_max):
             return strategy, None, None
         # method is itself an optimal strategy: record what it minimises and its torque limits
         model = strategy._model(system)
-        vec = _tau_vector(strategy.tau_max, model) if strategy.tau_max is not None else None
+        vec = tau_vector(strategy.tau_max, model) if strategy.tau_max is not None else None
         return strategy, strategy._cost_kind, _limits_by_joint(model, vec)
     objective = objective or "energy"  # torque limits need the optimiser; it minimises the energy by default
     model = None
@@ -312,7 +312,7 @@ def _optimal_strategy(system, method, objective, tau_max):
                                         "Acrobot.from_physical)" if field == "tau_max" else
                                         "use objective=\"energy\" or leave it out, or give a body with its masses "
                                         "and inertias (for example Acrobot.from_physical)")
-    vec = None if tau_max is None else _tau_vector(tau_max, model)
+    vec = None if tau_max is None else tau_vector(tau_max, model)
     optimal = (method if isinstance(method, str) and isinstance(STRATEGIES.get(method), EnergyOptimal)
                else method if isinstance(method, EnergyOptimal)
                or (isinstance(method, type) and issubclass(method, EnergyOptimal)) else None)

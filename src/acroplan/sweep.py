@@ -78,9 +78,7 @@ from .core.basis import InputBasis
 from .core.errors import InvalidInputError
 from .core.limits import Limits
 from .core.system import ControlAffineSystem, model_torques, torque_model_of
-from .families.acrobot.momentum import least_momentum as _least
-from .families.acrobot.model import Acrobot
-from .families.acrobot.reach import reachable_set
+from .core.family import family_of
 from .planning import PlanRequest
 from .planning import plan as _plan
 
@@ -473,10 +471,11 @@ def least_momentum(req: PlanRequest, end: str = "least") -> tuple[float, str | N
     motion) or the system is not the acrobot.
     """
     system = req.system
-    if not isinstance(system, Acrobot):
+    fam = family_of(system)
+    if fam is None or fam.least_momentum is None:
         return math.nan, f"least_P0 applies to the acrobot, not to {type(system).__name__}"
     t, X = req.times, req.waypoints
-    b = _least(system, theta0=float(X[0, 0]), thetaT=float(X[-1, 0]), phi0=float(X[0, 1]), phiT=float(X[-1, 1]),
+    b = fam.least_momentum(system, theta0=float(X[0, 0]), thetaT=float(X[-1, 0]), phi0=float(X[0, 1]), phiT=float(X[-1, 1]),
                T=float(t[-1] - t[0]), limits=req.limits, end=end)
     return (b.P0, None) if b.success else (math.nan, b.message)
 
@@ -850,17 +849,18 @@ class Sweep:
 
     @staticmethod
     def _reach_target(system, times, wp, opts, w) -> float:
-        if not isinstance(system, Acrobot):
+        fam = family_of(system)
+        if fam is None or fam.reachable_set is None:
             raise InvalidInputError("plan.reach", f"applies to the acrobot, not to {type(system).__name__}",
                                     "sweep the waypoint itself (plan.NAME[-1])")
         if not 0.0 <= w <= 1.0:
             raise InvalidInputError("plan.reach", f"must lie in [0, 1], got {w}", "give a relative position")
         limits = _limits_of(opts.get("phi_min"), opts.get("phi_max"), opts.get("u_max"),
                             json.dumps(opts.get("input_bounds"), sort_keys=True))
-        R = reachable_set(system, theta0=float(wp["theta"][-2]), phi0=float(wp["phi"][-2]), phiT=float(wp["phi"][-1]),
+        R = fam.reachable_set(system, theta0=float(wp["theta"][-2]), phi0=float(wp["phi"][-2]), phiT=float(wp["phi"][-1]),
                           T=float(times[-1] - times[-2]), limits=limits)
-        if R.empty:
-            raise InvalidInputError("plan.reach", R.reason, "relax the limits or move the waypoints")
+        if not R.success:
+            raise InvalidInputError("plan.reach", R.message, "relax the limits or move the waypoints")
         return R.low + w * (R.high - R.low)
 
     # -------------------------------------------------------------- what a point records

@@ -897,7 +897,7 @@ def _distance(basis, T, c, ref) -> float:
     return math.sqrt(energy(basis, T, c - ref) / max(energy(basis, T, ref), 1e-300))
 
 
-def _tau_vector(tau_max, model):
+def tau_vector(tau_max, model):
     """``tau_max`` as an array, one bound per joint of ``model`` (``inf``: unlimited); validated."""
     if tau_max is None:
         return None
@@ -1028,7 +1028,7 @@ class EnergyOptimal(Strategy):
             raise InvalidInputError("torque", f"must be a callable torque model, got {torque!r}",
                                     "give torque(system, basis, x0, T, c, s) -> tau or (tau, jacobian)")
         self.torque = torque
-        _tau_vector(tau_max, torque)  # validates what it can without the system
+        tau_vector(tau_max, torque)  # validates what it can without the system
         self.tau_max = tau_max
         if isinstance(kkt_tol, bool) or not (isinstance(kkt_tol, (int, float)) and kkt_tol > 0):
             raise InvalidInputError("kkt_tol", f"must be a positive number, got {kkt_tol!r}", "give e.g. 1e-8")
@@ -1085,7 +1085,7 @@ class EnergyOptimal(Strategy):
         if self._cost_kind == "torque" and model is None:
             return failure(f"{self.name} needs a torque model for {type(system).__name__}")
         cost = model if self._cost_kind == "torque" else "energy"
-        tmax = _tau_vector(self.tau_max, model)
+        tmax = tau_vector(self.tau_max, model)
         limits = interval.limits if interval.limits is not None and interval.limits.active else None
         sizes = interval.sizes or self.sizes
         conditions = {}

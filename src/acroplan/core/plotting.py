@@ -14,7 +14,9 @@ import numpy as np
 __all__ = ["plot_input", "plot_states", "plot_result", "plot_continuation", "plot_effort"]
 
 
-def _plt():
+def pyplot():
+    """``matplotlib.pyplot``, imported when a figure is made (never at import: the command line
+    chooses its backend first)."""
     import matplotlib.pyplot as plt
 
     return plt
@@ -23,7 +25,7 @@ def _plt():
 def plot_input(result, samples=None, *, ax=None):
     """Fig. 1 style: the input over time, waypoint times as dashed lines. Returns the figure (or,
     given ``ax``, draws there and returns ``ax``)."""
-    plt = _plt()
+    plt = pyplot()
     samples = samples if samples is not None else result.sample(effort=False)
     own = ax is None
     if own:
@@ -69,7 +71,7 @@ def plot_states(result, samples=None, *, ax=None):
     """Fig. 2 style: one panel per state (θ above φ for the acrobot), waypoints marked (white
     dots), state limits dotted, and the family's reference values dashed (the acrobot's straight
     and folded body). Given ``ax``, every state is drawn on that one panel and ``ax`` returned."""
-    plt = _plt()
+    plt = pyplot()
     samples = samples if samples is not None else result.sample(effort=False)
     names = samples.state_names
     if ax is not None:
@@ -113,7 +115,7 @@ def plot_continuation(result):
     accepted step (dots). Right: the smallest singular value of the reduced endpoint Jacobian over
     :math:`\\tau` (log scale): where it approaches 0 the continuation nears a singularity.
     """
-    plt = _plt()
+    plt = pyplot()
     segs = [s for s in result.segments if s.history]
     fig, axes = plt.subplots(1, 2, figsize=(10, 5.0), constrained_layout=True)
     names = result.system.state_names
@@ -177,7 +179,7 @@ def plot_effort(result, samples=None, *, ax=None):
     samples : Samples, optional
         With torques (:meth:`PlanResult.sample`); default: 200 points per segment.
     """
-    plt = _plt()
+    plt = pyplot()
     samples = samples if samples is not None and samples.torques is not None else result.sample()
     if ax is not None:
         _effort_panel(ax, result, samples, samples.torques, "torque")

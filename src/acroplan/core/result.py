@@ -18,7 +18,6 @@ body), a plan also gives its joint torques :math:`\\tau_j(t)` and mechanical pow
 from __future__ import annotations
 
 import dataclasses
-import enum
 import json
 import math
 from typing import Any
@@ -28,49 +27,12 @@ import numpy as np
 from . import backend
 from .basis import InputBasis
 from .errors import InvalidInputError
+from .status import STATUSES, Status
 from .system import ControlAffineSystem, joint_inputs, model_torques, torque_model_of
 
 __all__ = ["PlanResult", "SegmentResult", "Samples", "Status", "STATUSES", "JointEffort", "EFFORT_RULE"]
 
 
-class Status(enum.StrEnum):
-    """How a plan ended. A member is its own string (``Status.SUCCESS == "success"``) and carries
-    what it means (:attr:`meaning`) and what to do about it (:attr:`fix`), as diffrax's ``RESULTS``.
-    """
-
-    SUCCESS = "success"
-    INFEASIBLE = "infeasible"
-    NOT_CONVERGED = "not_converged"
-
-    @property
-    def meaning(self) -> str:
-        return _MEANING[self]
-
-    @property
-    def fix(self) -> str:
-        return _FIX[self]
-
-    @property
-    def success(self) -> bool:
-        return self is Status.SUCCESS
-
-
-_MEANING = {
-    Status.SUCCESS: "every waypoint is reached, the limits hold, and (unless verify=False) an independent "
-                    "re-simulation agrees",
-    Status.INFEASIBLE: "proven impossible: the proof (the reachable set, or the limit that is broken) is in the "
-                       "message and in `infeasible`",
-    Status.NOT_CONVERGED: "the planner did not find a motion; its diagnostics are kept in `segments`",
-}
-_FIX = {
-    Status.SUCCESS: "",
-    Status.INFEASIBLE: "move the target inside the reachable set given, or relax the limits",
-    Status.NOT_CONVERGED: "try more coefficients (n_coefficients), another method, a larger max_evaluations, "
-                          "or waypoints closer together",
-}
-
-#: The possible values of :attr:`PlanResult.status`.
-STATUSES = tuple(s.value for s in Status)
 
 
 @dataclasses.dataclass(frozen=True)

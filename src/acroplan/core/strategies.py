@@ -35,6 +35,7 @@ from .continuation import solve_segment
 from .errors import InvalidInputError
 from .limits import COMPLIANCE_TOL, Limits, solve_with_limits, violation
 from .result import SegmentResult
+from .status import Status
 from .system import ControlAffineSystem
 
 __all__ = ["Strategy", "Interval", "IntervalOutcome", "Deform", "STRATEGIES", "register_strategy",
@@ -98,12 +99,25 @@ class IntervalOutcome:
         Why it failed (empty on success).
     evaluations : int
         Endpoint evaluations spent (charged to the result when a later stage succeeds).
+    status : Status
+        ``"success"``, else ``"not_converged"`` (a strategy that gives up proves nothing; what is
+        proven impossible is refused before any strategy runs, by the family's ``check_segment``).
+    message : str
+        ``reason``, the vocabulary every result type shares.
     """
 
     success: bool
     pieces: tuple[SegmentResult, ...] = ()
     reason: str = ""
     evaluations: int = 0
+
+    @property
+    def status(self) -> Status:
+        return Status.SUCCESS if self.success else Status.NOT_CONVERGED
+
+    @property
+    def message(self) -> str:
+        return self.reason
 
 
 class Strategy(abc.ABC):

@@ -12,8 +12,6 @@
 * :mod:`~.plots`, :mod:`~.drawing`: its figures and animation.
 """
 
-import math
-
 from . import effort  # noqa: F401  (registers the torque model and the optimal strategies' starts)
 from . import flat  # noqa: F401  (registers the "flat" strategy)
 from .model import Acrobot, PhysicalParameters
@@ -24,11 +22,8 @@ __all__ = ["Acrobot", "PhysicalParameters", "Reach", "reachable_set", "reachable
 
 def reachable_interval(robot: Acrobot, *, theta0: float, phi0: float, phiT: float, T: float,
                        u_max: float | None = None, phi_min: float | None = None, phi_max: float | None = None):
-    """The exact interval of :math:`\\theta(T)` reachable by the acrobot.
-
-    Without limits it is open (:meth:`Acrobot.reachable_interval`); with a rate bound ``u_max`` it
-    is closed, its ends attained by bang-dwell-bang joint motions; joint limits
-    ``phi_min``/``phi_max`` narrow it further (:func:`acroplan.families.acrobot.reach.reachable_set`).
+    """Deprecated: ``reachable_set(...).interval`` (the same keywords), which also says whether the
+    ends are attained and, for an impossible request, why.
 
     Returns
     -------
@@ -39,22 +34,14 @@ def reachable_interval(robot: Acrobot, *, theta0: float, phi0: float, phiT: floa
     InvalidInputError
         For invalid limits, or when no joint motion satisfies them (the message says why).
     """
-    from ...core.errors import InvalidInputError
-    from ...core.limits import Limits
+    import warnings
 
-    if not isinstance(robot, Acrobot):
-        raise InvalidInputError("robot", f"must be an acroplan.Acrobot, got {type(robot).__name__}",
-                                "build one with acroplan.Acrobot.from_physical(...)")
-    for field, v in (("theta0", theta0), ("phi0", phi0), ("phiT", phiT), ("T", T)):
-        if isinstance(v, bool) or not isinstance(v, (int, float)) and not (hasattr(v, "dtype") and v.ndim == 0
-                                                                          and v.dtype.kind in "fi"):
-            raise InvalidInputError(field, f"must be a number, got {type(v).__name__}", "give a finite number")
-        if not math.isfinite(float(v)):
-            raise InvalidInputError(field, f"must be finite, got {v}", "give a finite number")
-    if not 0 < T <= 1e6:
-        raise InvalidInputError("T", f"must lie in (0, 1e6], got {T}", "give the segment's duration")
-    R = reachable_set(robot, theta0=theta0, phi0=phi0, phiT=phiT, T=T,
-                      limits=Limits(phi_min=phi_min, phi_max=phi_max, u_max=u_max))
-    if R.empty:
-        raise InvalidInputError("phi", R.reason, "relax the limits or move the waypoints")
-    return R.low, R.high
+    from ...core.errors import InvalidInputError
+
+    warnings.warn("acroplan.reachable_interval is deprecated; use acroplan.reachable_set(...).interval "
+                  "(a Reach: success, status, message, closed)", DeprecationWarning, stacklevel=2)
+    R = reachable_set(robot, theta0=theta0, phi0=phi0, phiT=phiT, T=T, u_max=u_max, phi_min=phi_min,
+                      phi_max=phi_max)
+    if not R.success:
+        raise InvalidInputError("phi", R.message, "relax the limits or move the waypoints")
+    return R.interval

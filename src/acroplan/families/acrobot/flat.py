@@ -37,7 +37,6 @@ import numpy as np
 from numpy.polynomial import Polynomial as _Poly
 from scipy.optimize import brentq
 
-from typing import TYPE_CHECKING
 
 from ...core.conditions import hermite_inverse
 from ...core import backend
@@ -47,8 +46,6 @@ from ...core.strategies import (Interval, IntervalOutcome, Strategy, deform_atte
                                 register_strategy, run_stages)
 from .ratelimited import rate_limited_attempt
 
-if TYPE_CHECKING:
-    from .model import Acrobot
 
 __all__ = ["flat_pieces", "flat_guess", "FlatGuess", "FlatOutput", "AcrobotAuto", "TRANSITIONS", "AUTO_SIZES",
            "AUTO_BUDGET"]
@@ -75,7 +72,7 @@ def _gl_integral(robot, q: _Poly, D: float) -> float:
     return D * float(np.sum(_WS / robot.h(q(D * _S))))
 
 
-def flat_pieces(robot: Acrobot, x0, x1, T: float, *, ends: dict | None = None, limits: Limits | None = None):
+def flat_pieces(robot, x0, x1, T: float, *, ends: dict | None = None, limits: Limits | None = None):
     """Plan one segment as three joint-motion pieces: move, dwell, move (module docstring, below).
 
     The joint leaves :math:`\\varphi_0` along a quintic (honouring ``u0``, ``du0``) and reaches the
@@ -260,7 +257,7 @@ def _coarse(T, M1, A1, PHc, amps, Wc):
     return _integral(T, M1, A1, PHc[None, :] + amps[:, None] * Wc[None, :], _WSC)
 
 
-def _flat_target(robot: Acrobot, x0, x1) -> float:
+def _flat_target(robot, x0, x1) -> float:
     """:math:`I^* = (\\theta_T - \\theta_0 + F(\\varphi_T) - F(\\varphi_0))/P_0`, the value of
     :math:`\\int dt/h(\\varphi)` a joint motion from ``x0`` to ``x1`` must have."""
     return (float(x1[0]) - float(x0[0]) + float(robot.F(float(x1[1]))) - float(robot.F(float(x0[1])))) / robot.P0
@@ -293,7 +290,7 @@ def _root(T, M1, A1, phi0, dphi, target, f0, f1):
     return lam
 
 
-def flat_guess(robot: Acrobot, basis, x0, x1, T: float, ends: dict | None = None, *,
+def flat_guess(robot, basis, x0, x1, T: float, ends: dict | None = None, *,
                steep: bool = True) -> FlatGuess | None:
     """A start for path deformation from the flat output, or ``None``.
 

@@ -303,8 +303,8 @@ class Acrobot(ControlAffineSystem):
         thetaT, phiT = float(x1[0]), float(x1[1])
         R = reachable_set(self, theta0=theta0, phi0=phi0, phiT=phiT, T=duration, limits=limits)
         lim = "" if limits is None or not limits.active else f" under {limits.describe()}"
-        if R.empty:
-            return Infeasibility(f"no joint motion is possible{lim}: {R.reason}", "phi", None)
+        if not R.success:
+            return Infeasibility(f"no joint motion is possible{lim}: {R.message}", "phi", None)
         lo, hi = R.low, R.high
         scale = max(1.0, abs(lo), abs(hi))
         if lo == hi or self.P0 == 0.0:
@@ -354,12 +354,12 @@ class Acrobot(ControlAffineSystem):
         if np.isnan(x1[0]):
             R = reachable_set(self, theta0=float(x0[0]), phi0=float(x0[1]), phiT=float(x1[1]), T=duration,
                               limits=limits)
-            lo, hi = (float(guess[0]),) * 2 if R.empty else (R.low, R.high)
-            if after is not None and not R.empty:
+            lo, hi = (float(guess[0]),) * 2 if not R.success else (R.low, R.high)
+            if after is not None and R.success:
                 x2, T2 = after
                 # theta_2 - theta_1 must lie in the reachable offsets of the next segment
                 N = reachable_set(self, theta0=0.0, phi0=float(x1[1]), phiT=float(x2[1]), T=T2, limits=limits)
-                if not N.empty and max(lo, x2[0] - N.high) < min(hi, x2[0] - N.low):
+                if N.success and max(lo, x2[0] - N.high) < min(hi, x2[0] - N.low):
                     lo, hi = max(lo, x2[0] - N.high), min(hi, x2[0] - N.low)
             x1[0] = 0.5 * (lo + hi)
         return x1

@@ -14,7 +14,7 @@ with the joint going from :math:`\\varphi_0` to :math:`\\varphi_T` (module
 least :math:`P_0` that reaches a target is where the far end meets it; the largest, where the near
 end does (more momentum turns too far even with the slowest-turning motion). Both are found by a
 safeguarded false-position search on :math:`P_0` with the exact interval
-(:func:`acroplan.families.acrobot.reachable_interval`) to the last bit: the search is exact in
+(:func:`acroplan.families.acrobot.reachable_set`) to the last bit: the search is exact in
 one step for an affine end and falls back to bisection steps whenever a step fails to halve the
 bracket. Without rate limits the interval is open, so the least momentum is an infimum (any more
 momentum works); with rate limits it is attained.
@@ -32,15 +32,16 @@ import math
 import numpy as np
 
 from ...core.errors import InvalidInputError
+from ...core.status import Outcome, Status
 from ...core.limits import Limits
-from . import reachable_interval
+from .reach import reachable_set
 from .model import Acrobot
 
 __all__ = ["MomentumBound", "least_momentum", "somersault_table", "SomersaultTable", "plot_somersault_table"]
 
 
 @dataclasses.dataclass(frozen=True)
-class MomentumBound:
+class MomentumBound(Outcome):
     """The least (or largest) angular momentum for a turn (:func:`least_momentum`).
 
     Attributes
@@ -51,24 +52,33 @@ class MomentumBound:
     attained : bool
         Whether a plan at exactly ``P0`` exists (with rate limits) or ``P0`` is an infimum or a
         supremum (without: any momentum strictly beyond it works).
-    success : bool
-        ``P0`` is finite.
+    status : Status
+        ``"success"``: ``P0`` is finite; ``"infeasible"``: no momentum works, and ``message`` says
+        why (the proof).
     message : str
-        What was found, or why no momentum works (the proof).
+        What was found, or why no momentum works.
+    success : bool
+        ``status == "success"``.
     """
 
     P0: float
     end: str
     attained: bool
-    success: bool
+    status: Status
     message: str
 
+    def __post_init__(self):
+        object.__setattr__(self, "status", Status(self.status))
+
     def to_dict(self) -> dict:
-        return dataclasses.asdict(self)
+        return {**dataclasses.asdict(self), "status": str(self.status), "success": self.success}
 
 
 def _ends(robot: Acrobot, P0: float, kw: dict) -> tuple[float, float]:
-    return reachable_interval(Acrobot(robot.M1, robot.A1, robot.M2, robot.A2, P0), **kw)
+    R = reachable_set(Acrobot(robot.M1, robot.A1, robot.M2, robot.A2, P0), **kw)
+    if not R.success:
+        raise InvalidInputError("phi", R.message, "relax the limits or move the waypoints")
+    return R.interval
 
 
 def least_momentum(robot: Acrobot, *, theta0: float, thetaT: float, phi0: float, phiT: float, T: float,
@@ -125,11 +135,11 @@ def least_momentum(robot: Acrobot, *, theta0: float, thetaT: float, phi0: float,
     except InvalidInputError as e:
         if e.field != "phi":
             raise
-        return MomentumBound(math.nan, end, False, False, f"no joint motion is possible: {e.problem}")
+        return MomentumBound(math.nan, end, False, Status.INFEASIBLE, f"no joint motion is possible: {e.problem}")
     thetaT = float(thetaT)
     gap = thetaT - base
     if gap == 0.0:
-        return MomentumBound(0.0, end, True, True, "the target is reached with no angular momentum")
+        return MomentumBound(0.0, end, True, Status.SUCCESS, "the target is reached with no angular momentum")
     sign = 1.0 if gap > 0 else -1.0
     if end == "least":  # the interval's far end must reach the target
         def f(p):
@@ -140,7 +150,7 @@ def least_momentum(robot: Acrobot, *, theta0: float, thetaT: float, phi0: float,
             lo, hi = _ends(robot, sign * p, kw)
             return (lo - thetaT) if sign > 0 else (thetaT - hi)
         if f(0.0) >= 0:  # pragma: no cover - the near end starts at the base, short of the target
-            return MomentumBound(0.0, end, True, True, "the target is reached with no angular momentum")
+            return MomentumBound(0.0, end, True, Status.SUCCESS, "the target is reached with no angular momentum")
     a, fa = 0.0, f(0.0)
     b = max(abs(gap) / max(T, 1e-300), 1e-300)
     fb = f(b)
@@ -148,7 +158,8 @@ def least_momentum(robot: Acrobot, *, theta0: float, thetaT: float, phi0: float,
         a, fa = b, fb
         b *= 2.0
         if not math.isfinite(b) or b > 1e300:
-            return MomentumBound(math.nan, end, False, False, "no finite angular momentum reaches the target")
+            return MomentumBound(math.nan, end, False, Status.INFEASIBLE,
+                                 "no finite angular momentum reaches the target")
         fb = f(b)
     for _ in range(400):
         if fb == 0.0 or b - a <= 2.0 * math.ulp(b):
@@ -174,7 +185,7 @@ def least_momentum(robot: Acrobot, *, theta0: float, thetaT: float, phi0: float,
     what = "least" if end == "least" else "largest"
     kind = "attained (rate limits)" if attained else ("an infimum: any larger momentum works" if end == "least"
                                                       else "a supremum: any smaller momentum works")
-    return MomentumBound(P0, end, attained, True, f"the {what} angular momentum is {P0:.6g}, {kind}")
+    return MomentumBound(P0, end, attained, Status.SUCCESS, f"the {what} angular momentum is {P0:.6g}, {kind}")
 
 
 @dataclasses.dataclass(frozen=True)

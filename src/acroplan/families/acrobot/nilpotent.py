@@ -47,6 +47,7 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import brentq, minimize
 
 from ...core.errors import InvalidInputError
+from ...core.status import Status
 from .model import Acrobot
 
 __all__ = ["Construction", "construction", "NilpotentProblem", "NilpotentResult", "SeriesResult", "FlatYResult",
@@ -348,9 +349,9 @@ class NilpotentResult(abc.ABC):
     Attributes
     ----------
     success : bool
-    status : str
+    status : Status
         ``"success"``, ``"infeasible"`` (no u1 > 0 found for this degree: see ``margin``) or
-        ``"not_converged"``.
+        ``"not_converged"`` (an :class:`acroplan.Status`, equal to its string).
     message : str
     problem : NilpotentProblem
     m : numpy.ndarray, shape (2 (degree+1),) or (3,)
@@ -372,7 +373,7 @@ class NilpotentResult(abc.ABC):
     method: ClassVar[str]
 
     success: bool
-    status: str
+    status: Status
     message: str
     problem: NilpotentProblem
     m: np.ndarray
@@ -385,6 +386,9 @@ class NilpotentResult(abc.ABC):
         m = np.array(self.m, dtype=float)
         m.setflags(write=False)
         object.__setattr__(self, "m", m)
+        object.__setattr__(self, "status", Status(self.status))
+        if self.success != self.status.success:
+            raise ValueError(f"success = {self.success} contradicts status = {self.status!r}")
 
     # ---------------------------------------------------------------- the motion in the virtual time
     @abc.abstractmethod

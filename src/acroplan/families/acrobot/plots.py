@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...core.plotting import _plt
+from ...core.plotting import pyplot
 
 __all__ = ["plot_reach", "plot_nilpotent"]
 
@@ -19,7 +19,7 @@ def plot_reach(problem, *, samples: int = 241):
     """
     from .reach import reachable_set
 
-    plt = _plt()
+    plt = pyplot()
     robot = problem.robot
     lim = problem.limits
     K = len(problem.times) - 1
@@ -44,7 +44,7 @@ def plot_reach(problem, *, samples: int = 241):
         ys = [free.min(), free.max(), problem.theta[k + 1]]
         if lim.active:
             R = [reachable_set(robot, theta0=th0, phi0=ph0, phiT=p, T=T, limits=lim) for p in phis]
-            ok = np.array([not r.empty for r in R])
+            ok = np.array([r.success for r in R])
             band = np.array([[r.low, r.high] for r in R])
             ax.fill_between(phis, np.where(ok, band[:, 0], np.nan), np.where(ok, band[:, 1], np.nan), color="C2",
                             alpha=0.45, lw=0, label="reachable within limits")
@@ -75,7 +75,7 @@ def plot_nilpotent(result, counter=None, *, samples: int = 801):
     :math:`t(\\varepsilon)`, which runs backwards on part of it (red), so it is no motion of the
     acrobot; the clocks of both solutions are compared beside it.
     """
-    plt = _plt()
+    plt = pyplot()
     eps = np.linspace(0.0, 1.0, samples)
     t, theta, phi, u1 = result.curve(eps)
     u = result.u_of_eps(eps)

@@ -16,7 +16,7 @@ from ...core.validate import BODY_VALUES, MAX_ANGLE, MAX_BODY, MAX_TIME, MIN_BOD
 from .model import Acrobot
 from .reach import reachable_set
 
-__all__ = ["parse_robot", "parse_nilpotent", "read", "read_limits", "reach_report", "PHYSICAL_KEYS", "LUMPED_KEYS", "LIMIT_KEYS"]
+__all__ = ["reachable_set", "parse_robot", "parse_nilpotent", "read", "read_limits", "reach_report", "PHYSICAL_KEYS", "LUMPED_KEYS", "LIMIT_KEYS"]
 
 PHYSICAL_KEYS = ("torso_mass", "leg_mass", "torso_inertia", "leg_inertia", "torso_length", "leg_length",
                  "angular_momentum")
@@ -141,8 +141,8 @@ def reach_report(problem) -> list[dict]:
             "index": k, "t0": problem.times[k], "t1": problem.times[k + 1], "theta0": theta[k],
             "phi0": phi[k], "phiT": phi[k + 1], "target_theta": target,
             "interval": [free.low, free.high], "interval_closed": free.closed,
-            "interval_with_limits": None if lim.empty else [lim.low, lim.high],
-            "with_limits_closed": lim.closed, "empty_reason": lim.reason or None,
+            "interval_with_limits": None if not lim.success else [lim.low, lim.high],
+            "with_limits_closed": lim.closed, "empty_reason": lim.message or None,
             "reachable": lim.contains(target),
         })
     return out

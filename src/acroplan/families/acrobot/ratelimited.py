@@ -82,15 +82,12 @@ import math
 import numpy as np
 from scipy.optimize import brentq
 
-from typing import TYPE_CHECKING
 
 from ...core import backend
 from ...core.limits import COMPLIANCE_TOL, Limits
 from ...core.strategies import Interval, IntervalOutcome, compliant, limit_check, make_segment
 from .reach import _G, _pi_multiples
 
-if TYPE_CHECKING:
-    from .model import Acrobot
 
 __all__ = ["RAMPS", "LIMIT_MARGIN", "rate_limited_pieces", "rate_limited_attempt", "family_range",
            "RateLimitedFamily"]
@@ -154,7 +151,7 @@ class RateLimitedFamily:
         ``u0``, ``du0``, ``uT``, ``duT`` as floats (missing ones are 0).
     """
 
-    def __init__(self, robot: Acrobot, phi0: float, phiT: float, T: float, limits: Limits, ends: dict | None = None):
+    def __init__(self, robot, phi0: float, phiT: float, T: float, limits: Limits, ends: dict | None = None):
         ends = dict(ends or {})
         self.robot, self.phi0, self.phiT, self.T = robot, float(phi0), float(phiT), float(T)
         self.u0, self.du0 = float(ends.get("u0", 0.0)), float(ends.get("du0", 0.0))
@@ -297,12 +294,12 @@ class RateLimitedFamily:
         return None
 
 
-def _target(robot: Acrobot, x0, x1) -> float:
+def _target(robot, x0, x1) -> float:
     """:math:`I^*`: the value of :math:`\\int dt/h` the motion must have (see :mod:`.flat`)."""
     return (float(x1[0]) - float(x0[0]) + float(robot.F(float(x1[1]))) - float(robot.F(float(x0[1])))) / robot.P0
 
 
-def family_range(robot: Acrobot, *, theta0: float, phi0: float, phiT: float, T: float, limits: Limits,
+def family_range(robot, *, theta0: float, phi0: float, phiT: float, T: float, limits: Limits,
                  ends: dict | None = None, rungs=RAMPS) -> list:
     """The :math:`\\theta(T)` the family reaches on each rung: ``[(rho, e, low, high)]`` (``None`` for
     ``low, high`` when no member fits), the extremes of :math:`\\theta(0) - \\Delta F + P_0 J(p)`
@@ -321,7 +318,7 @@ def family_range(robot: Acrobot, *, theta0: float, phi0: float, phiT: float, T: 
     return out
 
 
-def rate_limited_pieces(robot: Acrobot, x0, x1, T: float, *, limits: Limits, ends: dict | None = None,
+def rate_limited_pieces(robot, x0, x1, T: float, *, limits: Limits, ends: dict | None = None,
                         rungs=RAMPS):
     """Plan one segment as a smoothed bang-dwell-bang joint motion (module docstring).
 

@@ -30,21 +30,19 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import warnings
 
 import numpy as np
 
-from typing import TYPE_CHECKING
-
+from ...core.errors import InvalidInputError
 from ...core.limits import Limits
-
-if TYPE_CHECKING:
-    from .model import Acrobot
+from ...core.status import Outcome, Status
 
 __all__ = ["Reach", "reachable_set", "Limits"]
 
 
 @dataclasses.dataclass(frozen=True)
-class Reach:
+class Reach(Outcome):
     """The exact set of reachable :math:`\\theta(T)`.
 
     Attributes
@@ -53,34 +51,61 @@ class Reach:
         Its ends (``low == high`` when a single value is reachable).
     closed : bool
         Whether the ends are attained (with a rate bound) or only approached (without).
-    empty : bool
-        No admissible joint motion exists (then ``reason`` says why).
-    reason : str
+    status : Status
+        ``"success"``: the set is not empty; ``"infeasible"``: no admissible joint motion exists,
+        and ``message`` says why (the proof).
+    message : str
     extremal : dict
         For ``"low"`` and ``"high"``: the extremal control as a list of ``(duration, u)`` pieces
         (only with a rate bound).
+    success : bool
+        ``status == "success"``.
+    interval : (float, float)
+        ``(low, high)``.
     """
 
     low: float
     high: float
     closed: bool
-    empty: bool = False
-    reason: str = ""
+    status: Status = Status.SUCCESS
+    message: str = ""
     extremal: dict = dataclasses.field(default_factory=dict)
+
+    @property
+    def interval(self) -> tuple[float, float]:
+        """``(low, high)``."""
+        return self.low, self.high
+
+    @property
+    def empty(self) -> bool:
+        """Deprecated: ``not reach.success``."""
+        warnings.warn("Reach.empty is deprecated; use `not reach.success` (Reach.status, Reach.message)",
+                      DeprecationWarning, stacklevel=2)
+        return not self.success
+
+    @property
+    def reason(self) -> str:
+        """Deprecated: ``reach.message``."""
+        warnings.warn("Reach.reason is deprecated; use Reach.message", DeprecationWarning, stacklevel=2)
+        return self.message
 
     def contains(self, theta: float, *, strict: bool = True) -> bool:
         """Whether ``theta`` is reachable (``strict``: strictly inside, as a smooth input needs)."""
-        if self.empty:
+        if not self.success:
             return False
         if strict:
             return self.low < theta < self.high
         return self.low <= theta <= self.high
 
 
+def _empty(value: float, why: str) -> Reach:
+    return Reach(value, value, True, Status.INFEASIBLE, why)
+
+
 _NO_LIMITS = Limits()
 
 
-def _G(robot: Acrobot, phi):
+def _G(robot, phi):
     """Continuous antiderivative of g = 1/h."""
     a, b = robot.M1, robot.A1
     if b == 0.0:
@@ -110,7 +135,7 @@ def _pi_multiples(lo: float, hi: float) -> set[float]:
     return {k * math.pi for k in ks}
 
 
-def reachable_set(robot: Acrobot, *, theta0: float, phi0: float, phiT: float, T: float,
+def _reachable_set(robot, *, theta0: float, phi0: float, phiT: float, T: float,
                   limits: Limits | None = None) -> Reach:
     """The exact reachable :math:`\\theta(T)` under optional limits (module docstring).
 
@@ -129,8 +154,7 @@ def reachable_set(robot: Acrobot, *, theta0: float, phi0: float, phiT: float, T:
     base = theta0 - (float(robot.F(phiT)) - float(robot.F(phi0)))
     for name, v in (("phi(0)", phi0), ("phi(T)", phiT)):
         if not lo_lim <= v <= hi_lim:
-            return Reach(base, base, True, True, f"{name} = {v:.12g} is outside the joint limits "
-                         f"[{lo_lim:.12g}, {hi_lim:.12g}]")
+            return _empty(base, f"{name} = {v:.12g} is outside the joint limits [{lo_lim:.12g}, {hi_lim:.12g}]")
     g = lambda p: 1.0 / robot.h(p)  # noqa: E731
     U = limits.input_bound("u")
     if U is None:
@@ -146,8 +170,8 @@ def reachable_set(robot: Acrobot, *, theta0: float, phi0: float, phiT: float, T:
         return Reach(min(a, b), max(a, b), gmin == gmax)
     dist = abs(phiT - phi0)
     if dist > U * T * (1 + 1e-15):
-        return Reach(base, base, True, True, f"phi must move {dist:.12g} rad in T = {T:.12g} s, but u_max = "
-                     f"{U:.12g} rad/s allows only {U * T:.12g} rad")
+        return _empty(base, f"phi must move {dist:.12g} rad in T = {T:.12g} s, but u_max = {U:.12g} rad/s "
+                      f"allows only {U * T:.12g} rad")
     p_lo = max(lo_lim, (phi0 + phiT - U * T) / 2)
     p_hi = min(hi_lim, (phi0 + phiT + U * T) / 2)
     cands = {p_lo, p_hi, phi0, phiT}
@@ -173,3 +197,50 @@ def reachable_set(robot: Acrobot, *, theta0: float, phi0: float, phiT: float, T:
     ext = {"low": control(pmin), "high": control(pmax)} if robot.P0 >= 0 else {"low": control(pmax),
                                                                              "high": control(pmin)}
     return Reach(min(a, b), max(a, b), True, extremal=ext)
+
+
+def reachable_set(robot, *, theta0: float, phi0: float, phiT: float, T: float, limits=None,
+                  u_max: float | None = None, phi_min: float | None = None, phi_max: float | None = None) -> Reach:
+    """The exact set of :math:`\\theta(T)` reachable by the acrobot (a :class:`Reach`: ``interval``,
+    ``closed``, ``success``, ``status``, ``message``).
+
+    Without limits it is open; with a rate bound ``u_max`` it is closed, its ends attained by
+    bang-dwell-bang joint motions; joint limits ``phi_min``/``phi_max`` narrow it further
+    (:func:`acroplan.families.acrobot.reach.reachable_set`). A request no joint motion meets
+    (``phi`` cannot move that far, a waypoint outside the joint limits) is a ``Reach`` with
+    ``status == "infeasible"`` and the proof in ``message``.
+
+    Parameters
+    ----------
+    robot : Acrobot
+    theta0, phi0, phiT : float
+    T : float
+        The segment's duration, in (0, 1e6].
+    limits : Limits, optional
+        All limits at once; or the keywords ``u_max``, ``phi_min``, ``phi_max``.
+
+    Returns
+    -------
+    Reach
+    """
+    if not all(hasattr(robot, a) for a in ("F", "h", "M1", "A1", "P0")):  # an Acrobot (model.py imports this)
+        raise InvalidInputError("robot", f"must be an acroplan.Acrobot, got {type(robot).__name__}",
+                                "build one with acroplan.Acrobot.from_physical(...)")
+    for field, v in (("theta0", theta0), ("phi0", phi0), ("phiT", phiT), ("T", T)):
+        if isinstance(v, bool) or not isinstance(v, (int, float)) and not (hasattr(v, "dtype") and v.ndim == 0
+                                                                          and v.dtype.kind in "fi"):
+            raise InvalidInputError(field, f"must be a number, got {type(v).__name__}", "give a finite number")
+        if not math.isfinite(float(v)):
+            raise InvalidInputError(field, f"must be finite, got {v}", "give a finite number")
+    if not 0 < T <= 1e6:
+        raise InvalidInputError("T", f"must lie in (0, 1e6], got {T}", "give the segment's duration")
+    shorthand = {k: v for k, v in (("u_max", u_max), ("phi_min", phi_min), ("phi_max", phi_max)) if v is not None}
+    if limits is not None and shorthand:
+        raise InvalidInputError("limits", "is given together with limit keywords",
+                                "give either limits=Limits(...) or the keywords u_max, phi_min, phi_max")
+    if limits is None:
+        limits = Limits(**shorthand)
+    elif not isinstance(limits, Limits):
+        raise InvalidInputError("limits", f"must be an acroplan.Limits, got {type(limits).__name__}",
+                                "give Limits(...) or the keywords u_max, phi_min, phi_max")
+    return _reachable_set(robot, theta0=theta0, phi0=phi0, phiT=phiT, T=T, limits=limits)

@@ -55,21 +55,20 @@ import math
 import numpy as np
 from scipy.optimize import brentq
 
-from ...core.conditions import hermite_inverse
 from ...core.limits import Limits
+from ..tree.loops import END_KEYS, GAUSS_S, GAUSS_W, base_motion, projector
 from .connection import Connection, curvature
 
 __all__ = ["ShapeGuess", "shape_guesses", "base_motion", "LAMBDA_MAX"]
 
-_XG, _WG = np.polynomial.legendre.leggauss(64)
-_SG, _WSG = (_XG + 1) / 2, _WG / 2
+_SG, _WSG = GAUSS_S, GAUSS_W
 _XC, _WC = np.polynomial.legendre.leggauss(24)
 _SC, _WSC = (_XC + 1) / 2, _WC / 2
 #: the largest joint excursion a guess's loop or bump may add, in radians
 LAMBDA_MAX = 3.0
 _LAMS = np.linspace(0.0, LAMBDA_MAX, 31)[1:]
 _PHIS = np.arange(8) * (np.pi / 4)
-_KEYS = ("u0", "du0", "uT", "duT")
+_KEYS = END_KEYS
 
 
 @dataclasses.dataclass(frozen=True)
@@ -116,27 +115,6 @@ class ShapeGuess:
         return "base motion"
 
 
-_hermite = hermite_inverse  # the conditions on a joint motion's power coefficients
-
-
-def base_motion(q0, qT, T: float, ends: dict):
-    """Power coefficients in :math:`\\sigma` of the lowest-degree joint motions meeting the ends and
-    the conditions (``ends`` as :meth:`acroplan.core.conditions.Conditions.ends` gives them).
-
-    Returns
-    -------
-    numpy.ndarray, shape (m, 2 + number of conditions)
-    """
-    keys = tuple(k for k in _KEYS if k in ends)
-    q0 = np.asarray(q0, dtype=float)
-    qT = np.asarray(qT, dtype=float)
-    if not keys:
-        return np.stack([q0, qT - q0], axis=1)
-    scale = {"u0": T, "du0": T * T, "uT": T, "duT": T * T}
-    rhs = np.stack([q0, qT] + [scale[k] * np.asarray(ends[k], dtype=float) for k in keys], axis=1)
-    return rhs @ _hermite(keys, 1 + len(keys)).T
-
-
 @functools.lru_cache(maxsize=32)
 def _weight(alpha: int, beta: int):
     """:math:`w/w_{max}` and its derivative at the 64 and the 24 nodes, and :math:`\\int w^2/w_{max}^2`."""
@@ -152,12 +130,7 @@ def _weight(alpha: int, beta: int):
     return tuple(out) + (float(_WSG @ (out[0] ** 2)),)
 
 
-@functools.lru_cache(maxsize=64)
-def _projector(basis_cls, n: int) -> np.ndarray:
-    """Least-squares projection of values at the 64 nodes onto the basis of ``n`` (exact below degree n)."""
-    P = np.linalg.pinv(basis_cls(n).matrix(_SG))
-    P.flags.writeable = False
-    return P
+_projector = projector
 
 
 def _directions(m: int, pair, phi: float, kappa: float, w, dw, s):

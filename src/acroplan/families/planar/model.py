@@ -767,7 +767,7 @@ class PlanarBody(ControlAffineSystem):
                 sb["phi"] = (None if lo == -math.inf else lo + delta, None if hi == math.inf else hi + delta)
             alim = Limits(sb, {"u": U} if U is not None else None)
         R = reachable_set(acro, theta0=float(x0[0]) + psi0, phi0=q0 + delta, phiT=qT + delta, T=T, limits=alim)
-        if R.empty:  # not reached: the ends and the distance were checked above
+        if not R.success:  # not reached: the ends and the distance were checked above
             return Infeasibility(f"no joint motion is possible{lim}", joint, None)
         lo, hi = R.low - psi0, R.high - psi0
         target = float(x1[0])

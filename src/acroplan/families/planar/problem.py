@@ -161,7 +161,7 @@ def _reach_two_links(problem) -> list[dict]:
         kw = dict(theta0=float(x0[0]) + psi0, phi0=float(x0[1]) + delta, phiT=float(x1[1]) + delta, T=T)
         free = reachable_set(acro, **kw)
         R = reachable_set(acro, **kw, limits=alim) if alim is not None else free
-        shift = lambda r: None if r.empty else [r.low - psi0, r.high - psi0]  # noqa: E731
+        shift = lambda r: None if not r.success else [r.low - psi0, r.high - psi0]  # noqa: E731
         target = float(x1[0])
         inside = R.contains(target + psi0)
         out.append({
@@ -170,7 +170,7 @@ def _reach_two_links(problem) -> list[dict]:
             "kind": "exact (a two-link body is an acrobot)",
             "interval": shift(free), "interval_closed": free.closed,
             "interval_with_limits": shift(R), "with_limits_closed": R.closed,
-            "empty_reason": R.reason or None, "reachable": bool(inside),
+            "empty_reason": R.message or None, "reachable": bool(inside),
         })
     return out
 

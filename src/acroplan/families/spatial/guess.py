@@ -51,7 +51,11 @@ import functools
 import numpy as np
 
 from ...core import backend
-from ..planar.guess import _KEYS, _projector, _SG, _WSG, base_motion
+from ..tree.loops import END_KEYS as _KEYS
+from ..tree.loops import GAUSS_S as _SG
+from ..tree.loops import GAUSS_W as _WSG
+from ..tree.loops import base_motion
+from ..tree.loops import projector as _projector
 from . import rotations as rot
 
 __all__ = ["Connection", "curvature", "fast_attitudes", "LoopGuess", "loop_guesses", "refine", "AMPLITUDES",
