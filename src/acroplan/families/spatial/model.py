@@ -94,7 +94,7 @@ from ...core.system import ControlAffineSystem, Infeasibility
 from . import rotations as rot
 from .links import QUATERNION_NAMES, SpatialLink, SpatialLinkTable
 
-__all__ = ["SpatialBody", "lumped_parameters", "generic_symbols", "axis_rotation", "NORM_TOL"]
+__all__ = ["SpatialBody", "lumped_parameters", "generic_symbols", "axis_rotation", "kinematic_locked_inertia", "NORM_TOL"]
 
 #: how far from 1 the norm of a waypoint's quaternion may be (larger: refused as a typing error)
 NORM_TOL = 1e-9
@@ -318,6 +318,42 @@ def _numeric_map(parents):
     return fn
 
 
+def kinematic_locked_inertia(links: SpatialLinkTable, shape) -> np.ndarray:
+    """:math:`\\mathbb{I}(s)` by plain kinematics of the link table (no sympy): every link's
+    orientation :math:`R_k` and centre of mass :math:`c_k` in the root frame, then
+    :math:`\\sum_k R_k J_k R_k^\\top + m_k (|d_k|^2 \\mathbb{1} - d_k d_k^\\top)`, :math:`d_k = c_k - c`.
+
+    Parameters
+    ----------
+    links : SpatialLinkTable
+    shape : array_like, shape (m,)
+
+    Returns
+    -------
+    numpy.ndarray, shape (3, 3)
+        About the centre of mass, in the root frame.
+    """
+    s = np.asarray(shape, dtype=float)
+    n = len(links)
+    Rs = np.zeros((n, 3, 3))
+    org = np.zeros((n, 3))
+    for i in links.topological_order():
+        p = links.parents[i]
+        if p == -1:
+            Rs[i] = np.eye(3)
+            continue
+        link = links[i]
+        Rs[i] = Rs[p] @ axis_rotation(link.axis, s[links.joints.index(i)]) @ link.rotation_matrix
+        org[i] = org[p] + Rs[p] @ np.asarray(link.joint)
+    coms = org + np.einsum("kij,kj->ki", Rs, np.array([link.com for link in links]))
+    mass = np.array([link.mass for link in links])
+    d = coms - mass @ coms / mass.sum()
+    out = np.zeros((3, 3))
+    for k, link in enumerate(links):
+        out += Rs[k] @ link.inertia_matrix @ Rs[k].T + mass[k] * (float(d[k] @ d[k]) * np.eye(3) - np.outer(d[k], d[k]))
+    return out
+
+
 # ---------------------------------------------------------------------- the body
 @dataclasses.dataclass(frozen=True)
 class SpatialBody(ControlAffineSystem):
@@ -371,7 +407,8 @@ class SpatialBody(ControlAffineSystem):
         if len(self.links) < 2:
             raise InvalidInputError("links", "has one link: a single rigid body has no joint to move",
                                     "give at least two links")
-        I0, _ = self.momentum_map(np.zeros(self.n_links - 1))
+        # plain kinematics, not the symbolic map: lambdifying it takes minutes for 15 links
+        I0 = kinematic_locked_inertia(self.links, np.zeros(self.n_links - 1))
         ev = np.linalg.eigvalsh(I0)
         if not ev[0] > 1e-12 * max(1.0, ev[-1]):
             raise InvalidInputError("links", f"the locked inertia at the zero shape is singular (principal moments "
