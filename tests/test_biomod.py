@@ -198,6 +198,19 @@ def test_every_placement_equals_biorbd(tmp_path):
 
 
 @needs_biorbd
+def test_a_quaternion_root_under_a_world_frame_is_the_same_body(tmp_path):
+    """bioptim's quaternion variant (trunk_and_2arm_quaternion.bioMod) opens with a massless
+    ``Global`` frame segment fixed to the world and turns the root by a quaternion: the frame is left
+    out and the body is the Cardan one's, link for link (its arms, quaternion ball joints there, are
+    refused below)."""
+    text = TRUNK_AND_2ARM.replace("version 3\n", "version 3\n\nsegment Global\nendsegment\n", 1)
+    text = text.replace("    rotations xyz\n", "    rotations q\n", 1)
+    body = read_biomod(_write(tmp_path, text, "q.bioMod"))
+    ref = read_biomod(_write(tmp_path, TRUNK_AND_2ARM))
+    assert body.links == ref.links
+
+
+@needs_biorbd
 def test_limits_are_read_when_asked(tmp_path):
     text = TRUNK_AND_2ARM.replace("    rotations y\n    mass 3.106", "    rotations y\n    rangesQ -0.5 3.0\n"
                                   "    rangesQdot -12 12\n    mass 3.106", 1)
@@ -210,6 +223,11 @@ def test_limits_are_read_when_asked(tmp_path):
 
 
 BAD = [
+    # a quaternion (ball) joint below the root, a world-fixed segment with mass
+    (TRUNK_AND_2ARM.replace("    rotations y\n", "    rotations q\n", 1), "bioMod segment 'RightArm'", "quaternion"),
+    (TRUNK_AND_2ARM.replace("version 3\n", "version 3\n\nsegment Global\n    mass 1.0\n    inertia\n        0.1 0 0\n"
+                            "        0 0.1 0\n        0 0 0.1\nendsegment\n", 1), "bioMod segment 'Global'",
+     "fixed to the world"),
     # a translation below the root: refused, naming the segment
     (TRUNK_AND_2ARM.replace("parent Pelvis\n    RT 0 0 0 xyz 0.1875", "parent Pelvis\n    translations z\n"
                             "    RT 0 0 0 xyz 0.1875"), "bioMod segment 'LeftArm'", "translates"),

@@ -376,6 +376,19 @@ def test_bad_input_names_the_field(human, kw, field):
     assert e.value.field == field
 
 
+def test_body_angles_fill_in_the_held_posture(human):
+    body = spatial_from_yeadon(human, joints="arms", posture="tuck")
+    x = np.array([1.0, 0.0, 0.0, 0.0, 0.1, 0.2, 0.3, 0.4])
+    a = sb.body_angles(body, x, posture="tuck")
+    assert [a[n] for n in body.links.joint_names] == [0.1, 0.2, 0.3, 0.4]
+    assert a["left_knee_flexion"] == pytest.approx(math.radians(125.0)) and a["spine_flexion"] == 0.0
+    cfg = yeadon_configuration(a)
+    assert cfg["CB1abduction"] == 0.4 and cfg["CA1adduction"] == -0.2 and cfg["J1J2flexion"] == a["left_knee_flexion"]
+    with pytest.raises(InvalidInputError) as e:
+        sb.body_angles(body, x[:-1])
+    assert e.value.field == "state"
+
+
 def test_joint_names_and_link_table_without_limits(human):
     assert joint_names("arms+hips")[-1] == "right_hip_abduction"
     table = human_link_table(yeadon_segments(human), "arms", limits=False)

@@ -25,6 +25,9 @@ The body
   joint angles are biorbd's generalized coordinates.
 * **A segment without degrees of freedom** is fixed to its parent: its mass is merged into the
   link it hangs from (masses add, inertias turned into that frame with the parallel-axis terms).
+  One fixed to the world (no degrees of freedom, nor any above it: bioptim's ``Global`` frames) is
+  left out when it is a frame (biorbd's 1e-8 kg, no inertia) and refused when it carries mass; the
+  segment with degrees of freedom that hangs from the world is the root.
 * **A translation anywhere but the root** (a prismatic joint) is refused, naming the segment, as is
   a quaternion joint below the root.
 * **Checks** (each naming the segment): a finite mass >= 0; a finite, symmetric, positive
@@ -53,6 +56,8 @@ from .urdf import _identifier
 __all__ = ["read_biomod", "read_biomod_table", "require_biorbd"]
 
 _INSTALL = "pip install acroplan[biomod]  (or: pip install biorbd)"
+#: biorbd's mass of a segment that names none (a frame)
+_FRAME_MASS = 1e-8
 
 
 def require_biorbd():
@@ -139,9 +144,25 @@ def read_biomod_table(path, *, limits: bool = False) -> SpatialLinkTable:
         raise InvalidInputError("biomod", f"{p.name} has no segment", "give a .bioMod with segments")
     segs = [model.segment(i) for i in range(n)]
     names = [_s(s.name()) for s in segs]
-    roots = [i for i, s in enumerate(segs) if _s(s.parent()) not in names]
+    # segments fixed to the world (no degrees of freedom, no moving ancestor: bioptim's "Global"
+    # frames): massless ones are left out, and the segment with degrees of freedom below them is the root
+    world: set[int] = set()
+    for i, s in enumerate(segs):
+        pname = _s(s.parent())
+        on_world = pname not in names or names.index(pname) in world
+        if on_world and int(s.nbDof()) == 0:
+            m = float(s.characteristics().mass())
+            J = np.asarray(s.characteristics().inertia().to_array(), dtype=float)
+            if m > _FRAME_MASS or np.max(np.abs(J)) > 0.0:
+                raise InvalidInputError(f"bioMod segment {names[i]!r}", f"is fixed to the world (no degrees of "
+                                        f"freedom, nor any above it) but has mass {m:g} kg or an inertia",
+                                        "a free-floating body moves as a whole: give the root segment "
+                                        "'translations xyz' and 'rotations xyz', or make this a massless frame")
+            world.add(i)
+    roots = [i for i, s in enumerate(segs) if i not in world and (_s(s.parent()) not in names
+                                                                  or names.index(_s(s.parent())) in world)]
     if len(roots) != 1:
-        raise InvalidInputError("biomod", f"{p.name} has {len(roots)} segments without a parent segment "
+        raise InvalidInputError("biomod", f"{p.name} has {len(roots)} segments that hang from the world "
                                 f"({[names[i] for i in roots]})", "a free-floating body has one root segment")
     link_names: set = set()
     joint_names: set = set()
@@ -150,6 +171,8 @@ def read_biomod_table(path, *, limits: bool = False) -> SpatialLinkTable:
     out: list[dict] = []
     pieces: list[list] = []
     for i, s in enumerate(segs):
+        if i in world:
+            continue
         name = names[i]
         field = f"bioMod segment {name!r}"
         nt, nr = int(s.nbDofTrans()), int(s.nbDofRot())

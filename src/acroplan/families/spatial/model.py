@@ -318,6 +318,25 @@ def _numeric_map(parents):
     return fn
 
 
+def _link_frames(links: SpatialLinkTable, shape):
+    """Every link's orientation, frame origin and centre of mass in the root frame at ``shape``
+    (plain kinematics of the link table): shapes (n, 3, 3), (n, 3), (n, 3)."""
+    s = np.asarray(shape, dtype=float)
+    n = len(links)
+    Rs = np.zeros((n, 3, 3))
+    org = np.zeros((n, 3))
+    for i in links.topological_order():
+        p = links.parents[i]
+        if p == -1:
+            Rs[i] = np.eye(3)
+            continue
+        link = links[i]
+        Rs[i] = Rs[p] @ axis_rotation(link.axis, s[links.joints.index(i)]) @ link.rotation_matrix
+        org[i] = org[p] + Rs[p] @ np.asarray(link.joint)
+    coms = org + np.einsum("kij,kj->ki", Rs, np.array([link.com for link in links]))
+    return Rs, org, coms
+
+
 def kinematic_locked_inertia(links: SpatialLinkTable, shape) -> np.ndarray:
     """:math:`\\mathbb{I}(s)` by plain kinematics of the link table (no sympy): every link's
     orientation :math:`R_k` and centre of mass :math:`c_k` in the root frame, then
@@ -333,19 +352,7 @@ def kinematic_locked_inertia(links: SpatialLinkTable, shape) -> np.ndarray:
     numpy.ndarray, shape (3, 3)
         About the centre of mass, in the root frame.
     """
-    s = np.asarray(shape, dtype=float)
-    n = len(links)
-    Rs = np.zeros((n, 3, 3))
-    org = np.zeros((n, 3))
-    for i in links.topological_order():
-        p = links.parents[i]
-        if p == -1:
-            Rs[i] = np.eye(3)
-            continue
-        link = links[i]
-        Rs[i] = Rs[p] @ axis_rotation(link.axis, s[links.joints.index(i)]) @ link.rotation_matrix
-        org[i] = org[p] + Rs[p] @ np.asarray(link.joint)
-    coms = org + np.einsum("kij,kj->ki", Rs, np.array([link.com for link in links]))
+    Rs, _, coms = _link_frames(links, shape)
     mass = np.array([link.mass for link in links])
     d = coms - mass @ coms / mass.sum()
     out = np.zeros((3, 3))
@@ -612,22 +619,10 @@ class SpatialBody(ControlAffineSystem):
         if x.shape != (self.n_states,):
             raise InvalidInputError("state", f"must have shape ({self.n_states},) {list(self.state_names)}, got "
                                     f"{x.shape}", "give the quaternion and every joint angle")
-        T = self.links
-        n = len(T)
-        Rs = np.zeros((n, 3, 3))
-        org = np.zeros((n, 3))
-        q = x[:4] / np.linalg.norm(x[:4])
-        for i in T.topological_order():
-            p = T.parents[i]
-            if p == -1:
-                Rs[i] = rot.to_matrix(q)
-                continue
-            link = T[i]
-            s = x[4 + T.joints.index(i)]
-            Rs[i] = Rs[p] @ axis_rotation(link.axis, s) @ link.rotation_matrix
-            org[i] = org[p] + Rs[p] @ np.asarray(link.joint)
-        coms = org + np.einsum("kij,kj->ki", Rs, np.array([link.com for link in T]))
-        mass = np.array([link.mass for link in T])
+        R = rot.to_matrix(x[:4] / np.linalg.norm(x[:4]))
+        Rs, org, coms = _link_frames(self.links, x[4:])
+        Rs, org, coms = np.einsum("ij,kjl->kil", R, Rs), org @ R.T, coms @ R.T
+        mass = np.array([link.mass for link in self.links])
         c = mass @ coms / mass.sum()
         return Rs, org - c, coms - c
 
