@@ -191,7 +191,7 @@ def test_every_placement_equals_biorbd(tmp_path):
         Ib, Ab, cb = _biorbd_map(model, s)
         assert np.max(np.abs(I - Ib)) < 1e-9 * np.max(np.abs(Ib))
         assert np.max(np.abs(A - Ab)) < 1e-9 * np.max(np.abs(Ib))
-        Ip, Ap = pinocchio_momentum_map(body, s)
+        Ip, _ = pinocchio_momentum_map(body, s)
         assert np.max(np.abs(I - Ip)) < 1e-12 * np.max(np.abs(Ip))
         _, origins, _ = body.link_poses(np.concatenate([[1.0, 0.0, 0.0, 0.0], s]))
         assert np.max(np.abs(-origins[body.links.root] - cb)) < 1e-12

@@ -16,10 +16,20 @@ import pytest
 import acroplan
 from acroplan.core.errors import InvalidInputError
 from acroplan.families.human import spatial_body as sb
-from acroplan.families.human.spatial_body import (JOINTS, PRESETS, human_link_table, joint_names, posture_angles,
-                                                  spatial_from_height_mass, spatial_from_yeadon,
-                                                  spatial_joint_limits, spatial_limits_data, yeadon_configuration,
-                                                  yeadon_segments, yeadon_whole_body)
+from acroplan.families.human.spatial_body import (
+    JOINTS,
+    PRESETS,
+    human_link_table,
+    joint_names,
+    posture_angles,
+    spatial_from_height_mass,
+    spatial_from_yeadon,
+    spatial_joint_limits,
+    spatial_limits_data,
+    yeadon_configuration,
+    yeadon_segments,
+    yeadon_whole_body,
+)
 from acroplan.families.spatial import SpatialBody, SpatialLink, read_urdf, to_urdf
 from acroplan.families.spatial import rotations as rot
 from acroplan.families.spatial.model import kinematic_locked_inertia
@@ -183,13 +193,13 @@ def test_spine_torsion_and_bending_match_yeadon(human):
     assert body.links.joint_names == ("spine_bending", "spine_torsion")   # the link table's order: T, then C
     s = np.array([0.3, -0.4])
     _set(human, yeadon_configuration(dict(zip(body.links.joint_names, s))))
-    mass, com, inertia = yeadon_whole_body(human)
+    _, com, inertia = yeadon_whole_body(human)
     J, c = _whole(body, np.concatenate([[1.0, 0.0, 0.0, 0.0], s]))
     assert np.max(np.abs(J - inertia)) < 1e-12 * 10
     assert np.max(np.abs(c - com)) < 1e-12
 
 
-@pytest.mark.parametrize("preset", ["arms", "arms+hips"])
+@pytest.mark.parametrize("preset", ["arms", "arms+hips", "full"])
 def test_pinocchio_centroidal_map_equals_the_momentum_map(human, preset):
     """Pinocchio's centroidal momentum map (its angular rows) equals the body's symbolic momentum
     map I(s), A(s) (1e-12 relative), at random shapes."""
@@ -209,8 +219,7 @@ def test_pinocchio_centroidal_map_equals_the_momentum_map(human, preset):
 
 
 def test_pinocchio_locked_inertia_of_the_full_body(human):
-    """The 15-link body (its symbolic map takes minutes to build, so not here): Pinocchio's locked
-    inertia equals the link table's kinematics and yeadon's posed segments."""
+    """The 15-link body in a tuck: Pinocchio's locked inertia equals yeadon's posed segments."""
     pytest.importorskip("pinocchio")
     from acroplan.families.spatial.check import pinocchio_momentum_map
 
@@ -403,7 +412,7 @@ def _symmetric_top(A: float, C: float) -> SpatialBody:
     :math:`C = m r^2 / 2`, :math:`A = m (3 r^2 + (2h)^2) / 12` for the total mass :math:`m`."""
     m = 60.0
     r = math.sqrt(2.0 * C / m)
-    h = math.sqrt((12.0 * A / m - 3.0 * r * r)) / 2.0
+    h = math.sqrt(12.0 * A / m - 3.0 * r * r) / 2.0
     half = m / 2.0
     Ia = half * (3 * r * r + h * h) / 12.0
     Ic = half * r * r / 2.0
@@ -516,7 +525,7 @@ def test_one_arm_lowered_tilts_and_twists_the_body(arm_twists):
     assert np.max(np.abs(right.tilt + left.tilt)) < 1e-9
     assert np.max(np.abs(right.twist + left.twist)) < 1e-9
     assert np.max(np.abs(right.somersault - left.somersault)) < 1e-9
-    s, tilt, twist = right.final
+    s, _, twist = right.final
     assert right.peak_tilt > 3.0 and abs(twist) > 1.0
     assert s < -1.0                      # backwards, about one somersault
     assert "twists" in right.summary()

@@ -181,7 +181,7 @@ def _raw() -> dict:
     return tomllib.loads(text)
 
 
-def _resolve(entry: Mapping, where: str) -> dict:
+def _resolve(entry: Mapping) -> dict:
     """An entry of ``limits_3d.toml`` with ``same_as`` replaced by limits.toml's value (and its
     source, estimate and note)."""
     if "same_as" not in entry:
@@ -207,8 +207,8 @@ def spatial_limits_data() -> dict:
     for kind, entries in raw.items():
         if kind in ("sources", "postures", "geometry"):
             continue
-        out[kind] = {b: _resolve(e, f"{kind}.{b}") for b, e in entries.items()}
-    out["postures"] = {p: {k: _resolve(e, f"postures.{p}.{k}") for k, e in (v or {}).items()}
+        out[kind] = {b: _resolve(e) for b, e in entries.items()}
+    out["postures"] = {p: {k: _resolve(e) for k, e in (v or {}).items()}
                        for p, v in raw["postures"].items()}
     out["geometry"] = {k: dict(v) for k, v in raw["geometry"].items()}
     return out

@@ -307,12 +307,18 @@ _NUMERIC_MAPS: dict[Hashable, Any] = {}
 
 
 def _numeric_map(parents):
-    """``fn(s, p) -> (I entries (9), A entries (3 m))``, lambdified with common subexpressions."""
+    """``fn(s, p) -> (I entries (9), A entries (3 m))``, lambdified with common subexpressions.
+
+    The subexpressions are found first, in sympy's ``order="none"``, and lambdify is handed the
+    reduced expressions: for the 15-link human (``families/human/spatial_body.py``) that takes 3 s,
+    where ``lambdify(..., cse=True)`` took about 5 minutes (its walk of the whole expression tree,
+    then the canonical ordering of the subexpressions)."""
     fn = _NUMERIC_MAPS.get(parents)
     if fn is None:
         x, p, I, A, _ = _symbolic_map(parents)  # noqa: E741
         exprs = list(I) + [e for col in A for e in col]
-        fn = sp.lambdify((x[4:], p), exprs, modules="numpy", cse=True)
+        rep, red = sp.cse(exprs, order="none")
+        fn = sp.lambdify((x[4:], p), red, modules="numpy", cse=lambda _: (rep, red))
         with _LOCK:
             fn = _NUMERIC_MAPS.setdefault(parents, fn)
     return fn
@@ -414,7 +420,7 @@ class SpatialBody(ControlAffineSystem):
         if len(self.links) < 2:
             raise InvalidInputError("links", "has one link: a single rigid body has no joint to move",
                                     "give at least two links")
-        # plain kinematics, not the symbolic map: lambdifying it takes minutes for 15 links
+        # plain kinematics: a body is built without its symbolic map (about 10 s for 15 links)
         I0 = kinematic_locked_inertia(self.links, np.zeros(self.n_links - 1))
         ev = np.linalg.eigvalsh(I0)
         if not ev[0] > 1e-12 * max(1.0, ev[-1]):
