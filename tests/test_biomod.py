@@ -14,7 +14,7 @@ import pytest
 
 from acroplan.core.errors import InvalidInputError
 from acroplan.families.spatial import read_biomod
-from acroplan.families.spatial.biomod import read_biomod_table
+from acroplan.families.spatial.biomod import keeping_locale, read_biomod_table
 
 try:
     import biorbd
@@ -117,6 +117,12 @@ endsegment
 """
 
 
+def _model(path):
+    """``biorbd.Model(path)``, the process's locale kept (biorbd sets it to "C")."""
+    with keeping_locale():
+        return biorbd.Model(str(path))
+
+
 def _write(tmp_path, text, name="body.bioMod"):
     p = tmp_path / name
     p.write_text(text, encoding="utf-8")
@@ -152,7 +158,7 @@ def test_bioptims_trunk_and_two_arms_equal_biorbd(tmp_path):
     to 1e-9, at the arms' rest and at three other shapes."""
     path = _write(tmp_path, TRUNK_AND_2ARM, "trunk_and_2arm.bioMod")
     body = read_biomod(path, angular_momentum=(36.3075, 0.0, 0.0))
-    model = biorbd.Model(str(path))
+    model = _model(path)
     assert body.links.names == ("Pelvis", "RightArm", "LeftArm")
     assert body.links.joint_names == ("RightArm_RotY", "LeftArm_RotY")
     assert body.L == (36.3075, 0.0, 0.0)
@@ -182,7 +188,7 @@ def test_every_placement_equals_biorbd(tmp_path):
     assert table[1].mass == 0.0 and table[2].mass == 3.0   # A with the fixed B merged in
     assert table[0].mass == 10.0 + 1e-8                     # the frame segment: biorbd's 1e-8 kg point mass
     body = read_biomod(path)
-    model = biorbd.Model(str(path))
+    model = _model(path)
     assert abs(sum(link.mass for link in body.links) - model.mass()) < 1e-12
     rng = np.random.default_rng(4)
     for _ in range(4):
@@ -253,6 +259,16 @@ def test_bad_files_are_refused_naming_the_segment(tmp_path, text, field, words):
         read_biomod(path)
     assert e.value.field == field
     assert words in str(e.value)
+
+
+@needs_biorbd
+def test_reading_keeps_the_locale(tmp_path):
+    """biorbd sets the locale to "C" (Python's default encoding then ASCII): the reader restores it."""
+    import locale
+
+    before = locale.setlocale(locale.LC_ALL)
+    read_biomod(_write(tmp_path, TRUNK_AND_2ARM))
+    assert locale.setlocale(locale.LC_ALL) == before
 
 
 @needs_biorbd

@@ -44,6 +44,8 @@ limit :math:`v`; an asymmetric one is refused (acroplan's rate limits are symmet
 
 from __future__ import annotations
 
+import contextlib
+import locale
 import os
 import pathlib
 
@@ -53,11 +55,23 @@ from ...core.errors import InvalidInputError
 from .links import SpatialLink, SpatialLinkTable
 from .urdf import _identifier
 
-__all__ = ["read_biomod", "read_biomod_table", "require_biorbd"]
+__all__ = ["read_biomod", "read_biomod_table", "require_biorbd", "keeping_locale"]
 
 _INSTALL = "pip install acroplan[biomod]  (or: pip install biorbd)"
 #: biorbd's mass of a segment that names none (a frame)
 _FRAME_MASS = 1e-8
+
+
+@contextlib.contextmanager
+def keeping_locale():
+    """Restore the process's locale on exit: creating a ``biorbd.Model`` (biorbd 1.12.4) sets it
+    to ``"C"``, which turns Python's default text encoding to ASCII for the rest of the process
+    (``open()`` and ``Path.read_text()`` without ``encoding=`` then fail on UTF-8 files)."""
+    saved = locale.setlocale(locale.LC_ALL)
+    try:
+        yield
+    finally:
+        locale.setlocale(locale.LC_ALL, saved)
 
 
 def require_biorbd():
@@ -136,7 +150,8 @@ def read_biomod_table(path, *, limits: bool = False) -> SpatialLinkTable:
     if not p.is_file():
         raise InvalidInputError("biomod", f"no such file: {str(p)!r}", "give the path of a .bioMod file")
     try:
-        model = biorbd.Model(str(p))
+        with keeping_locale():
+            model = biorbd.Model(str(p))
     except Exception as e:  # biorbd raises RuntimeError on a bad file
         raise InvalidInputError("biomod", f"biorbd could not read {p.name}: {e}", "check the .bioMod file") from None
     n = model.nbSegment()
