@@ -11,7 +11,11 @@
   :func:`human_limits`;
 * :mod:`~.examples`: :func:`platform_dive_pike`, the 10 m platform dive in pike;
 * :mod:`~.momentum`: :func:`least_momentum_table`, the least angular momentum for n somersaults in
-  pike, tuck or straight position in a given flight time (exact for the two-link body).
+  pike, tuck or straight position in a given flight time (exact for the two-link body);
+* :mod:`~.spatial_body`: the 3-D human, Yeadon's 11 segments as a
+  :class:`~acroplan.families.spatial.model.SpatialBody` (:func:`spatial_from_yeadon`,
+  :func:`spatial_from_height_mass`), its joint presets, held postures, and 3-D joint ranges and
+  rates as data (:func:`spatial_joint_limits`, ``data/limits_3d.toml``).
 """
 
 from .body import Part, SagittalBody, combine
@@ -20,10 +24,11 @@ from .examples import PlatformDive, flight_time, platform_dive, platform_dive_pi
 from .limits import (POSITIONS, Position, hip_rate_literature, hip_torque_literature, human_data, human_limits,
                      position)
 from .momentum import LeastMomentumTable, least_momentum_table
+from .spatial_body import spatial_from_height_mass, spatial_from_yeadon, spatial_joint_limits
 from .yeadon_body import from_yeadon, load_human, sample_measurements
 
 __all__ = ["Part", "SagittalBody", "combine", "from_yeadon", "load_human", "sample_measurements", "from_height_mass",
            "de_leva_table", "human_limits", "human_data", "hip_rate_literature", "hip_torque_literature", "Position",
            "POSITIONS", "position",
            "flight_time", "PlatformDive", "platform_dive", "platform_dive_pike", "LeastMomentumTable",
-           "least_momentum_table"]
+           "least_momentum_table", "spatial_from_yeadon", "spatial_from_height_mass", "spatial_joint_limits"]

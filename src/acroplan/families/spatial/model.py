@@ -94,7 +94,7 @@ from ...core.system import ControlAffineSystem, Infeasibility
 from . import rotations as rot
 from .links import QUATERNION_NAMES, SpatialLink, SpatialLinkTable
 
-__all__ = ["SpatialBody", "lumped_parameters", "generic_symbols", "axis_rotation", "NORM_TOL"]
+__all__ = ["SpatialBody", "lumped_parameters", "generic_symbols", "axis_rotation", "kinematic_locked_inertia", "NORM_TOL"]
 
 #: how far from 1 the norm of a waypoint's quaternion may be (larger: refused as a typing error)
 NORM_TOL = 1e-9
@@ -307,15 +307,64 @@ _NUMERIC_MAPS: dict[Hashable, Any] = {}
 
 
 def _numeric_map(parents):
-    """``fn(s, p) -> (I entries (9), A entries (3 m))``, lambdified with common subexpressions."""
+    """``fn(s, p) -> (I entries (9), A entries (3 m))``, lambdified with common subexpressions.
+
+    The subexpressions are found first, in sympy's ``order="none"``, and lambdify is handed the
+    reduced expressions: for the 15-link human (``families/human/spatial_body.py``) that takes 3 s,
+    where ``lambdify(..., cse=True)`` took about 5 minutes (its walk of the whole expression tree,
+    then the canonical ordering of the subexpressions)."""
     fn = _NUMERIC_MAPS.get(parents)
     if fn is None:
         x, p, I, A, _ = _symbolic_map(parents)  # noqa: E741
         exprs = list(I) + [e for col in A for e in col]
-        fn = sp.lambdify((x[4:], p), exprs, modules="numpy", cse=True)
+        rep, red = sp.cse(exprs, order="none")
+        fn = sp.lambdify((x[4:], p), red, modules="numpy", cse=lambda _: (rep, red))
         with _LOCK:
             fn = _NUMERIC_MAPS.setdefault(parents, fn)
     return fn
+
+
+def _link_frames(links: SpatialLinkTable, shape):
+    """Every link's orientation, frame origin and centre of mass in the root frame at ``shape``
+    (plain kinematics of the link table): shapes (n, 3, 3), (n, 3), (n, 3)."""
+    s = np.asarray(shape, dtype=float)
+    n = len(links)
+    Rs = np.zeros((n, 3, 3))
+    org = np.zeros((n, 3))
+    for i in links.topological_order():
+        p = links.parents[i]
+        if p == -1:
+            Rs[i] = np.eye(3)
+            continue
+        link = links[i]
+        Rs[i] = Rs[p] @ axis_rotation(link.axis, s[links.joints.index(i)]) @ link.rotation_matrix
+        org[i] = org[p] + Rs[p] @ np.asarray(link.joint)
+    coms = org + np.einsum("kij,kj->ki", Rs, np.array([link.com for link in links]))
+    return Rs, org, coms
+
+
+def kinematic_locked_inertia(links: SpatialLinkTable, shape) -> np.ndarray:
+    """:math:`\\mathbb{I}(s)` by plain kinematics of the link table (no sympy): every link's
+    orientation :math:`R_k` and centre of mass :math:`c_k` in the root frame, then
+    :math:`\\sum_k R_k J_k R_k^\\top + m_k (|d_k|^2 \\mathbb{1} - d_k d_k^\\top)`, :math:`d_k = c_k - c`.
+
+    Parameters
+    ----------
+    links : SpatialLinkTable
+    shape : array_like, shape (m,)
+
+    Returns
+    -------
+    numpy.ndarray, shape (3, 3)
+        About the centre of mass, in the root frame.
+    """
+    Rs, _, coms = _link_frames(links, shape)
+    mass = np.array([link.mass for link in links])
+    d = coms - mass @ coms / mass.sum()
+    out = np.zeros((3, 3))
+    for k, link in enumerate(links):
+        out += Rs[k] @ link.inertia_matrix @ Rs[k].T + mass[k] * (float(d[k] @ d[k]) * np.eye(3) - np.outer(d[k], d[k]))
+    return out
 
 
 # ---------------------------------------------------------------------- the body
@@ -371,7 +420,8 @@ class SpatialBody(ControlAffineSystem):
         if len(self.links) < 2:
             raise InvalidInputError("links", "has one link: a single rigid body has no joint to move",
                                     "give at least two links")
-        I0, _ = self.momentum_map(np.zeros(self.n_links - 1))
+        # plain kinematics: a body is built without its symbolic map (about 10 s for 15 links)
+        I0 = kinematic_locked_inertia(self.links, np.zeros(self.n_links - 1))
         ev = np.linalg.eigvalsh(I0)
         if not ev[0] > 1e-12 * max(1.0, ev[-1]):
             raise InvalidInputError("links", f"the locked inertia at the zero shape is singular (principal moments "
@@ -575,22 +625,10 @@ class SpatialBody(ControlAffineSystem):
         if x.shape != (self.n_states,):
             raise InvalidInputError("state", f"must have shape ({self.n_states},) {list(self.state_names)}, got "
                                     f"{x.shape}", "give the quaternion and every joint angle")
-        T = self.links
-        n = len(T)
-        Rs = np.zeros((n, 3, 3))
-        org = np.zeros((n, 3))
-        q = x[:4] / np.linalg.norm(x[:4])
-        for i in T.topological_order():
-            p = T.parents[i]
-            if p == -1:
-                Rs[i] = rot.to_matrix(q)
-                continue
-            link = T[i]
-            s = x[4 + T.joints.index(i)]
-            Rs[i] = Rs[p] @ axis_rotation(link.axis, s) @ link.rotation_matrix
-            org[i] = org[p] + Rs[p] @ np.asarray(link.joint)
-        coms = org + np.einsum("kij,kj->ki", Rs, np.array([link.com for link in T]))
-        mass = np.array([link.mass for link in T])
+        R = rot.to_matrix(x[:4] / np.linalg.norm(x[:4]))
+        Rs, org, coms = _link_frames(self.links, x[4:])
+        Rs, org, coms = np.einsum("ij,kjl->kil", R, Rs), org @ R.T, coms @ R.T
+        mass = np.array([link.mass for link in self.links])
         c = mass @ coms / mass.sum()
         return Rs, org - c, coms - c
 

@@ -106,7 +106,17 @@ def to_urdf(links, name: str = "spatial_body", effort: float = 1000.0) -> str:
     (:math:`R = R_z(y) R_y(p) R_x(r)`), its ``<axis>`` the table's axis in the joint's frame
     (:math:`R_{fixed}^\\top a`); a joint with both position limits is ``revolute``, one without is
     ``continuous`` (a one-sided limit is written with the open side at :math:`\\pm 10^{300}`).
-    Massless links are written without ``<inertial>``.
+    Massless links are written without ``<inertial>``. Pinocchio reads the document back
+    (:func:`read_urdf`) with the same masses, inertias, joints and limits; it numbers the joints
+    depth-first in the URDF's order, so they may come back in another order.
+
+    Parameters
+    ----------
+    links : SpatialLinkTable, sequence of SpatialLink, or SpatialBody
+    name : str
+        The robot's name.
+    effort : float
+        The ``effort`` attribute of each ``<limit>`` (URDF requires one; acroplan does not use it).
 
     Returns
     -------
