@@ -529,3 +529,56 @@ def test_one_arm_lowered_tilts_and_twists_the_body(arm_twists):
     assert right.peak_tilt > 3.0 and abs(twist) > 1.0
     assert s < -1.0                      # backwards, about one somersault
     assert "twists" in right.summary()
+
+
+# ------------------------------------------------------------------ problem files (the plug-in family)
+H3 = """[body]
+yeadon = "male1"
+model = "3d"
+joints = "arms+hips"
+posture = "pike"
+angular_momentum = [-60.0, 0.0, 0.0]
+
+[plan]
+times = [0, 1.0]
+attitude_euler_deg = [[0, 0, 0], [-200, 0, 20]]
+{joints}
+conditions = "free"
+"""
+
+
+def _h3(tmp_path, text):
+    from acroplan.io.problem import load_problem
+
+    path = tmp_path / "h3.toml"
+    path.write_text(text)
+    return load_problem(path)
+
+
+def test_a_problem_file_gives_the_3d_human_through_the_human_family(tmp_path):
+    """[body] model = "3d" is read by the human family's own table (families/human/problem.py), with
+    no change to the I/O layer (issue #21's plug-in families): the same body as the API's."""
+    from acroplan.families.human.spatial_body import spatial_from_yeadon
+
+    ref = spatial_from_yeadon(joints="arms+hips", posture="pike", angular_momentum=(-60.0, 0.0, 0.0))
+    joints = "\n".join(f"{j} = [0.1, 0.1]" for j in ref.links.joint_names)
+    prob = _h3(tmp_path, H3.format(joints=joints))
+    assert prob.system.links == ref.links and np.array_equal(prob.system.angular_momentum, ref.angular_momentum)
+    assert prob.state("qw")[0] == 1.0 and len(prob.state("qw")) == 2
+    # the file's limits override the data's, joint by joint
+    lim = _h3(tmp_path, H3.format(joints=joints) + "[limits]\nleft_hip_flexion_max = 1.0\n").limits
+    assert lim.bounds("left_hip_flexion")[1] == 1.0
+
+
+@pytest.mark.parametrize("edit, match", [
+    (('model = "3d"', 'model = "4d"'), r"^body\.model: must be one of \['2d', '3d'\]"),
+    (('posture = "pike"', 'posture = "pik"'), r"^body\.posture: .*did you mean \"pike\""),
+    (('joints = "arms+hips"', 'joints = "legs"'), r"^body\.joints: must be one of"),
+    (('angular_momentum = [-60.0, 0.0, 0.0]', 'angular_momentum = -60.0'), r"^body\.angular_momentum: must be three"),
+    (('posture = "pike"', 'split = "hips"'), r"^body\.split: is a key of the planar human, and model = \"3d\""),
+    (('model = "3d"\n', ''), r"^body\.joints: is a key of the 3-D human"),
+])
+def test_bad_3d_human_tables_name_the_field(tmp_path, edit, match):
+    joints = "left_shoulder_flexion = [0, 0]"
+    with pytest.raises(acroplan.InvalidInputError, match=match):
+        _h3(tmp_path, H3.format(joints=joints).replace(*edit))

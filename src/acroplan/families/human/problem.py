@@ -12,7 +12,8 @@ import math
 from pathlib import Path
 
 from ...core.errors import InvalidInputError
-from ...core.validate import BODY_VALUES, MAX_ANGLE, MAX_BODY, MAX_FILE_BYTES, check_keys, choice_field, number, short
+from ...core.validate import (BODY_VALUES, MAX_ANGLE, MAX_BODY, MAX_FILE_BYTES, check_keys, choice_field, number,
+                              short, vector3)
 from ..acrobot.problem import read_limits as acrobot_limits
 from ..planar.model import PlanarBody
 from ..tree.problem import apply_limits
@@ -23,7 +24,13 @@ from .yeadon_body import SAMPLES, from_yeadon, sample_measurements
 __all__ = ["reads", "read", "HUMAN_KEYS", "SPLITS"]
 
 #: the keys of a human body in [body]
-HUMAN_KEYS = ("yeadon", "height", "mass", "sex", "split", "position", "knee_flexion", "shoulder_flexion")
+HUMAN_KEYS = ("yeadon", "height", "mass", "sex", "split", "position", "knee_flexion", "shoulder_flexion", "model",
+              "joints", "posture")
+#: the keys of the planar human only, and of the 3-D human only
+PLANAR_KEYS = ("split", "position", "knee_flexion", "shoulder_flexion")
+SPATIAL_KEYS = ("joints", "posture")
+#: the human models: in the sagittal plane (split at the hips, or the hips and shoulders), in 3-D
+MODELS = ("2d", "3d")
 #: how a human body is split: at the hips (the two-link body), at the hips and the shoulders
 SPLITS = ("hips", "hips+shoulders")
 #: what [body] may hold beside the human keys (refused with a message naming the clash)
@@ -39,12 +46,19 @@ def read(table: str, data: dict, limits: dict | None, context):
     """The human body of ``[body]`` and, split at the hips (an acrobot), the plan keywords of the
     file's ``[limits]`` over the position's."""
     check_keys("body", data, HUMAN_KEYS + OTHER_KEYS)
+    model = choice_field("body.model", data.get("model", "2d"), MODELS, "3d")
+    if model == "3d":
+        return _spatial_human(data, limits, context), {}
     given = [k for k in HUMAN_KEYS if k in data]
+    wrong = [k for k in SPATIAL_KEYS if k in data]
+    if wrong:
+        raise InvalidInputError(f"body.{wrong[0]}", "is a key of the 3-D human", "add model = \"3d\" (and "
+                                "angular_momentum = [Lx, Ly, Lz]), or drop it for the planar human")
     if isinstance(data.get("angular_momentum"), list):
         raise InvalidInputError(f"body.{given[0]}", "is a key of a human (planar) body, and angular_momentum is a "
                                 "vector [Lx, Ly, Lz], which makes the body spatial",
-                                "give a spatial body by urdf or [[body.link]] tables, or a human body with "
-                                "angular_momentum a number")
+                                "give model = \"3d\" for the 3-D human, or angular_momentum a number for the "
+                                "planar human")
     system, defaults = _human_body(data, given, limits, base=context.base, degrees=context.degrees)
     if defaults or not isinstance(system, PlanarBody):
         return system, acrobot_limits(limits, defaults, degrees=context.degrees)
@@ -176,3 +190,59 @@ def _human_body(data: dict, given: list, limits: dict | None, *, base, degrees: 
         raise human_error(e, source) from None
     table = apply_limits(planar.links, {} if limits is None else limits, degrees)
     return (planar if table is planar.links else PlanarBody(table, P0=P0)), {}
+
+
+def _spatial_human(data: dict, limits, context):
+    """The 3-D human (:func:`~acroplan.families.human.spatial_body.spatial_from_yeadon`, or from
+    height and mass by de Leva's tables): ``joints`` a preset (``"arms"``, ``"arms+hips"``,
+    ``"full"``) or a list of joint names, ``posture`` (``"straight"``, ``"pike"``, ``"tuck"``) for
+    the joints held fixed, ``angular_momentum = [Lx, Ly, Lz]``; the file's ``[limits]`` over the
+    data's ranges and rates."""
+    from .spatial_body import PRESETS, POSTURES, spatial_from_height_mass, spatial_from_yeadon
+
+    wrong = [k for k in PLANAR_KEYS if k in data]
+    if wrong:
+        raise InvalidInputError(f"body.{wrong[0]}", "is a key of the planar human, and model = \"3d\"",
+                                "give joints = \"arms+hips\" and posture = \"pike\" for the 3-D human, or drop "
+                                "model = \"3d\"")
+    for key in ("urdf", "link"):
+        if key in data:
+            raise InvalidInputError(f"body.{key}", "is a key of a body of links, and this [body] is a human body",
+                                    "describe the body one way")
+    if "angular_momentum" not in data or not isinstance(data["angular_momentum"], list):
+        raise InvalidInputError("body.angular_momentum", "must be three numbers [Lx, Ly, Lz] for the 3-D human"
+                                + ("" if "angular_momentum" in data else " (it is missing)"),
+                                "give for example angular_momentum = [-90.0, 0.0, 0.0] (a backward somersault: "
+                                "Lx < 0 in Yeadon's frame, x to the left)")
+    L = vector3("body.angular_momentum", data["angular_momentum"])
+    joints = data.get("joints", "arms")
+    if isinstance(joints, str):
+        joints = choice_field("body.joints", joints, tuple(PRESETS), "arms+hips")
+    elif not (isinstance(joints, list) and joints and all(isinstance(j, str) for j in joints)):
+        raise InvalidInputError("body.joints", f"must be a preset or a list of joint names, got {short(joints)}",
+                                f"write joints = \"arms\" (presets: {sorted(PRESETS)})")
+    posture = choice_field("body.posture", data.get("posture", "straight"), tuple(POSTURES), "straight")
+    try:
+        if "yeadon" in data:
+            path = yeadon_path(data["yeadon"], context.base)
+            body = spatial_from_yeadon(path, joints=joints, posture=posture, angular_momentum=L)
+        else:
+            for key in ("height", "mass"):
+                if key not in data:
+                    raise InvalidInputError(f"body.{key}", "is missing", "give height (m) and mass (kg), or "
+                                            "yeadon = \"male1\"")
+            sex = data.get("sex", "male")
+            body = spatial_from_height_mass(number("body.height", data["height"], MAX_BODY, BODY_VALUES),
+                                            number("body.mass", data["mass"], MAX_BODY, BODY_VALUES),
+                                            sex=sex if isinstance(sex, str) else str(sex), joints=joints,
+                                            posture=posture, angular_momentum=L)
+    except ImportError:
+        raise InvalidInputError("body.yeadon", "needs the yeadon package (Yeadon's inertia model), which is not "
+                                "installed", f"{_INSTALL_HUMAN}; or give height and mass instead of yeadon") from None
+    except InvalidInputError as e:
+        head = e.field.split(".", 1)[0].split("[", 1)[0]
+        field = f"body.{e.field}" if head in ("joints", "posture", "angular_momentum") else e.field
+        raise InvalidInputError(field if field.startswith(("body.", "limits.")) else f"body.{field}",
+                                e.problem, e.fix) from None
+    table = apply_limits(body.links, {} if limits is None else limits, context.degrees)
+    return body if table is body.links else type(body)(table, L=L)
