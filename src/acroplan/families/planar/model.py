@@ -350,7 +350,7 @@ def momentum_from_definition(body: "PlanarBody"):
 _finite = finite_number
 
 
-@dataclasses.dataclass(frozen=True)
+@dataclasses.dataclass(frozen=True, init=False)
 class PlanarBody(ControlAffineSystem):
     """A free-flying planar body of any number of links (module docstring for the model).
 
@@ -358,8 +358,9 @@ class PlanarBody(ControlAffineSystem):
     ----------
     links : LinkTable or sequence of Link
         The link table (:mod:`~acroplan.families.planar.links`): one root, a tree.
-    P0 : float
-        The constant angular momentum about the centre of mass.
+    angular_momentum : float
+        The constant angular momentum about the centre of mass, :math:`P_0` (keyword; ``P0``, the
+        field's name, is accepted as an alias).
 
     Attributes
     ----------
@@ -384,6 +385,14 @@ class PlanarBody(ControlAffineSystem):
 
     links: LinkTable
     P0: float = 0.0
+
+    def __init__(self, links, P0: float | None = None, *, angular_momentum: float | None = None):
+        if P0 is not None and angular_momentum is not None:
+            raise InvalidInputError("angular_momentum", "is given together with P0 (its alias)", "give one of them")
+        object.__setattr__(self, "links", links)
+        object.__setattr__(self, "P0", angular_momentum if angular_momentum is not None else
+                           (0.0 if P0 is None else P0))
+        self.__post_init__()
 
     def __post_init__(self):
         object.__setattr__(self, "links", LinkTable(self.links))

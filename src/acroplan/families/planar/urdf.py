@@ -126,14 +126,15 @@ def read_link_table(path, *, limits: bool = True, overrides: Mapping[str, Mappin
     return LinkTable(links)
 
 
-def read_urdf(path, P0: float = 0.0, *, limits: bool = True, overrides=None):
+def read_urdf(path, P0: float | None = None, *, angular_momentum: float | None = None, limits: bool = True,
+              overrides=None):
     """A :class:`~acroplan.families.planar.model.PlanarBody` from a planar URDF.
 
     Parameters
     ----------
     path : str or pathlib.Path
-    P0 : float
-        Angular momentum about the centre of mass.
+    angular_momentum : float
+        About the centre of mass (default 0; ``P0`` is its alias).
     limits, overrides
         As :func:`read_link_table`.
 
@@ -144,7 +145,8 @@ def read_urdf(path, P0: float = 0.0, *, limits: bool = True, overrides=None):
     """
     from .model import PlanarBody
 
-    return PlanarBody(read_link_table(path, limits=limits, overrides=overrides), P0=P0)
+    return PlanarBody(read_link_table(path, limits=limits, overrides=overrides), P0,
+                      angular_momentum=angular_momentum)
 
 
 def to_urdf(links, name: str = "planar_body", effort: float = 1000.0) -> str:

@@ -368,15 +368,16 @@ def kinematic_locked_inertia(links: SpatialLinkTable, shape) -> np.ndarray:
 
 
 # ---------------------------------------------------------------------- the body
-@dataclasses.dataclass(frozen=True)
+@dataclasses.dataclass(frozen=True, init=False)
 class SpatialBody(ControlAffineSystem):
     """A free-floating body in 3-D (module docstring for the model).
 
     Parameters
     ----------
     links : SpatialLinkTable or sequence of SpatialLink
-    L : (float, float, float)
-        The angular momentum about the centre of mass, inertial frame (kg m^2/s).
+    angular_momentum : (float, float, float)
+        The angular momentum :math:`L` about the centre of mass, inertial frame (kg m^2/s)
+        (keyword; ``L``, the field's name, is accepted as an alias).
 
     Attributes
     ----------
@@ -401,6 +402,14 @@ class SpatialBody(ControlAffineSystem):
 
     links: SpatialLinkTable
     L: tuple = (0.0, 0.0, 0.0)
+
+    def __init__(self, links, L=None, *, angular_momentum=None):
+        if L is not None and angular_momentum is not None:
+            raise InvalidInputError("angular_momentum", "is given together with L (its alias)", "give one of them")
+        object.__setattr__(self, "links", links)
+        object.__setattr__(self, "L", angular_momentum if angular_momentum is not None else
+                           ((0.0, 0.0, 0.0) if L is None else L))
+        self.__post_init__()
 
     #: compile with heyoka's compact mode (module docstring)
     compact_mode = True

@@ -85,18 +85,19 @@ def read_link_table(path, *, limits: bool = True, overrides: Mapping[str, Mappin
     return SpatialLinkTable(links)
 
 
-def read_urdf(path, L=(0.0, 0.0, 0.0), *, limits: bool = True, overrides=None):
+def read_urdf(path, L=None, *, angular_momentum=None, limits: bool = True, overrides=None):
     """A :class:`~acroplan.families.spatial.model.SpatialBody` from a URDF (:func:`read_link_table`).
 
     Parameters
     ----------
     path : str or pathlib.Path
-    L : (float, float, float)
-        The angular momentum about the centre of mass (inertial frame).
+    angular_momentum : (float, float, float)
+        About the centre of mass, inertial frame (default zero; ``L`` is its alias).
     """
     from .model import SpatialBody
 
-    return SpatialBody(read_link_table(path, limits=limits, overrides=overrides), L=L)
+    return SpatialBody(read_link_table(path, limits=limits, overrides=overrides), L,
+                       angular_momentum=angular_momentum)
 
 
 def to_urdf(links, name: str = "spatial_body", effort: float = 1000.0) -> str:
