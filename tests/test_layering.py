@@ -260,3 +260,16 @@ def test_bundled_nilpotent_example_gives_the_recorded_numbers(tmp_path):
         new_v, old_v = np.asarray(new["coefficients"][key]), np.asarray(old_v)
         assert np.abs(new_v - old_v).max() <= 1e-12 * np.abs(old_v).max(), key
     assert new["u1_margin"] == pytest.approx(old["u1_margin"], rel=1e-12)
+
+
+def test_names_that_moved_still_work_with_a_warning():
+    """Public names that moved keep working for one release, naming the new place (issue #21)."""
+    import acroplan
+
+    with pytest.warns(DeprecationWarning, match="acroplan.families.acrobot.nilpotent"):
+        from acroplan import nilpotent
+    assert nilpotent.NilpotentProblem.__module__ == "acroplan.families.acrobot.nilpotent"
+    robot = acroplan.examples.robot("pike-dive")
+    with pytest.warns(DeprecationWarning, match=r"reachable_set\(\.\.\.\)\.interval"):
+        lo, hi = acroplan.reachable_interval(robot, theta0=0.0, phi0=-3.0, phiT=-1.0, T=1.0)
+    assert (lo, hi) == acroplan.reachable_set(robot, theta0=0.0, phi0=-3.0, phiT=-1.0, T=1.0).interval

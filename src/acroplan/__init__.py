@@ -64,6 +64,11 @@ _PUBLIC = {
     "load_sweep": "acroplan.io.store", "draw_map": "acroplan.io.store", "SweepSummary": "acroplan.io.store",
 }
 _MODULES = {"examples": "acroplan.io.examples", "zoo": "acroplan.zoo", "sweep": "acroplan.sweep"}
+#: Modules that moved (issues #10, #21): still found under their old name for one release, with a
+#: DeprecationWarning naming the new place.
+_MOVED = {"nilpotent": "acroplan.families.acrobot.nilpotent", "reach": "acroplan.families.acrobot.reach",
+          "flat": "acroplan.families.acrobot.flat", "animation": "acroplan.families.acrobot.drawing",
+          "cli": "acroplan.io.cli", "problem": "acroplan.io.problem", "planner": "acroplan.planning"}
 
 __all__ = sorted(_PUBLIC) + sorted(_MODULES)
 
@@ -73,6 +78,12 @@ def __getattr__(name: str):
         value = getattr(importlib.import_module(_PUBLIC[name]), name)
     elif name in _MODULES:
         value = importlib.import_module(_MODULES[name])
+    elif name in _MOVED:
+        import warnings
+
+        warnings.warn(f"acroplan.{name} moved to {_MOVED[name]}; import it from there", DeprecationWarning,
+                      stacklevel=2)
+        return importlib.import_module(_MOVED[name])
     else:
         raise AttributeError(f"module 'acroplan' has no attribute {name!r}")
     globals()[name] = value
