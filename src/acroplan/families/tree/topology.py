@@ -13,7 +13,7 @@ from typing import Any
 
 from ...core.errors import InvalidInputError
 
-__all__ = ["LinkTree", "tree_of"]
+__all__ = ["LinkTree", "tree_of", "relations"]
 
 
 class LinkTree:
@@ -160,3 +160,25 @@ def tree_of(links, root_state: str) -> tuple[int, tuple[int, ...]]:
             seen.append(j)
             j = parents[j]
     return roots[0], tuple(parents)
+
+
+def relations(parents: tuple[int, ...]):
+    """The tree of a tuple of parent indices (``-1`` for the root), per link: its children, its
+    ancestors (itself first), its path (the non-root links from the root down to it) and its
+    subtree (itself first).
+
+    Returns
+    -------
+    (children, ancestors, path, subtree) : tuple of lists of tuples
+    """
+    n = len(parents)
+    children = [tuple(k for k in range(n) if parents[k] == i) for i in range(n)]
+    ancestors = []
+    for i in range(n):
+        a = [i]
+        while parents[a[-1]] != -1:
+            a.append(parents[a[-1]])
+        ancestors.append(tuple(a))
+    path = [tuple(reversed([k for k in ancestors[i] if parents[k] != -1])) for i in range(n)]
+    subtree = [tuple(k for k in range(n) if i in ancestors[k]) for i in range(n)]
+    return children, ancestors, path, subtree
