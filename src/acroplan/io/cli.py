@@ -1217,7 +1217,7 @@ def _load(problem, example, overrides: dict | None = None):
         raise _override_error(e, overrides) from None
 
 
-from .store import map_cmd, sweep_cmd  # noqa: E402  (the sweep commands live with their store)
+from .sweeps.commands import map_cmd, sweep_cmd  # noqa: E402  (the sweep commands live with their store)
 
 main.add_command(sweep_cmd)
 main.add_command(map_cmd)

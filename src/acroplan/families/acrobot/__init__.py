@@ -1,60 +1,26 @@
 """The free-flying two-link acrobot (the dissertation's body).
 
 * :mod:`~.model`: :class:`Acrobot`, :class:`PhysicalParameters`;
-* :mod:`~.reach`: exact reachable sets with joint and rate limits;
+* :mod:`~.reach`: exact reachable sets with joint and rate limits; :mod:`~.interval`: the
+  reachable interval of theta(T) (:func:`reachable_interval`);
 * :mod:`~.flat`: the flat output: guesses, the three-piece planner, the strategies ``"flat"`` and
   the acrobot's ``"auto"`` (registered on import);
 * :mod:`~.effort`: the joint torque (registered as the physical robot's torque model), the starts
   of the optimal strategies (registered on import);
+* :mod:`~.momentum`: the least angular momentum for a turn; :mod:`~.sweeping`: what the acrobot
+  offers sweeps (the derived quantities ``least_P0``, ``most_P0``, the ``plan.reach`` interval, the
+  factory ``"Acrobot.from_physical"``; registered on import);
 * :mod:`~.nilpotent`: Chapter 4's nilpotentization;
 * :mod:`~.verify`: exact checks with no ODE integrator;
 * :mod:`~.zoo`: random bodies and problems for tests and benchmarks;
 * :mod:`~.plots`, :mod:`~.drawing`: its figures and animation.
 """
 
-import math
-
 from . import effort  # noqa: F401  (registers the torque model and the optimal strategies' starts)
 from . import flat  # noqa: F401  (registers the "flat" strategy)
+from . import sweeping  # noqa: F401  (registers least_P0, most_P0, plan.reach and a factory for sweeps)
+from .interval import reachable_interval
 from .model import Acrobot, PhysicalParameters
 from .reach import Reach, reachable_set
 
 __all__ = ["Acrobot", "PhysicalParameters", "Reach", "reachable_set", "reachable_interval"]
-
-
-def reachable_interval(robot: Acrobot, *, theta0: float, phi0: float, phiT: float, T: float,
-                       u_max: float | None = None, phi_min: float | None = None, phi_max: float | None = None):
-    """The exact interval of :math:`\\theta(T)` reachable by the acrobot.
-
-    Without limits it is open (:meth:`Acrobot.reachable_interval`); with a rate bound ``u_max`` it
-    is closed, its ends attained by bang-dwell-bang joint motions; joint limits
-    ``phi_min``/``phi_max`` narrow it further (:func:`acroplan.families.acrobot.reach.reachable_set`).
-
-    Returns
-    -------
-    (low, high) : tuple of float
-
-    Raises
-    ------
-    InvalidInputError
-        For invalid limits, or when no joint motion satisfies them (the message says why).
-    """
-    from ...core.errors import InvalidInputError
-    from ...core.limits import Limits
-
-    if not isinstance(robot, Acrobot):
-        raise InvalidInputError("robot", f"must be an acroplan.Acrobot, got {type(robot).__name__}",
-                                "build one with acroplan.Acrobot.from_physical(...)")
-    for field, v in (("theta0", theta0), ("phi0", phi0), ("phiT", phiT), ("T", T)):
-        if isinstance(v, bool) or not isinstance(v, (int, float)) and not (hasattr(v, "dtype") and v.ndim == 0
-                                                                          and v.dtype.kind in "fi"):
-            raise InvalidInputError(field, f"must be a number, got {type(v).__name__}", "give a finite number")
-        if not math.isfinite(float(v)):
-            raise InvalidInputError(field, f"must be finite, got {v}", "give a finite number")
-    if not 0 < T <= 1e6:
-        raise InvalidInputError("T", f"must lie in (0, 1e6], got {T}", "give the segment's duration")
-    R = reachable_set(robot, theta0=theta0, phi0=phi0, phiT=phiT, T=T,
-                      limits=Limits(phi_min=phi_min, phi_max=phi_max, u_max=u_max))
-    if R.empty:
-        raise InvalidInputError("phi", R.reason, "relax the limits or move the waypoints")
-    return R.low, R.high

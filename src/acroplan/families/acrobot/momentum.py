@@ -33,7 +33,7 @@ import numpy as np
 
 from ...core.errors import InvalidInputError
 from ...core.limits import Limits
-from . import reachable_interval
+from .interval import reachable_interval
 from .model import Acrobot
 
 __all__ = ["MomentumBound", "least_momentum", "somersault_table", "SomersaultTable", "plot_somersault_table"]
