@@ -1,6 +1,6 @@
 """Creating a store and writing chunks into it.
 
-A store is created whole or not at all: built under ``.STORE.creating-PID`` beside it (its lock
+A store is created whole or not at all: built under ``.STORE.creating-PID-TOKEN`` beside it (its lock
 already held by the creating run), then renamed into place; a marker left by a killed run is
 removed by the next run once its process is gone. Two runs starting together on a new store: one
 rename wins; the other finds the store being written and says so. A chunk is written into its own
@@ -13,6 +13,8 @@ from __future__ import annotations
 import fcntl
 import math
 import os
+import re
+import secrets
 import shutil
 import warnings
 from pathlib import Path
@@ -31,14 +33,16 @@ __all__ = ["open_or_create", "Store", "clean_stale", "COORD_CHUNK"]
 
 #: Values per chunk of a grid's coordinate arrays (written slice by slice).
 COORD_CHUNK = 1 << 20
+_MARKER = re.compile(r"^\.creating-(\d+)(?:-[0-9a-f]+)?$")
 
 
 def clean_stale(path: Path) -> list[Path]:
-    """Remove the ``.STORE.creating-PID`` folders beside ``path`` whose process is gone; returns them."""
+    """Remove the ``.STORE.creating-PID[-TOKEN]`` folders beside ``path`` whose process is gone;
+    returns them."""
     removed = []
     for marker in path.parent.glob(f".{path.name}.creating-*"):
-        pid = marker.name.rsplit("-", 1)[-1]
-        if pid.isdigit() and not pid_alive(int(pid)):
+        m = _MARKER.match(marker.name[len(path.name) + 1:])
+        if m and not pid_alive(int(m.group(1))):
             shutil.rmtree(marker, ignore_errors=True)
             removed.append(marker)
     return removed
@@ -104,7 +108,7 @@ def _lock(path: Path):
 def _create(path: Path, sw: Sweep):
     """Create the store whole, its lock held: ``(lock, raced)``; ``lock`` is ``None`` and ``raced``
     true when another run created it first (two runs starting together)."""
-    tmp = path.with_name(f".{path.name}.creating-{os.getpid()}")
+    tmp = path.with_name(f".{path.name}.creating-{os.getpid()}-{secrets.token_hex(4)}")
     shutil.rmtree(tmp, ignore_errors=True)
     try:
         with warnings.catch_warnings():
