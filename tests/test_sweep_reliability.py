@@ -346,9 +346,9 @@ def body(kill: float = 0.0, boom: float = 0.0, **physical):
 
 
 def _factory_sweep(**grid):
-    return sweep(body, robot={"torso_mass": 40.0, "kill": 0.0, "boom": 0.0}, times=[0, 1], theta=[0, 2.0], phi=[-math.pi, -math.pi],
-                 conditions="free", grid=grid or {"torso_mass": [40.0, 45.0], "T": [1.0, 1.5]}, plan=False,
-                 derived=["least_P0"], chunk_size=2)
+    return sweep(body, robot={"torso_mass": 40.0, "kill": 0.0, "boom": 0.0}, times=[0, 1], theta=[0, 2.0],
+                 phi=[-math.pi, -math.pi], conditions="free", grid=grid or {"torso_mass": [40.0, 45.0], "T": [1.0, 1.5]},
+                 plan=False, derived=["least_P0"], chunk_size=2)
 
 
 def test_a_store_never_imports_the_code_it_names(tmp_path):
@@ -500,13 +500,14 @@ def test_two_runs_starting_together_on_a_new_store(tmp_path, monkeypatch):
 
 
 def test_a_point_that_kills_its_worker_is_marked_and_workers_are_counted_once(tmp_path):
-    """Issue #25 (10): the summary counted replaced workers as extra workers ("on 2 worker(s)" for
-    one); a point that kills its worker is recorded as not converged, the others computed. One
-    worker computes its tasks in order, so which processes return results is fixed: the first (its
-    first chunk) and the one that computes the second chunk point by point after the killers."""
+    """Issue #25 (10): the summary counted replaced workers as extra workers (here "on 2 worker(s)"
+    for one); a point that kills its worker is recorded as not converged, the others computed. One
+    worker and one chunk in flight make the run's course fixed: chunk 0 is computed by the first
+    process, chunk 1 kills it and its replacement, chunk 2 is computed by a third process, chunk 3
+    kills it; the killing points are then computed alone, and marked."""
     sw = _factory_sweep(T=[1.0, 1.5], kill=[0.0, 0.5, 1.0])
     assert sw.n_chunks == 4
-    summary = st.run_sweep(sw, tmp_path / "w.zarr", workers=1)
+    summary = st.run_sweep(sw, tmp_path / "w.zarr", workers=1, window=1)
     assert summary.complete and summary.n_workers == 1 and len(summary.workers) == 2 and summary.replaced == 1
     assert any(" on 1 worker(s) (1 replaced)," in line for line in summary.lines()), summary.lines()
     ds = st.open_sweep(tmp_path / "w.zarr").load()

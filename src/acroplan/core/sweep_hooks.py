@@ -192,8 +192,8 @@ def resolve_factory(name: str, given: Mapping[str, Callable] | None = None) -> C
     fn: Any = given.get(name, FACTORIES.get(name))
     if fn is None:
         raise InvalidInputError("base.factory", f"names {name!r}, which is neither a registered factory "
-                                f"({sorted(FACTORIES) or 'none registered'}) nor one passed in; a store's definition is "
-                                "never imported", f"pass it explicitly: factories={{{name!r}: your_function}}")
+                                f"({sorted(FACTORIES) or 'none registered'}) nor one passed in; a store's definition "
+                                "is never imported", f"pass it explicitly: factories={{{name!r}: your_function}}")
     if not callable(fn):
         raise InvalidInputError("factories", f"{name!r} must map to a callable, got {type(fn).__name__}",
                                 "give the factory function")

@@ -22,7 +22,7 @@ from ..core.errors import InvalidInputError
 from .fields import check_value, field_kind
 from .vocabulary import short
 
-__all__ = ["MAX_POINTS", "MAX_CHUNKS", "MAX_CHUNK_SIZE", "DEFAULT_CHUNK", "Axis", "parse_axis", "axis_of",
+__all__ = ["MAX_POINTS", "MAX_CHUNKS", "MAX_CHUNK_SIZE", "MAX_LIST", "DEFAULT_CHUNK", "Axis", "parse_axis", "axis_of",
            "parse_sample_field", "sample_values", "check_points"]
 
 #: The most points a sweep may have. A store's every chunk is read back and checked against its
@@ -34,6 +34,9 @@ MAX_CHUNKS = 1_000_000
 #: The most points per chunk: a chunk's results (about 80 bytes a point) are held by the driver,
 #: twice the workers' number of them at once.
 MAX_CHUNK_SIZE = 100_000
+#: The most values a list may give (an axis or a sample's choices): a definition records a list in
+#: full (about 20 bytes a value); a longer axis is a range, ``{start, stop, num}``.
+MAX_LIST = 1_000_000
 #: Points per chunk when the definition does not say (docs/sweeps.md: chunk size advice).
 DEFAULT_CHUNK = 1000
 _RANGE = ({"start", "stop", "num"}, {"start", "stop", "num", "log"}, {"start", "stop", "step"})
@@ -49,8 +52,8 @@ def check_points(n: int, where: str, product: str = "") -> int:
     """``n``, or :class:`InvalidInputError` naming ``where`` and the number (``product``: how it is
     made, ``"1000 x 1000 = "``) when it exceeds :data:`MAX_POINTS`."""
     if n > MAX_POINTS:
-        raise InvalidInputError(where, f"gives {product}{n} points; a sweep has at most {MAX_POINTS} (every chunk of its "
-                                "store is read back and checked on each open)",
+        raise InvalidInputError(where, f"gives {product}{n} points; a sweep has at most {MAX_POINTS} (every chunk "
+                                "of its store is read back and checked on each open)",
                                 "split it into several sweeps, or sample it ([sweep.sample] n = ...)")
     return n
 
@@ -80,9 +83,13 @@ class Axis:
         """The values at indices ``idx`` (a numpy array of int)."""
         raise NotImplementedError
 
-    def slice(self, a: int, b: int) -> np.ndarray:
-        """The values ``a`` to ``b - 1``."""
-        return self.take(np.arange(a, b, dtype=np.int64))
+    def slice(self, a: int, b: int, step: int = 1 << 18) -> np.ndarray:
+        """The values ``a`` to ``b - 1``, generated ``step`` at a time into the result."""
+        out = np.empty(max(0, b - a), dtype=self.dtype)
+        for i in range(a, b, step):
+            j = min(b, i + step)
+            out[i - a:j - a] = self.take(np.arange(i, j, dtype=np.int64))
+        return out
 
 
 class ListAxis(Axis):
@@ -191,7 +198,9 @@ def _range(spec: Mapping, where: str) -> dict:
 def _values(spec, where: str) -> list:
     if isinstance(spec, (str, bytes)) or not hasattr(spec, "__len__"):
         raise InvalidInputError(where, f"must be a list of values, got {short(spec)}", "give for example [1, 2, 3]")
-    check_points(len(spec), where)
+    if len(spec) > MAX_LIST:
+        raise InvalidInputError(where, f"lists {len(spec)} values; a list has at most {MAX_LIST} (the definition "
+                                "records it in full)", "give a range: {start = ..., stop = ..., num = ...}")
     values = list(np.asarray(spec).tolist()) if isinstance(spec, np.ndarray) else list(spec)
     if not values:
         raise InvalidInputError(where, "has no values", "give at least one value")

@@ -27,7 +27,12 @@ from .layout import (ATTR_DEF, ATTR_FORMAT, ATTR_HASH, ATTR_VERSION, FIX_NEW, RE
                      read_json)
 from .record import Checksums, Record, chunk_digest
 
-__all__ = ["check_store", "verify_chunks", "Verification", "block_names", "describe_chunks", "acroplan_version"]
+#: The largest zarr.json read (a definition records each grid axis as given: a list of values given
+#: in full is the only part that grows, by about 20 bytes a value).
+MAX_METADATA = 256 * 2**20
+
+__all__ = ["MAX_METADATA", "check_store", "verify_chunks", "Verification", "block_names", "describe_chunks",
+           "acroplan_version"]
 
 
 def acroplan_version() -> str:
@@ -44,6 +49,9 @@ def _metadata(store: Path) -> dict:
     meta_path = store / "zarr.json"
     if not meta_path.exists():
         raise InvalidInputError(str(store), "is not an acroplan sweep store (no zarr.json: not a zarr store)", FIX_NEW)
+    if meta_path.stat().st_size > MAX_METADATA:
+        raise corrupt(store, f"its zarr.json has {meta_path.stat().st_size} bytes (a sweep's has at most "
+                      f"{MAX_METADATA})")
     try:
         meta = json.loads(meta_path.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as e:

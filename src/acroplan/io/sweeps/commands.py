@@ -37,13 +37,13 @@ def _sweep_command():
 
         \b
         The store is an xarray Dataset in zarr (read it with acroplan's open_sweep, which checks
-        every chunk against its checksum; xarray.open_zarr reads it unchecked): per point status, message code, effort, peak rate and torque, errors,
-        evaluations, wall time and the derived quantities, with the definition and the acroplan
-        version in its attributes. Killed at any moment, the same command resumes it: only the
-        chunks not written are computed. A progress bar (rate, time left) on a terminal; a summary
-        by status at the end. Exit codes: 0 complete, 2 invalid sweep or store refused.
-        Every chunk already in the store is checked against its checksum, and a damaged one is
-        computed again.
+        every chunk against its checksum; xarray.open_zarr reads it unchecked): per point status,
+        message code, effort, peak rate and torque, errors, evaluations, wall time and the derived
+        quantities, with the definition and the acroplan version in its attributes. Killed at any
+        moment, the same command resumes it: every chunk already in the store is checked against
+        its checksum, and only the chunks not written (or damaged) are computed. A progress bar
+        (rate, time left) on a terminal; a summary by status at the end. Exit codes: 0 complete, 2
+        invalid sweep, sweep too large, or store refused.
 
         \b
         Examples:

@@ -101,8 +101,8 @@ def executor_for(executor, workers: int | None, scheduler: str | None):
     if isinstance(executor, cf.Executor):
         n = int(workers or getattr(executor, "_max_workers", None) or os.cpu_count() or 1)
         return executor, False, n, "executor", None
-    raise InvalidInputError("executor", f"must be \"process\", \"thread\", \"serial\", a concurrent.futures.Executor or "
-                            f"a dask.distributed.Client, got {type(executor).__name__}",
+    raise InvalidInputError("executor", "must be \"process\", \"thread\", \"serial\", a concurrent.futures.Executor "
+                            f"or a dask.distributed.Client, got {type(executor).__name__}",
                             "leave it out for local processes")
 
 

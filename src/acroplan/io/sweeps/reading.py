@@ -13,24 +13,40 @@ from ...core.errors import InvalidInputError
 from .check import check_store, describe_chunks, verify_chunks
 from .layout import dim_names
 
-__all__ = ["open_sweep"]
+__all__ = ["open_sweep", "BLOCK_POINTS"]
 
 
-def _lazy(arr, chunk_grid: tuple, chunk_shape: tuple, good: np.ndarray, fill):
-    """A dask array of the zarr array ``arr``, block by block: a good chunk is read from the store,
-    any other is ``fill`` (its files are never opened)."""
+#: Points per block of the Dataset's dask arrays: a block spans several of the store's chunks (a
+#: run along the first dimension), so that the graph stays small for a large store.
+BLOCK_POINTS = 1 << 20
+
+
+def _lazy(arr, sw, good: np.ndarray, fill):
+    """A dask array of the zarr array ``arr`` (the sweep's shape and chunks): each block reads the
+    good chunks it spans from the store and fills the others with ``fill`` (their files are never
+    opened)."""
     import dask.array as da
 
-    shape = tuple(arr.shape)
-    chunks = tuple(tuple(min(c, n - i) for i in range(0, n, c)) for n, c in zip(shape, chunk_shape))
+    shape, cs, grid = tuple(arr.shape), sw.chunks, sw.chunk_grid
+    k = max(1, BLOCK_POINTS // math.prod(cs))  # store chunks per block along the first dimension
+    rows = k * cs[0]
+    chunks = (tuple(min(rows, shape[0] - i) for i in range(0, shape[0], rows)),) + \
+        tuple(tuple(min(c, n - i) for i in range(0, n, c)) for n, c in zip(shape[1:], cs[1:]))
     dtype = np.dtype(arr.dtype)
 
     def block(block_info=None):
         info = block_info[None]
-        region = tuple(slice(a, b) for a, b in info["array-location"])
-        if good[int(np.ravel_multi_index(info["chunk-location"], chunk_grid))]:
+        loc, region = info["chunk-location"], tuple(slice(a, b) for a, b in info["array-location"])
+        first, last = loc[0] * k, min(grid[0], loc[0] * k + k)
+        flags = good[[int(np.ravel_multi_index((i,) + tuple(loc[1:]), grid)) for i in range(first, last)]]
+        if flags.all():
             return np.asarray(arr[region])
-        return np.full(tuple(s.stop - s.start for s in region), fill, dtype=dtype)
+        out = np.full(tuple(s.stop - s.start for s in region), fill, dtype=dtype)
+        for i, ok in zip(range(first, last), flags):
+            if ok:
+                a, b = i * cs[0], min(shape[0], (i + 1) * cs[0])
+                out[a - region[0].start:b - region[0].start] = np.asarray(arr[(slice(a, b),) + region[1:]])
+        return out
 
     return da.map_blocks(block, chunks=chunks, dtype=dtype, meta=np.empty((0,) * len(shape), dtype=dtype))
 
@@ -44,7 +60,7 @@ def _variables(g, sw, good) -> dict:
         attrs = {k: v for k, v in dict(arr.attrs).items() if k != "coordinates"}
         if np.dtype(arr.dtype).kind == "f":
             attrs["_FillValue_note"] = "NaN where not computed or not applicable"
-        out[name] = (dims, _lazy(arr, sw.chunk_grid, sw.chunks, good, fill), attrs)
+        out[name] = (dims, _lazy(arr, sw, good, fill), attrs)
     return out
 
 
@@ -59,7 +75,7 @@ def _coordinates(g, sw, good) -> dict:
         else:
             arr = g[names[f]]
             fill = math.nan if np.dtype(arr.dtype).kind == "f" else arr.fill_value
-            out[names[f]] = (["point"], _lazy(arr, sw.chunk_grid, sw.chunks, good, fill), attrs)
+            out[names[f]] = (["point"], _lazy(arr, sw, good, fill), attrs)
     return out
 
 

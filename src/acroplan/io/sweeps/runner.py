@@ -183,7 +183,7 @@ def _compute(store, sweep_, ctx, kind, owned, n_workers, progress, window):
     """Verify the store's chunks, then compute the rest; ``(state, verification)``."""
     ver = verify_chunks(store.path, sweep_, store.record, FORMAT)
     store.reset(ver.good, ver.counts)
-    done_before = sum(sweep_.chunk_len(c) for c in np.flatnonzero(ver.good))
+    done_before = sum(ver.counts.values())  # the points of the good chunks
     update, close_bar = _progress_bar(progress, sweep_.size, done_before)
     state = _State(store, done_before, ver.codes, update)
     todo = Todo(ver.good.copy())

@@ -32,7 +32,7 @@ from .record import Checksums, Record, chunk_digest
 __all__ = ["open_or_create", "Store", "clean_stale", "COORD_CHUNK"]
 
 #: Values per chunk of a grid's coordinate arrays (written slice by slice).
-COORD_CHUNK = 1 << 20
+COORD_CHUNK = 1 << 18
 _MARKER = re.compile(r"^\.creating-(\d+)(?:-[0-9a-f]+)?$")
 
 
