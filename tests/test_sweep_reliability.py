@@ -572,3 +572,23 @@ def test_the_sweep_modules_name_no_family_and_do_one_job(path):
     assert text.count("\n") <= 800 and "sys.modules[" not in text.replace('sys.modules["acroplan"].__version__', "")
     long = [f.name for f in ast.walk(tree) if isinstance(f, ast.FunctionDef) and f.end_lineno - f.lineno >= 80]
     assert not long, long
+
+
+def test_family_fields_come_from_the_family_not_the_front_door():
+    """Issue #21: ``plan.reach``, ``robot.scale`` and the derived quantities reach the front door
+    through the family (its registered hooks and its system's methods): a system without them is
+    told so when the sweep is defined."""
+    sw = sweep(_base(u_max=12.0), grid={"reach": [0.0, 0.5, 1.0], "T": [1.0]}, chunk_size=3, plan=False,
+               derived=["least_P0"])
+    R = acroplan.reachable_interval(acroplan.Acrobot.from_physical(**BODY), theta0=0.0, phi0=-math.pi,
+                                    phiT=-math.pi, T=1.0, u_max=12.0)
+    assert [sw.problem(i)["theta"][-1] for i in range(3)] == [R[0], R[0] + 0.5 * (R[1] - R[0]), R[1]]
+    unicycle = dict(system=acroplan.Unicycle(), times=[0, 1], x=[0, 1], y=[0, 0], psi=[0, 0], conditions="free")
+    for kwargs, match in [(dict(grid={"reach": [0.5]}), "plan.reach: Unicycle registers no exact reachable interval"),
+                          (dict(grid={"scale": [1.1]}), "grid.scale: Unicycle does not say how its parameters scale"),
+                          (dict(grid={"T": [1.0]}, derived=["least_P0"]), "derived: least_P0 applies to Acrobot, "
+                                                                          "not to Unicycle")]:
+        with pytest.raises(InvalidInputError, match=match):
+            sweep(unicycle, **kwargs)
+    scaled = _derived(scale=[1.1]).problem(0)["system"]
+    assert scaled.physical.torso_mass == 40.0 * 1.1 ** 3 and scaled.physical.leg_length == 0.45 * 1.1

@@ -35,6 +35,33 @@ def _derived_names(derived) -> list[str]:
     return list(dict.fromkeys(derived))
 
 
+def _scalable(system, where: str) -> None:
+    """Refuse ``robot.scale`` for a system that does not say how it scales."""
+    try:
+        system.scaled(1.0)
+    except InvalidInputError as e:
+        raise InvalidInputError(where, e.problem, e.fix) from None
+
+
+def _applicable(derived: list, system) -> None:
+    """Refuse a derived quantity the base system's type is not one of (its family registered it for
+    its own bodies)."""
+    for name in derived:
+        types = DERIVED[name].applies_to
+        if types and not isinstance(system, types):
+            kinds = " or ".join(t.__name__ for t in types)
+            raise InvalidInputError("derived", f"{name} applies to {kinds}, not to {type(system).__name__}",
+                                    f"known: {sorted(DERIVED)}")
+
+
+def _check_base(base_def: dict, probe) -> None:
+    """The base problem must be one plan() accepts (its refusal named ``base.FIELD``)."""
+    try:
+        PlanRequest.build(probe, times=base_def["times"], **base_def["options"], **base_def["waypoints"])
+    except InvalidInputError as e:
+        raise InvalidInputError(f"base.{e.field}", e.problem, e.fix) from None
+
+
 def _chunk_size(size) -> int:
     size = DEFAULT_CHUNK if size is None else size
     if isinstance(size, bool) or not isinstance(size, (int, np.integer)) or not 1 <= size <= MAX_CHUNK_SIZE:
@@ -66,6 +93,8 @@ def _entries(src: Mapping, kind: str, base_def: dict, probe, has_factory: bool) 
         if full == "robot.scale" and has_factory:
             raise InvalidInputError(where, "applies to a body the sweep builds itself, not to a factory's",
                                     "give the factory a size parameter and sweep robot.NAME")
+        if full == "robot.scale":
+            _scalable(probe, where)
         if full == "plan.somersaults":
             first_angle(probe)
         if full == "plan.reach":
@@ -144,16 +173,14 @@ def sweep(base, *, grid: Mapping | None = None, sample: Mapping | None = None, d
         raise InvalidInputError("sweep", "give either grid= or sample=" if grid is None else
                                 "give grid= or sample=, not both", "for example grid={\"P0\": [1, 2, 3]}")
     derived = _derived_names(derived)
+    _applicable(derived, probe)
     if not isinstance(plan, bool):
         raise InvalidInputError("plan", f"must be True or False, got {short(plan)}", "give a boolean")
     if not plan and not derived:
         raise InvalidInputError("plan", "is False and no derived quantity is asked for: nothing to compute",
                                 "plan the points, or give derived=[\"least_P0\"]")
     size = _chunk_size(chunk_size)
-    try:  # the base problem must be one plan() accepts
-        PlanRequest.build(probe, times=base_def["times"], **base_def["options"], **base_def["waypoints"])
-    except InvalidInputError as e:
-        raise InvalidInputError(f"base.{e.field}", e.problem, e.fix) from None
+    _check_base(base_def, probe)
     kind = "grid" if grid is not None else "sample"
     if sample is not None and not isinstance(sample, Mapping):
         raise InvalidInputError("sample", f"must be a table, got {short(sample)}", "give {\"n\": 100, FIELD: [lo, hi]}")
