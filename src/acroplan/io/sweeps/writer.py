@@ -27,7 +27,7 @@ from ...sweeps.vocabulary import FORMAT, PointStatus, STATUS_CODES
 from .check import acroplan_version, block_names, check_store
 from .layout import (ATTR_DEF, ATTR_FORMAT, ATTR_HASH, ATTR_VERSION, LOCK, RECORD, FIX_NEW, dim_names, fsync_path,
                      pid_alive, write_atomic)
-from .record import Checksums, Record, chunk_digest
+from .record import Checksums, Record, chunk_digest, ranges_of
 
 __all__ = ["open_or_create", "Store", "clean_stale", "COORD_CHUNK"]
 
@@ -164,8 +164,6 @@ class Store:
 
     def reset(self, good: np.ndarray, counts: dict) -> None:
         """Make the record name exactly the ``good`` chunks, with ``counts`` (re-derived from them)."""
-        from .record import ranges_of
-
         self.record.done = ranges_of(good)
         self.record.counts = dict(counts)
         self.record.format = FORMAT
