@@ -8,7 +8,7 @@ plan_many gets exactly the same problems (``Sweep.problem(i)``, built before its
 
 Engines, each measured in a fresh process of its own, one at a time:
   plan_many  acroplan.plan_many(problems) with worker processes: from the call to the last result
-  local      acroplan.io.store.run_sweep(sweep, STORE): local worker processes (the default), from
+  local      acroplan.io.sweeps.run_sweep(sweep, STORE): local worker processes (the default), from
              the call to the summary: store creation, workers' start, every chunk written and
              flushed to disk, the completion record
   dask       the same through a dask.distributed LocalCluster (processes, one thread each) given as
@@ -47,7 +47,7 @@ SAMPLE = {"torso_mass": [5, 60], "leg_mass": [5, 60], "torso_length": [0.2, 0.6]
 
 
 def make_sweep(n: int, seed: int, chunk: int):
-    from acroplan.sweep import sweep
+    from acroplan.sweeps import sweep
 
     robot = acroplan.Acrobot.from_physical(torso_mass=40, leg_mass=20, torso_inertia=1.8, leg_inertia=1.2,
                                            torso_length=0.35, leg_length=0.45, angular_momentum=10)
@@ -93,7 +93,7 @@ class Memory:
 
 
 def run_one(engine: str, n: int, seed: int, chunk: int, workers: int) -> dict:
-    from acroplan.io.store import run_sweep
+    from acroplan.io.sweeps import run_sweep
 
     sw = make_sweep(n, seed, chunk)
     out = {"engine": engine, "n": n, "chunk": chunk, "workers": workers}

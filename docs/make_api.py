@@ -47,7 +47,9 @@ SECTIONS = [
                                             "register_torque_model"]),
     ("Least angular momentum", importlib.import_module("acroplan.families.acrobot.momentum"),
      ["least_momentum", "MomentumBound", "somersault_table", "SomersaultTable"]),
-    ("Sweeps", importlib.import_module("acroplan.sweep"), ["sweep", "Sweep", "least_momentum"]),
+    ("Sweeps", importlib.import_module("acroplan.sweeps"), ["sweep", "Sweep", "SweepPoint", "PointStatus",
+                                                          "register_factory", "register_derived", "from_definition"]),
+    ("Sweeps", importlib.import_module("acroplan.families.acrobot.sweeping"), ["least_momentum"]),
     ("Sweeps", acroplan, ["run_sweep", "open_sweep", "load_sweep", "draw_map", "SweepSummary"]),
     ("Errors", acroplan, ["InvalidInputError"]),
 ]

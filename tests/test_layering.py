@@ -19,7 +19,8 @@ from click.testing import CliRunner
 SRC = pathlib.Path(__file__).parents[1] / "src" / "acroplan"
 BASELINE = pathlib.Path(__file__).parent / "data" / "baseline"
 
-FRONT_DOORS = {"acroplan.planning", "acroplan.batch", "acroplan.simulation", "acroplan.sweep", "acroplan.zoo"}
+#: The front doors: modules, or packages (every module inside one is a front door).
+FRONT_DOORS = {"acroplan.planning", "acroplan.batch", "acroplan.simulation", "acroplan.sweeps", "acroplan.zoo"}
 
 
 def _module_name(path: pathlib.Path) -> str:
@@ -32,7 +33,7 @@ def _rank(module: str) -> int:
         return 0
     if module.startswith("acroplan.families"):
         return 1
-    if module in FRONT_DOORS:
+    if module in FRONT_DOORS or any(module.startswith(door + ".") for door in FRONT_DOORS):
         return 2
     if module.startswith("acroplan.io") or module == "acroplan.__main__":
         return 3

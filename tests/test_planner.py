@@ -108,7 +108,7 @@ def test_too_few_coefficients_for_the_conditions(pike_robot):
 
 
 def test_target_outside_the_reachable_interval_is_refused(pike_robot):
-    lo, hi = acroplan.reachable_interval(pike_robot, theta0=0.0, phi0=-PI, phiT=-2 * PI, T=2.0)
+    lo, hi = acroplan.reachable_set(pike_robot, theta0=0.0, phi0=-PI, phiT=-2 * PI, T=2.0).interval
     for theta_T in (hi + 0.01, lo - 0.01, hi):
         r = acroplan.plan(pike_robot, times=[0, 2], theta=[0.0, theta_T], phi=[-PI, -2 * PI])
         assert r.status == "infeasible" and r.segments == ()

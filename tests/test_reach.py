@@ -71,10 +71,10 @@ def test_no_admissible_motion_beats_the_extremals(pike_robot):
 
 def test_rate_bound_narrows_and_converges_to_the_open_interval(pike_robot):
     kw = dict(theta0=0.0, phi0=-PI, phiT=-2 * PI, T=2.0)
-    lo, hi = acroplan.reachable_interval(pike_robot, **kw)
+    lo, hi = acroplan.reachable_set(pike_robot, **kw).interval
     prev = None
     for U in (2.0, 5.0, 50.0, 5000.0):
-        a, b = acroplan.reachable_interval(pike_robot, **kw, u_max=U)
+        a, b = acroplan.reachable_set(pike_robot, **kw, u_max=U).interval
         assert lo < a < b < hi
         if prev:
             assert a <= prev[0] and b >= prev[1]
@@ -84,8 +84,8 @@ def test_rate_bound_narrows_and_converges_to_the_open_interval(pike_robot):
 
 def test_joint_limits_narrow_the_interval(pike_robot):
     kw = dict(theta0=0.0, phi0=-2.0, phiT=-2.5, T=1.5)
-    lo, hi = acroplan.reachable_interval(pike_robot, **kw)
-    a, b = acroplan.reachable_interval(pike_robot, **kw, phi_min=-3.0, phi_max=-1.5)
+    lo, hi = acroplan.reachable_set(pike_robot, **kw).interval
+    a, b = acroplan.reachable_set(pike_robot, **kw, phi_min=-3.0, phi_max=-1.5).interval
     # 1/h on [-3, -1.5]: largest at -1.5 (nearest the fold at 0), smallest at -3 (nearest straight)
     base = 0.0 - float(pike_robot.F(-2.5) - pike_robot.F(-2.0))
     assert a == pytest.approx(base + pike_robot.P0 * 1.5 / pike_robot.h(-3.0), rel=1e-13)

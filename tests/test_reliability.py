@@ -22,7 +22,7 @@ def test_reachable_set_with_a_huge_rate_bound_is_instant_and_small(pike_robot):
     """u_max = 1e12 listed every multiple of pi in [-u_max T/2, u_max T/2] (1e7: 51 s, 0.75 GB)."""
     from acroplan.families.acrobot import reach
 
-    free = acroplan.reachable_interval(pike_robot, theta0=0.0, phi0=-2.0, phiT=-0.5, T=1.5)
+    free = acroplan.reachable_set(pike_robot, theta0=0.0, phi0=-2.0, phiT=-0.5, T=1.5).interval
     every, sizes = reach._pi_multiples, []
 
     def counted(lo, hi):
@@ -34,7 +34,7 @@ def test_reachable_set_with_a_huge_rate_bound_is_instant_and_small(pike_robot):
     tracemalloc.start()
     try:
         for u_max in (1e6, 1e9, 1e12, 1e15):
-            lo, hi = acroplan.reachable_interval(pike_robot, theta0=0.0, phi0=-2.0, phiT=-0.5, T=1.5, u_max=u_max)
+            lo, hi = acroplan.reachable_set(pike_robot, theta0=0.0, phi0=-2.0, phiT=-0.5, T=1.5, u_max=u_max).interval
             # a rate bound this large gives (almost) the open interval, closed
             assert free[0] <= lo < hi <= free[1] and hi - lo > 0.999 * (free[1] - free[0])
         peak = tracemalloc.get_traced_memory()[1]
@@ -159,7 +159,7 @@ def test_holonomic_P0_zero_is_planned_directly():
 def test_absolute_times_are_planned():
     """times = [1.7e9, 1.7e9 + 1] crashed plan() with a TypeError in the checking integrator."""
     robot = acroplan.examples.robot("pike-dive")
-    lo, hi = acroplan.reachable_interval(robot, theta0=0.0, phi0=-PI, phiT=-PI / 2, T=1.0)
+    lo, hi = acroplan.reachable_set(robot, theta0=0.0, phi0=-PI, phiT=-PI / 2, T=1.0).interval
     res = acroplan.plan(robot, times=[1.7e9, 1.7e9 + 1], theta=[0, 0.5 * (lo + hi)], phi=[-PI, -PI / 2],
                         conditions="free")
     assert res.success and res.segments[0].verified_error < 1e-12
@@ -213,7 +213,7 @@ def test_long_plans_are_verified_relative_to_the_state_size(pike_robot):
     phi = np.where(np.arange(K + 1) % 2 == 0, -PI, -2 * PI)
     theta = [0.0]
     for k in range(K):
-        lo, hi = acroplan.reachable_interval(pike_robot, theta0=theta[-1], phi0=phi[k], phiT=phi[k + 1], T=0.5)
+        lo, hi = acroplan.reachable_set(pike_robot, theta0=theta[-1], phi0=phi[k], phiT=phi[k + 1], T=0.5).interval
         theta.append(lo + 0.5 * (hi - lo))
     res = acroplan.plan(pike_robot, times=t, theta=theta, phi=phi, conditions="free", verify=True)
     assert res.success, res.message
@@ -223,7 +223,7 @@ def test_long_plans_are_verified_relative_to_the_state_size(pike_robot):
 
 def test_flat_output_check_resolves_a_fast_joint(pike_robot):
     """phi from 0 to 1000 rad in 2 s: the fixed 32-panel rule raised a false alarm of 7.7e-4."""
-    lo, hi = acroplan.reachable_interval(pike_robot, theta0=0.0, phi0=0.0, phiT=1000.0, T=2.0)
+    lo, hi = acroplan.reachable_set(pike_robot, theta0=0.0, phi0=0.0, phiT=1000.0, T=2.0).interval
     res = acroplan.plan(pike_robot, times=[0, 2], theta=[0, 0.5 * (lo + hi)], phi=[0, 1000.0], conditions="free",
                         n_coefficients=14)
     assert res.success, res.message

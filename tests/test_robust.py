@@ -32,7 +32,7 @@ def test_pike_dive_within_joint_limits():
 
 
 def test_rate_limit_is_kept(physical_robot):
-    lo, hi = acroplan.reachable_interval(physical_robot, theta0=0.0, phi0=-2.0, phiT=-0.5, T=1.5, u_max=4.0)
+    lo, hi = acroplan.reachable_set(physical_robot, theta0=0.0, phi0=-2.0, phiT=-0.5, T=1.5, u_max=4.0).interval
     target = lo + 0.7 * (hi - lo)
     r = acroplan.plan(physical_robot, times=[0, 1.5], theta=[0.0, target], phi=[-2.0, -0.5], conditions="free",
                       u_max=4.0)
@@ -44,8 +44,8 @@ def test_rate_limit_is_kept(physical_robot):
 
 
 def test_limits_that_make_it_impossible_are_proven(physical_robot):
-    lo, hi = acroplan.reachable_interval(physical_robot, theta0=0.0, phi0=-2.0, phiT=-0.5, T=1.5, u_max=4.0)
-    free_lo, free_hi = acroplan.reachable_interval(physical_robot, theta0=0.0, phi0=-2.0, phiT=-0.5, T=1.5)
+    lo, hi = acroplan.reachable_set(physical_robot, theta0=0.0, phi0=-2.0, phiT=-0.5, T=1.5, u_max=4.0).interval
+    free_lo, free_hi = acroplan.reachable_set(physical_robot, theta0=0.0, phi0=-2.0, phiT=-0.5, T=1.5).interval
     target = 0.5 * (hi + free_hi)  # reachable without the rate limit, not with it
     assert hi < target < free_hi
     r = acroplan.plan(physical_robot, times=[0, 1.5], theta=[0.0, target], phi=[-2.0, -0.5], u_max=4.0)
@@ -70,7 +70,7 @@ def test_waypoint_outside_the_joint_limits_is_invalid(pike_robot):
 @pytest.mark.parametrize("w", [0.02, 0.3, 0.5, 0.9, 0.98])
 def test_flat_method_is_exact(pike_robot, w):
     kw = dict(theta0=0.3, phi0=-2.8, phiT=-1.1, T=1.7)
-    lo, hi = acroplan.reachable_interval(pike_robot, **kw)
+    lo, hi = acroplan.reachable_set(pike_robot, **kw).interval
     r = acroplan.plan(pike_robot, times=[0, 1.7], theta=[0.3, lo + w * (hi - lo)], phi=[-2.8, -1.1],
                       conditions="free", method="flat")
     assert r.success, r.message

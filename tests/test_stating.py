@@ -16,7 +16,7 @@ def test_a_mistyped_keyword_gets_a_suggestion(pike_robot):
 
 
 def test_degrees_give_the_radian_plan(pike_robot):
-    lo, hi = acroplan.reachable_interval(pike_robot, theta0=0.0, phi0=-PI, phiT=-PI / 2, T=1.0)
+    lo, hi = acroplan.reachable_set(pike_robot, theta0=0.0, phi0=-PI, phiT=-PI / 2, T=1.0).interval
     th = 0.5 * (lo + hi)
     rad = acroplan.plan(pike_robot, times=[0, 1], theta=[0, th], phi=[-PI, -PI / 2], conditions="free",
                         phi_min=-PI, phi_max=0.0, u_max=20.0)

@@ -1,4 +1,4 @@
-"""Sweeps (acroplan.sweep, acroplan.io.store): definitions, points, the derived least momentum, the
+"""Sweeps (acroplan.sweeps, acroplan.io.sweeps): definitions, points, the derived least momentum, the
 store (local processes and a real dask.distributed LocalCluster, bit for bit), kill -9 and resume,
 corrupt and foreign stores refused, maps."""
 
@@ -21,9 +21,11 @@ from click.testing import CliRunner
 import acroplan
 from acroplan.core import backend
 from acroplan.core.errors import InvalidInputError
-from acroplan.io import store as st
+from acroplan.families.acrobot.sweeping import least_momentum
+from acroplan.io import sweeps as st
+from acroplan.io.sweeps.writer import open_or_create
 from acroplan.planning import PlanRequest
-from acroplan.sweep import least_momentum, message_code, sweep
+from acroplan.sweeps import message_code, sweep
 
 import texts  # the shared problem texts (tests/texts.py)
 
@@ -57,8 +59,9 @@ def _base(**kw):
 
 
 def _small(chunk=7, **kw):
-    """80 points (P0 x T), a third of them infeasible (too little momentum for the turn)."""
-    return sweep(_base(**kw), grid={"P0": np.linspace(2, 20, 16), "T": [0.5, 0.75, 1.0, 1.5, 2.0]},
+    """80 points (P0 x T), a third of them infeasible (too little momentum for the turn); the sweep
+    of SWEEP_TOML (P0 as the range, recorded as such)."""
+    return sweep(_base(**kw), grid={"P0": {"start": 2, "stop": 20, "num": 16}, "T": [0.5, 0.75, 1.0, 1.5, 2.0]},
                  derived=["least_P0", "most_P0"], chunk_size=chunk)
 
 
@@ -187,7 +190,7 @@ def test_least_momentum_is_exact_against_a_brute_force_scan(limits, theta):
               phi_min=limits.get("phi_min"), phi_max=limits.get("phi_max"))
 
     def reachable(P0):
-        lo, hi = acroplan.reachable_interval(acroplan.Acrobot(robot.M1, robot.A1, robot.M2, robot.A2, P0), **kw)
+        lo, hi = acroplan.reachable_set(acroplan.Acrobot(robot.M1, robot.A1, robot.M2, robot.A2, P0), **kw).interval
         return lo <= theta[1] <= hi
 
     scan = np.linspace(0, 2 * p_most, 4001)
@@ -216,7 +219,8 @@ def test_least_momentum_says_why_when_there_is_none():
 def test_the_recorded_peak_torque_is_the_torque_model_of_the_plan():
     """peak_torque is the system's torque model (the same as PlanResult.torques) on 65 points per
     segment, and NaN for a system without one."""
-    from acroplan.sweep import TORQUE_SAMPLES, _metrics
+    from acroplan.sweeps.metrics import TORQUE_SAMPLES
+    from acroplan.sweeps.metrics import point_metrics as _metrics
 
     robot = _robot()
     res = acroplan.plan(robot, times=[0, 1.2], theta=[0, 2.5], phi=[-math.pi, -2.0], conditions="free")
@@ -339,7 +343,7 @@ def _toml(tmp_path, chunk=7, verify="true", n_p0=16):
     return path
 
 
-_DRIVER = "import sys; from acroplan.io.store import sweep_cmd; sweep_cmd.main(args=sys.argv[1:])"
+_DRIVER = "import sys; from acroplan.io.sweeps import sweep_cmd; sweep_cmd.main(args=sys.argv[1:])"
 
 
 def _record(store):
@@ -429,7 +433,7 @@ def test_kill_9_of_a_worker_loses_nothing(tmp_path, reference):
 def test_a_half_written_chunk_is_never_read_as_done(tmp_path, reference):
     sw = _small()
     out = tmp_path / "h.zarr"
-    store = st._open_or_create(out, sw)
+    store = open_or_create(out, sw)
     try:
         store.write(sw.compute(0))
         # a run killed while writing chunk 1: its data is there, the record does not name it
@@ -503,10 +507,10 @@ def test_foreign_and_corrupt_stores_are_refused_with_exit_2(tmp_path, reference)
 def test_one_run_at_a_time_writes_a_store(tmp_path):
     sw = _small()
     out = tmp_path / "l.zarr"
-    store = st._open_or_create(out, sw)
+    store = open_or_create(out, sw)
     try:
         with pytest.raises(InvalidInputError, match=r"is being written by another run \(pid \d+\)"):
-            st._open_or_create(out, sw)
+            open_or_create(out, sw)
     finally:
         store.close()
     st.run_sweep(sw, out, executor="serial")
@@ -516,7 +520,7 @@ def test_layering_with_the_sweep_as_a_front_door():
     spec = importlib.util.spec_from_file_location("layering", ROOT / "tests" / "test_layering.py")
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
-    mod.FRONT_DOORS = set(mod.FRONT_DOORS) | {"acroplan.sweep"}
+    mod.FRONT_DOORS = set(mod.FRONT_DOORS) | {"acroplan.sweeps"}
     mod.test_imports_point_one_way()
     mod.test_no_import_circles()
 
@@ -551,8 +555,8 @@ def test_maps_mark_infeasible_and_failed_points_apart(tmp_path, reference):
 def test_a_sweep_over_the_objective_records_what_plan_gives(tmp_path):
     """objective is a plan() keyword like any other: the energy-optimal points have the least
     integral of u^2, and every point equals plan() with that objective."""
-    from acroplan.io.store import open_sweep, run_sweep
-    from acroplan.sweep import _metrics
+    from acroplan.io.sweeps import open_sweep, run_sweep
+    from acroplan.sweeps.metrics import point_metrics as _metrics
 
     base = dict(system=_robot(), times=[0, 1], theta=[0, 2.0], phi=[-math.pi, -2.5], conditions="free")
     sw = sweep(base, grid={"objective": ["energy", "torque"], "T": [1.0, 1.2]}, chunk_size=2)

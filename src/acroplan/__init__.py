@@ -7,8 +7,8 @@ The package is layered, imports pointing one way (``docs/design.md``)::
                         strategies, verification, results; knows no body
     acroplan.families   acrobot (the dissertation's body), planar (bodies of any number of links),
                         small (unicycle, chained form)
-    acroplan.planning, .batch, .simulation, .sweep   the front doors: plan, plan_many, simulate, sweep
-    acroplan.io         problem files, examples, output folders, the command line
+    acroplan.planning, .batch, .simulation, .sweeps  the front doors: plan, plan_many, simulate, sweep
+    acroplan.io         problem files, examples, output folders, sweep stores, the command line
 
 The public API, grouped (names load on first use, so ``import acroplan.core`` loads the core alone):
 
@@ -31,8 +31,9 @@ Input bases
 Problems and results
     :func:`load_problem`, :class:`Problem`, :mod:`acroplan.examples`, :func:`load_result`.
 Sweeps
-    :func:`sweep` (``acroplan.sweep(...)``), :class:`Sweep`, :func:`run_sweep`, :func:`open_sweep`,
-    :func:`load_sweep`, :func:`draw_map`, :class:`SweepSummary`.
+    :func:`sweep` (``acroplan.sweep(...)``, a function: the package is :mod:`acroplan.sweeps`),
+    :class:`Sweep`, :class:`SweepPoint`, :func:`run_sweep`, :func:`open_sweep`, :func:`load_sweep`,
+    :func:`draw_map`, :class:`SweepSummary` (the store: :mod:`acroplan.io.sweeps`).
 Errors
     :class:`InvalidInputError`.
 """
@@ -60,10 +61,11 @@ _PUBLIC = {
     "plan": "acroplan.planning", "warm_up": "acroplan.planning",
     "plan_many": "acroplan.batch", "simulate": "acroplan.simulation",
     "Problem": "acroplan.io.problem", "load_problem": "acroplan.io.problem", "load_result": "acroplan.io.results",
-    "Sweep": "acroplan.sweep", "run_sweep": "acroplan.io.store", "open_sweep": "acroplan.io.store",
-    "load_sweep": "acroplan.io.store", "draw_map": "acroplan.io.store", "SweepSummary": "acroplan.io.store",
+    "sweep": "acroplan.sweeps", "Sweep": "acroplan.sweeps", "SweepPoint": "acroplan.sweeps",
+    "run_sweep": "acroplan.io.sweeps", "open_sweep": "acroplan.io.sweeps", "load_sweep": "acroplan.io.sweeps",
+    "draw_map": "acroplan.io.sweeps", "SweepSummary": "acroplan.io.sweeps",
 }
-_MODULES = {"examples": "acroplan.io.examples", "zoo": "acroplan.zoo", "sweep": "acroplan.sweep"}
+_MODULES = {"examples": "acroplan.io.examples", "zoo": "acroplan.zoo"}
 #: Modules that moved (issues #10, #21): still found under their old name for one release, with a
 #: DeprecationWarning naming the new place.
 _MOVED = {"nilpotent": "acroplan.families.acrobot.nilpotent", "reach": "acroplan.families.acrobot.reach",

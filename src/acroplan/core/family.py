@@ -43,9 +43,10 @@ missing hook means the family does not offer that job, and the layer asking says
    problem (``acroplan reach``), and ``reach_figure(problem, rows) -> Figure``.
 6. ``two_link(problem)`` (optional): the problem's body as the acrobot of the text, the offsets
    of its angles, its joint's name and its limits, for the exact answers of the two-link body
-   (``acroplan least-momentum``); ``reachable_set``, ``least_momentum`` and ``somersault_table``
-   (the acrobot's): the exact reachable set of a segment's root angle, the least angular momentum
-   of a turn, and its table over somersaults and flight times (what sweeps derive).
+   (``acroplan least-momentum``); ``least_momentum`` and ``somersault_table`` (the acrobot's): the
+   exact least angular momentum of a turn, and its table over somersaults and flight times. (What a
+   family offers sweeps, derived quantities and factories, it registers in
+   :mod:`acroplan.core.sweep_hooks`.)
 7. ``examples``: the bundled problems, ``{name: Example}``; ``commands``: extra command-line
    commands, ``{name: "module:function"}``.
 8. ``draw(folder, solution, gif, strobe, mp4, *, speed, fps, load) -> int`` (optional): write the
@@ -122,7 +123,6 @@ class Family:
     reach: Callable[[Any], list] | None = None
     reach_figure: Callable[[Any, list], Any] | None = None
     two_link: Callable[[Any], tuple] | None = None
-    reachable_set: Callable[..., Any] | None = None
     least_momentum: Callable[..., Any] | None = None
     somersault_table: Callable[..., Any] | None = None
     examples: Mapping[str, Example] = dataclasses.field(default_factory=dict)

@@ -420,6 +420,46 @@ class ControlAffineSystem(abc.ABC):
             return _TYPES[kind].from_dict(data)
         return cls(**dict(data.get("params", {})))
 
+    # ------------------------------------------------------------------ the body's parameters (sweeps)
+    def robot_parameters(self) -> dict[str, Any]:
+        """The body's parameters by the names a sweep's ``robot.NAME`` fields give them.
+
+        Default: the lumped parameters (:meth:`lumped`). A family whose bodies are given by other
+        quantities (the acrobot's masses, inertias and lengths) returns those.
+        """
+        return self.lumped()
+
+    def with_robot_parameters(self, **values) -> "ControlAffineSystem":
+        """A system like this one with the parameters ``values`` (names of
+        :meth:`robot_parameters`) changed.
+
+        Default: rebuilt through :meth:`to_dict` / :meth:`from_dict` with the lumped parameters
+        replaced.
+
+        Raises
+        ------
+        InvalidInputError
+            A value the body refuses, naming the parameter.
+        """
+        record = self.to_dict()
+        record["params"] = {**dict(record.get("params", {})), **values}
+        return type(self).from_dict(record)
+
+    def scaled(self, s: float) -> "ControlAffineSystem":
+        """This body ``s`` times its size at the same density: lengths x s, masses x s^3, inertias
+        x s^5 (a sweep's ``robot.scale``). Default: refused, for a system that does not say how its
+        parameters scale.
+
+        Raises
+        ------
+        InvalidInputError
+            Naming ``robot.scale``.
+        """
+        from .errors import InvalidInputError
+
+        raise InvalidInputError("robot.scale", f"{type(self).__name__} does not say how its parameters scale with "
+                                "its size", "sweep its parameters (robot.NAME) instead")
+
 
 def torque_model_of(system) -> tuple[Any, str | None]:
     """``(model, None)`` with the system's torque model (:meth:`ControlAffineSystem.torque_model`),

@@ -71,7 +71,6 @@ FAMILY = Family(
     reach=problem.reach_report,
     reach_figure=_reach_figure,
     two_link=problem.two_link,
-    reachable_set=problem.reachable_set,
     least_momentum=_least_momentum,
     somersault_table=_somersault_table,
     examples={

@@ -392,3 +392,31 @@ class Acrobot(ControlAffineSystem):
         if data.get("physical"):
             return cls.from_physical(**data["physical"])
         return cls(**data["params"])
+
+    # ------------------------------------------------------------------ the body's parameters (sweeps)
+    def robot_parameters(self) -> dict[str, float]:
+        """The physical body's masses, inertias, lengths and ``angular_momentum`` when it is known,
+        else the lumped ``M1, A1, M2, A2, P0``: what a sweep's ``robot.NAME`` fields set."""
+        return dataclasses.asdict(self.physical) if self.physical is not None else self.lumped()
+
+    def with_robot_parameters(self, **values) -> "Acrobot":
+        """This body with some of :meth:`robot_parameters` changed (rebuilt from the physical body
+        when there is one)."""
+        if self.physical is not None:
+            return type(self).from_physical(**{**dataclasses.asdict(self.physical), **values})
+        return type(self)(**{**self.lumped(), **values})
+
+    def scaled(self, s: float) -> "Acrobot":
+        """The body ``s`` times its size at the same density: lengths x s, masses x s^3, inertias x
+        s^5; a lumped-only body: ``M1, A1, M2, A2`` x s^5 (``P0`` is kept)."""
+        if not s > 0:
+            raise InvalidInputError("robot.scale", f"must be > 0, got {s}", "give a positive size factor")
+        target = self.robot_parameters()
+        for k in list(target):
+            if k.endswith("_mass"):
+                target[k] *= s ** 3
+            elif k.endswith("_inertia") or (self.physical is None and k in ("M1", "A1", "M2", "A2")):
+                target[k] *= s ** 5
+            elif k.endswith("_length"):
+                target[k] *= s
+        return type(self).from_physical(**target) if self.physical is not None else type(self)(**target)

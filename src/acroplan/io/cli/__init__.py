@@ -23,7 +23,7 @@ __all__ = ["main", "run", "json_text"]
 
 
 def _sweep_commands():
-    from ..store import map_cmd, sweep_cmd  # the sweep commands live with their store
+    from ..sweeps.commands import map_cmd, sweep_cmd  # the sweep commands live with their store
 
     main.add_command(sweep_cmd)
     main.add_command(map_cmd)
