@@ -116,112 +116,139 @@ def solve_segment(system: ControlAffineSystem, basis: InputBasis, x0, x1, T: flo
     -------
     SegmentSolve
     """
-    x0 = np.asarray(x0, dtype=float)
-    x1 = np.asarray(x1, dtype=float)
-    m, n = system.n_inputs, basis.n
-    N = m * n
-    B = np.zeros((0, N)) if B is None else np.atleast_2d(np.asarray(B, dtype=float))
-    d = np.zeros(0) if d is None else np.asarray(d, dtype=float)
-    free = B.shape[0] == 0  # no conditions: z is c itself (c_p = 0, Z = identity)
-    c_p = np.zeros(N) if free else np.linalg.lstsq(B, d, rcond=None)[0]
-    Z = None if free else _null_space(B, N)  # free: the identity, built only if needed below
-    n_z = N if free else Z.shape[1]
-    n_x = system.ndx  # endpoint equations: one per tangent direction of the state space
-    counter = _Counter()
-    scale = 1.0 + max(map(abs, x1.tolist()))
-    diff = system.diff
-
-    def evaluate(z):
-        counter.evaluations += 1
-        if free:
-            y, J = backend.endpoint(system, basis, x0, T, z)
-            return y, system.tangent_jacobian(y, J)
-        y, J = backend.endpoint(system, basis, x0, T, c_p + Z @ z)
-        return y, system.tangent_jacobian(y, J) @ Z
-
-    if B.shape[0] and np.linalg.norm(B @ c_p - d) > 1e-9 * (1.0 + np.linalg.norm(d)):
-        return SegmentSolve(success=False, message=f"the {B.shape[0]} input conditions cannot all be met by {n} "
-                            f"coefficient(s) per input; use more coefficients (at least {B.shape[0] + n_x})",
-                            coefficients=c_p.reshape(m, n), final_error=float("nan"))
-    if n_z < n_x:
-        return SegmentSolve(success=False, message=f"the input conditions leave {n_z} free coefficient(s) for "
-                            f"{n_x} endpoint equations; use more coefficients (at least {B.shape[0] + n_x})",
-                            coefficients=c_p.reshape(m, n), final_error=float("nan"))
-
-    # ---------------------------------------------------------------- polish a good initial input
+    p = _Setup.of(system, basis, x0, x1, T, B, d)
+    refused = p.refusal()
+    if refused is not None:
+        return refused
     if initial is None:
-        z_base = np.zeros(n_z)
+        z_base = np.zeros(p.n_z)
     else:
         z_base = np.asarray(initial, dtype=float).reshape(-1)
-        z_base = z_base.copy() if free else Z.T @ (z_base - c_p)
+        z_base = z_base.copy() if p.free else p.Z.T @ (z_base - p.c_p)
     first = None
     if initial is not None:
         # an initial input that (nearly) meets the target, as the flat-output guess does, needs
         # only Newton corrections: no path, no restarts
-        try:
-            y, A = evaluate(z_base)
-        except backend.IntegrationError:
-            y = None
-        if y is not None:
-            s0 = np.linalg.svd(A, compute_uv=False)
-            first = (y, A, s0)
-            if s0[-1] > 1e-8 * s0[0] and _norm(diff(y, x1)) <= 1e-6 * scale:
-                ok, z, y1, A1, _ = _correct(evaluate, diff, counter, z_base, y, A, x1, tol, max_evaluations, True)
-                if ok:
-                    err = _norm(diff(y1, x1))
-                    s1 = s0[-1] if A1 is A else float(np.linalg.svd(A1, compute_uv=False)[-1])
-                    history = ((0.0, 0.0, float(s0[-1]), y, y), (1.0, err, float(s1), x1.copy(), y1))
-                    return SegmentSolve(success=True, message=f"converged: endpoint error {err:.2e} after "
-                                        f"{counter.evaluations} evaluations",
-                                        coefficients=(z if free else c_p + Z @ z).reshape(m, n), final_error=err,
-                                        iterations=counter.iterations, evaluations=counter.evaluations,
-                                        sigma_min=min(float(s0[-1]), float(s1)), tau_reached=1.0, history=history)
-
-    # ---------------------------------------------------------------- non-singular starts
-    if Z is None:
-        Z = np.eye(N)
-    c_scale = 1.0 + float(np.linalg.norm(c_p)) + _norm(diff(x0, x1)) / max(T, 1e-12)
-
-    def start_points():
-        """The minimum-norm (or initial) start if non-singular, then the best conditioned of random
-        perturbations."""
-        rng = np.random.default_rng(20240601)  # fixed: the same problem gives the same answer
-        tried = []
-        for k in range(1 + 2 * starts):
-            z = z_base if k == 0 else z_base + 0.3 * c_scale * rng.standard_normal(Z.shape[1]) / np.sqrt(Z.shape[1])
-            if k == 0 and first is not None:
-                (y, A, s) = first
-            else:
-                try:
-                    y, A = evaluate(z)
-                except backend.IntegrationError:
-                    continue
-                s = np.linalg.svd(A, compute_uv=False)
-            ratio = s[-1] / (s[0] + 1e-300)
-            if k == 0 and ratio > 1e-8:
-                yield z, y, A, s[-1]
-            else:
-                tried.append((ratio, k, z, y, A, s[-1]))
-        for _, _, z, y, A, smin in sorted(tried, key=lambda item: (-item[0], item[1])):
-            yield z, y, A, smin
-
-    best = None
-    restarts = -1
-    for z_start, y_start, A_start, s_start in start_points():
+        first, polished = _polish(p, z_base, tol, max_evaluations)
+        if polished is not None:
+            return polished
+    if p.Z is None:
+        p.Z = np.eye(p.N)
+    best, restarts = None, -1
+    for z_start, y_start, A_start, s_start in _start_points(p, z_base, first, starts):
         restarts += 1
-        path = system.continuation_path(y_start, x1, x0, T)
-        out = _continue(evaluate, diff, counter, z_start, y_start, A_start, s_start, x1, path, tol, scale,
+        path = system.continuation_path(y_start, p.x1, p.x0, T)
+        out = _continue(p.evaluate, p.diff, p.counter, z_start, y_start, A_start, s_start, p.x1, path, tol, p.scale,
                         max_evaluations, min_step)
         if best is None or out["tau"] > best["tau"] or (out["success"] and not best["success"]):
             best = out
-        if out["success"] or counter.evaluations >= max_evaluations or restarts + 1 >= starts:
+        if out["success"] or p.counter.evaluations >= max_evaluations or restarts + 1 >= starts:
             break
+    return _outcome(p, best, restarts)
+
+
+class _Setup:
+    """One segment's problem in the reduced coefficients :math:`c = c_p + Z z` (the conditions
+    :math:`Bc = d` eliminated), its endpoint map in ``z`` and its evaluation count."""
+
+    @classmethod
+    def of(cls, system, basis, x0, x1, T, B, d):
+        self = cls()
+        self.system, self.basis, self.T = system, basis, T
+        self.x0, self.x1 = np.asarray(x0, dtype=float), np.asarray(x1, dtype=float)
+        self.m, self.n = system.n_inputs, basis.n
+        self.N = self.m * self.n
+        self.B = np.zeros((0, self.N)) if B is None else np.atleast_2d(np.asarray(B, dtype=float))
+        self.d = np.zeros(0) if d is None else np.asarray(d, dtype=float)
+        self.free = self.B.shape[0] == 0  # no conditions: z is c itself (c_p = 0, Z = identity)
+        self.c_p = np.zeros(self.N) if self.free else np.linalg.lstsq(self.B, self.d, rcond=None)[0]
+        self.Z = None if self.free else _null_space(self.B, self.N)  # free: the identity, built if needed
+        self.n_z = self.N if self.free else self.Z.shape[1]
+        self.n_x = system.ndx  # endpoint equations: one per tangent direction of the state space
+        self.counter = _Counter()
+        self.scale = 1.0 + max(map(abs, self.x1.tolist()))
+        self.diff = system.diff
+        return self
+
+    def evaluate(self, z):
+        self.counter.evaluations += 1
+        if self.free:
+            y, J = backend.endpoint(self.system, self.basis, self.x0, self.T, z)
+            return y, self.system.tangent_jacobian(y, J)
+        y, J = backend.endpoint(self.system, self.basis, self.x0, self.T, self.c_p + self.Z @ z)
+        return y, self.system.tangent_jacobian(y, J) @ self.Z
+
+    def coefficients(self, z):
+        return (z if self.free else self.c_p + self.Z @ z).reshape(self.m, self.n)
+
+    def refusal(self) -> SegmentSolve | None:
+        """A failed solve when the conditions cannot be met, or leave too few free coefficients."""
+        B, d, n, n_x, n_z = self.B, self.d, self.n, self.n_x, self.n_z
+        if B.shape[0] and np.linalg.norm(B @ self.c_p - d) > 1e-9 * (1.0 + np.linalg.norm(d)):
+            return SegmentSolve(success=False, message=f"the {B.shape[0]} input conditions cannot all be met by {n} "
+                                f"coefficient(s) per input; use more coefficients (at least {B.shape[0] + n_x})",
+                                coefficients=self.c_p.reshape(self.m, n), final_error=float("nan"))
+        if n_z < n_x:
+            return SegmentSolve(success=False, message=f"the input conditions leave {n_z} free coefficient(s) for "
+                                f"{n_x} endpoint equations; use more coefficients (at least {B.shape[0] + n_x})",
+                                coefficients=self.c_p.reshape(self.m, n), final_error=float("nan"))
+        return None
+
+
+def _polish(p: _Setup, z_base, tol, max_evaluations):
+    """Newton corrections from a good initial input: ``(first evaluation, the solve or None)``."""
+    try:
+        y, A = p.evaluate(z_base)
+    except backend.IntegrationError:
+        return None, None
+    s0 = np.linalg.svd(A, compute_uv=False)
+    first = (y, A, s0)
+    if not (s0[-1] > 1e-8 * s0[0] and _norm(p.diff(y, p.x1)) <= 1e-6 * p.scale):
+        return first, None
+    ok, z, y1, A1, _ = _correct(p.evaluate, p.diff, p.counter, z_base, y, A, p.x1, tol, max_evaluations, True)
+    if not ok:
+        return first, None
+    err = _norm(p.diff(y1, p.x1))
+    s1 = s0[-1] if A1 is A else float(np.linalg.svd(A1, compute_uv=False)[-1])
+    history = ((0.0, 0.0, float(s0[-1]), y, y), (1.0, err, float(s1), p.x1.copy(), y1))
+    return first, SegmentSolve(success=True, message=f"converged: endpoint error {err:.2e} after "
+                               f"{p.counter.evaluations} evaluations", coefficients=p.coefficients(z),
+                               final_error=err, iterations=p.counter.iterations, evaluations=p.counter.evaluations,
+                               sigma_min=min(float(s0[-1]), float(s1)), tau_reached=1.0, history=history)
+
+
+def _start_points(p: _Setup, z_base, first, starts):
+    """The minimum-norm (or initial) start if non-singular, then the best conditioned of random
+    perturbations."""
+    c_scale = 1.0 + float(np.linalg.norm(p.c_p)) + _norm(p.diff(p.x0, p.x1)) / max(p.T, 1e-12)
+    rng = np.random.default_rng(20240601)  # fixed: the same problem gives the same answer
+    tried = []
+    for k in range(1 + 2 * starts):
+        z = z_base if k == 0 else z_base + 0.3 * c_scale * rng.standard_normal(p.Z.shape[1]) / np.sqrt(p.Z.shape[1])
+        if k == 0 and first is not None:
+            (y, A, s) = first
+        else:
+            try:
+                y, A = p.evaluate(z)
+            except backend.IntegrationError:
+                continue
+            s = np.linalg.svd(A, compute_uv=False)
+        ratio = s[-1] / (s[0] + 1e-300)
+        if k == 0 and ratio > 1e-8:
+            yield z, y, A, s[-1]
+        else:
+            tried.append((ratio, k, z, y, A, s[-1]))
+    for _, _, z, y, A, smin in sorted(tried, key=lambda item: (-item[0], item[1])):
+        yield z, y, A, smin
+
+
+def _outcome(p: _Setup, best, restarts) -> SegmentSolve:
+    m, n, counter = p.m, p.n, p.counter
     if best is None:
         return SegmentSolve(success=False, message="the integrator failed at every starting input",
-                            coefficients=c_p.reshape(m, n), final_error=float("nan"), iterations=counter.iterations,
+                            coefficients=p.c_p.reshape(m, n), final_error=float("nan"), iterations=counter.iterations,
                             evaluations=counter.evaluations)
-
-    c = (c_p + Z @ best["z"]).reshape(m, n)
+    c = (p.c_p + p.Z @ best["z"]).reshape(m, n)
     sig = min((h[2] for h in best["history"]), default=0.0)
     if best["success"]:
         msg = f"converged: endpoint error {best['error']:.2e} after {counter.evaluations} evaluations"
