@@ -118,23 +118,7 @@ def plan_many(problems: Iterable, *, executor="process", workers: int | None = N
     InvalidInputError
         Before any planning, naming the first invalid problem (``problems[i]...``) or option.
     """
-    if not (isinstance(executor, cf.Executor) or executor in EXECUTORS):
-        raise InvalidInputError("executor", f"must be one of {list(EXECUTORS)} or a concurrent.futures.Executor, "
-                                f"got {executor!r}", "use \"process\" (default), \"thread\", \"serial\" or an executor")
-    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1):
-        raise InvalidInputError("workers", f"must be a whole number >= 1, got {workers!r}",
-                                "leave it out for one worker per core")
-    if chunksize is not None and (isinstance(chunksize, bool) or not isinstance(chunksize, (int, np.integer))
-                                  or chunksize < 1):
-        raise InvalidInputError("chunksize", f"must be a whole number >= 1, got {chunksize!r}", "give for example 16")
-    jobs = []
-    for i, p in enumerate(problems):
-        kw = {**options, **_as_kwargs(i, p)}
-        try:
-            PlanRequest.build(**{k: v for k, v in kw.items() if k != "progress"})
-        except InvalidInputError as e:
-            raise InvalidInputError(f"problems[{i}].{e.field}", e.problem, e.fix) from None
-        jobs.append(kw)
+    jobs = _jobs(problems, options, executor, workers, chunksize)
     n = len(jobs)
     workers = int(workers or os.cpu_count() or 1)
     results: list[PlanResult | None] = [None] * n
@@ -153,6 +137,37 @@ def plan_many(problems: Iterable, *, executor="process", workers: int | None = N
                 warm_up(system, basis=basis, sizes=(6, 10, 14) if size is None else (size,))
     size = int(chunksize or max(1, min(64, n // (4 * workers))))
     chunks = [list(range(i, min(n, i + size))) for i in range(0, n, size)]
+    _on_executor(jobs, chunks, results, executor, workers, progress)
+    return results  # type: ignore[return-value]
+
+
+def _jobs(problems, options, executor, workers, chunksize) -> list[dict]:
+    """The options checked and every problem validated (with its system), before any work."""
+    if not (isinstance(executor, cf.Executor) or executor in EXECUTORS):
+        raise InvalidInputError("executor", f"must be one of {list(EXECUTORS)} or a concurrent.futures.Executor, "
+                                f"got {executor!r}", "use \"process\" (default), \"thread\", \"serial\" or an executor")
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1):
+        raise InvalidInputError("workers", f"must be a whole number >= 1, got {workers!r}",
+                                "leave it out for one worker per core")
+    if chunksize is not None and (isinstance(chunksize, bool) or not isinstance(chunksize, (int, np.integer))
+                                  or chunksize < 1):
+        raise InvalidInputError("chunksize", f"must be a whole number >= 1, got {chunksize!r}", "give for example 16")
+    jobs = []
+    for i, p in enumerate(problems):
+        kw = {**options, **_as_kwargs(i, p)}
+        try:
+            PlanRequest.build(**{k: v for k, v in kw.items() if k != "progress"})
+        except InvalidInputError as e:
+            raise InvalidInputError(f"problems[{i}].{e.field}", e.problem, e.fix) from None
+        jobs.append(kw)
+    return jobs
+
+
+def _on_executor(jobs, chunks, results, executor, workers, progress) -> None:
+    """Plan the chunks on the executor into ``results``; a task that fails because its worker died
+    or exited is planned again one problem at a time (on a fresh pool when the pool broke), so that
+    only the culprit is marked."""
+    n = len(jobs)
     pool, owned = _executor(executor, workers)
     done = [0]
 
@@ -201,4 +216,3 @@ def plan_many(problems: Iterable, *, executor="process", workers: int | None = N
     finally:
         if owned:
             pool.shutdown(wait=True, cancel_futures=True)
-    return results  # type: ignore[return-value]
