@@ -146,8 +146,44 @@ def read_biomod_table(path, *, limits: bool = False) -> SpatialLinkTable:
     ImportError
         biorbd is not installed (``pip install acroplan[biomod]``).
     """
-    biorbd = require_biorbd()
     p = pathlib.Path(os.fspath(path))
+    model = _load(p)
+    segs = [model.segment(i) for i in range(model.nbSegment())]
+    names = [_s(s.name()) for s in segs]
+    world, root = _world_and_root(p, segs, names)
+    link_names: set = set()
+    joint_names: set = set()
+    # host[segment index] = (link index in `out`, R, p): the segment's frame in that link's frame
+    host: dict[int, tuple[int, np.ndarray, np.ndarray]] = {}
+    out: list[dict] = []
+    pieces: list[list] = []
+    for i, s in enumerate(segs):
+        if i in world:
+            continue
+        name = names[i]
+        m, c, J = _checked(name, s.characteristics().mass(), s.characteristics().CoM().to_array(),
+                           s.characteristics().inertia().to_array())
+        if i == root:
+            _check_root(name, s)
+            out.append({"name": identifier(name, link_names, "_link", RESERVED_NAMES), "parent": None})
+            pieces.append([])
+            host[i] = (0, np.eye(3), np.zeros(3))
+        else:
+            host[i] = _joint_links(s, name, names, host, out, pieces, link_names, joint_names, limits)
+        hl, R, pos = host[i]
+        if m > 0:
+            pieces[hl].append((m, pos + R @ c, R @ J @ R.T))
+    if sum(x[0] for ps in pieces for x in ps) <= 0:
+        raise InvalidInputError("biomod", f"{p.name} has no mass", "give at least one segment mass > 0")
+    links = _assembled(out, pieces)
+    if len(links) < 2:
+        raise InvalidInputError("biomod", f"{p.name} has no joint below its root", "give a segment with rotations")
+    return SpatialLinkTable(links)
+
+
+def _load(p: pathlib.Path):
+    """biorbd's model of the file ``p`` (the process's locale kept)."""
+    biorbd = require_biorbd()
     if not p.is_file():
         raise InvalidInputError("biomod", f"no such file: {str(p)!r}", "give the path of a .bioMod file")
     try:
@@ -155,13 +191,15 @@ def read_biomod_table(path, *, limits: bool = False) -> SpatialLinkTable:
             model = biorbd.Model(str(p))
     except Exception as e:  # biorbd raises RuntimeError on a bad file
         raise InvalidInputError("biomod", f"biorbd could not read {p.name}: {e}", "check the .bioMod file") from None
-    n = model.nbSegment()
-    if n < 1:
+    if model.nbSegment() < 1:
         raise InvalidInputError("biomod", f"{p.name} has no segment", "give a .bioMod with segments")
-    segs = [model.segment(i) for i in range(n)]
-    names = [_s(s.name()) for s in segs]
-    # segments fixed to the world (no degrees of freedom, no moving ancestor: bioptim's "Global"
-    # frames): massless ones are left out, and the segment with degrees of freedom below them is the root
+    return model
+
+
+def _world_and_root(p, segs, names) -> tuple[set[int], int]:
+    """The segments fixed to the world (no degrees of freedom, no moving ancestor: bioptim's
+    "Global" frames), which must be massless and are left out, and the one segment below them
+    that is the body's root."""
     world: set[int] = set()
     for i, s in enumerate(segs):
         pname = _s(s.parent())
@@ -180,74 +218,67 @@ def read_biomod_table(path, *, limits: bool = False) -> SpatialLinkTable:
     if len(roots) != 1:
         raise InvalidInputError("biomod", f"{p.name} has {len(roots)} segments that hang from the world "
                                 f"({[names[i] for i in roots]})", "a free-floating body has one root segment")
-    link_names: set = set()
-    joint_names: set = set()
-    # host[segment index] = (link index in `out`, R, p): the segment's frame in that link's frame
-    host: dict[int, tuple[int, np.ndarray, np.ndarray]] = {}
-    out: list[dict] = []
-    pieces: list[list] = []
-    for i, s in enumerate(segs):
-        if i in world:
-            continue
-        name = names[i]
-        field = f"bioMod segment {name!r}"
-        nt, nr = int(s.nbDofTrans()), int(s.nbDofRot())
-        quat = bool(s.isRotationAQuaternion())
-        m, c, J = _checked(name, s.characteristics().mass(), s.characteristics().CoM().to_array(),
-                           s.characteristics().inertia().to_array())
-        RT = np.asarray(s.localJCS().to_array(), dtype=float)
-        if i == roots[0]:
-            if not (quat or (nr == 3 and sorted(_s(s.seqR())) == ["x", "y", "z"])):
-                raise InvalidInputError(field, f"is the root but rotates about {nr} axis/axes "
-                                        f"({_s(s.seqR()) or 'none'}): it is not free to turn",
-                                        "give the root 'rotations xyz' (any order) for a body in free flight")
-            if nt not in (0, 3):
-                raise InvalidInputError(field, f"is the root but translates along {nt} axis/axes ({_s(s.seqT())})",
-                                        "give the root 'translations xyz' (free flight) or none")
-            out.append({"name": identifier(name, link_names, "_link", RESERVED_NAMES), "parent": None})
-            pieces.append([])
-            host[i] = (0, np.eye(3), np.zeros(3))
-        else:
-            pname = _s(s.parent())
-            if pname not in names or names.index(pname) not in host:
-                raise InvalidInputError(field, f"has parent {pname!r}, which is not defined before it",
-                                        "define every segment after its parent")
-            if nt:
-                raise InvalidInputError(field, f"translates ({_s(s.seqT())}): a spatial body has only revolute "
-                                        "joints below its root", "remove the segment's translations (or fix them "
-                                        "in its RT)")
-            if quat:
-                raise InvalidInputError(field, "has a quaternion (ball) joint below the root",
-                                        "give its rotations as Cardan axes, for example 'rotations xyz'")
-            hl, Rp, pp = host[names.index(pname)]
-            F = Rp @ RT[:3, :3]
-            at = pp + Rp @ RT[:3, 3]
-            cur = hl
-            seq = _s(s.seqR())
-            for k, axis in enumerate(seq):
-                is_last = k == len(seq) - 1
-                lname = name if is_last else f"{name}_rot{axis}"
-                jn = f"{name}_{_s(s.nameDof(k))}"  # biorbd's name of the coordinate: RightArm_RotY
-                spec = {"name": identifier(lname, link_names, "_link", RESERVED_NAMES), "parent": cur, "joint": at,
-                        "axis": F @ _unit(axis), "rotation": F,
-                        "joint_name": identifier(jn, joint_names, "_joint", RESERVED_NAMES)}
-                if limits:
-                    rq, rqd = s.QRanges()[k], s.QdotRanges()[k]
-                    lo, hi = float(rq.min()), float(rq.max())
-                    vlo, vhi = float(rqd.min()), float(rqd.max())
-                    if abs(vlo + vhi) > 1e-12 * max(1.0, abs(vhi)):
-                        raise InvalidInputError(field, f"has an asymmetric rate range [{vlo:g}, {vhi:g}] for {jn}",
-                                                "give a symmetric rangesQdot [-v, v] (or read with limits=False)")
-                    spec.update(lower=lo, upper=hi, velocity=vhi if vhi > 0 else None)
-                out.append(spec)
-                pieces.append([])
-                cur, F, at = len(out) - 1, np.eye(3), np.zeros(3)
-            host[i] = (cur, F, at) if not seq else (cur, np.eye(3), np.zeros(3))
-        hl, R, pos = host[i]
-        if m > 0:
-            pieces[hl].append((m, pos + R @ c, R @ J @ R.T))
-    if sum(x[0] for ps in pieces for x in ps) <= 0:
-        raise InvalidInputError("biomod", f"{p.name} has no mass", "give at least one segment mass > 0")
+    return world, roots[0]
+
+
+def _check_root(name: str, s) -> None:
+    field = f"bioMod segment {name!r}"
+    nt, nr = int(s.nbDofTrans()), int(s.nbDofRot())
+    if not (bool(s.isRotationAQuaternion()) or (nr == 3 and sorted(_s(s.seqR())) == ["x", "y", "z"])):
+        raise InvalidInputError(field, f"is the root but rotates about {nr} axis/axes "
+                                f"({_s(s.seqR()) or 'none'}): it is not free to turn",
+                                "give the root 'rotations xyz' (any order) for a body in free flight")
+    if nt not in (0, 3):
+        raise InvalidInputError(field, f"is the root but translates along {nt} axis/axes ({_s(s.seqT())})",
+                                "give the root 'translations xyz' (free flight) or none")
+
+
+def _joint_links(s, name, names, host, out, pieces, link_names, joint_names, limits):
+    """The links of a segment below the root, one per rotation (massless links before the segment's
+    own), appended to ``out``; returns the segment's host ``(link index, R, p)``."""
+    field = f"bioMod segment {name!r}"
+    pname = _s(s.parent())
+    if pname not in names or names.index(pname) not in host:
+        raise InvalidInputError(field, f"has parent {pname!r}, which is not defined before it",
+                                "define every segment after its parent")
+    if int(s.nbDofTrans()):
+        raise InvalidInputError(field, f"translates ({_s(s.seqT())}): a spatial body has only revolute "
+                                "joints below its root", "remove the segment's translations (or fix them in its RT)")
+    if bool(s.isRotationAQuaternion()):
+        raise InvalidInputError(field, "has a quaternion (ball) joint below the root",
+                                "give its rotations as Cardan axes, for example 'rotations xyz'")
+    RT = np.asarray(s.localJCS().to_array(), dtype=float)
+    hl, Rp, pp = host[names.index(pname)]
+    F = Rp @ RT[:3, :3]
+    at = pp + Rp @ RT[:3, 3]
+    cur = hl
+    seq = _s(s.seqR())
+    for k, axis in enumerate(seq):
+        lname = name if k == len(seq) - 1 else f"{name}_rot{axis}"
+        jn = f"{name}_{_s(s.nameDof(k))}"  # biorbd's name of the coordinate: RightArm_RotY
+        spec = {"name": identifier(lname, link_names, "_link", RESERVED_NAMES), "parent": cur, "joint": at,
+                "axis": F @ _unit(axis), "rotation": F,
+                "joint_name": identifier(jn, joint_names, "_joint", RESERVED_NAMES)}
+        if limits:
+            spec.update(_ranges(field, s, k, jn))
+        out.append(spec)
+        pieces.append([])
+        cur, F, at = len(out) - 1, np.eye(3), np.zeros(3)
+    return (cur, F, at) if not seq else (cur, np.eye(3), np.zeros(3))
+
+
+def _ranges(field: str, s, k: int, jn: str) -> dict:
+    rq, rqd = s.QRanges()[k], s.QdotRanges()[k]
+    lo, hi = float(rq.min()), float(rq.max())
+    vlo, vhi = float(rqd.min()), float(rqd.max())
+    if abs(vlo + vhi) > 1e-12 * max(1.0, abs(vhi)):
+        raise InvalidInputError(field, f"has an asymmetric rate range [{vlo:g}, {vhi:g}] for {jn}",
+                                "give a symmetric rangesQdot [-v, v] (or read with limits=False)")
+    return dict(lower=lo, upper=hi, velocity=vhi if vhi > 0 else None)
+
+
+def _assembled(out, pieces) -> list[SpatialLink]:
+    """The links: each the mass, centre of mass and inertia of the segments it carries."""
     links = []
     by_index = {}
     for k, spec in enumerate(out):
@@ -269,9 +300,7 @@ def read_biomod_table(path, *, limits: bool = False) -> SpatialLinkTable:
         links.append(SpatialLink(spec["name"], by_index[spec["parent"]], m, J, com=tuple(c), joint=tuple(spec["joint"]),
                                  axis=tuple(spec["axis"]), rotation=rotation, joint_name=spec["joint_name"],
                                  lower=spec.get("lower"), upper=spec.get("upper"), velocity=spec.get("velocity")))
-    if len(links) < 2:
-        raise InvalidInputError("biomod", f"{p.name} has no joint below its root", "give a segment with rotations")
-    return SpatialLinkTable(links)
+    return links
 
 
 def read_biomod(path, angular_momentum=(0.0, 0.0, 0.0), *, limits: bool = False):
