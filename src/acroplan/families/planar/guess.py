@@ -208,6 +208,30 @@ def shape_guesses(body, basis, x0, x1, T: float, ends: dict | None = None, limit
     dSH = [np.polynomial.polynomial.polyval(s, dqh.T) if dqh.size else np.zeros((m, s.size)) for s in (_SG, _SC)]
     wG, dwG, wC, dwC, _ = _weight(alpha, beta)
 
+    lo, hi, U = _joint_bounds(body, limits, m)
+    f0 = float(_turn(conn, T, SH[0], dSH[0], _WSG)) - target
+    cands, loop_c = _candidates(conn, qh, m, n, alpha, beta, f0, loops, everything)
+    out = []
+    if abs(f0) <= 1e-12 * (1 + abs(target)):
+        out.append(_make(basis, T, SH[0], dSH[0], np.zeros((m, _SG.size)), np.zeros((m, _SG.size)), 0.0, f0,
+                         "base", (), float("nan"), lo, hi, U, x0[1:]))
+    if not cands:
+        return out
+    ranked, Dc, lams = _coarse_brackets(conn, T, SH, dSH, cands, target, wC, dwC, lo, hi, U, m)
+    if not ranked and not everything and len(loop_c) < 32 * m * (m - 1) // 2 and n >= alpha + beta + 1:
+        # nothing brackets among the best placements: try every placement and orientation
+        return out + shape_guesses(body, basis, x0, x1, T, ends, limits, conn=conn, everything=True, keep=keep)
+    ranked.sort()
+    for _, _, k, i0 in ranked[:keep]:
+        guess = _solved(conn, basis, T, SH, dSH, cands[k], lams[i0], lams[i0 + 1], target, wG, dwG, lo, hi, U, x0, m)
+        if guess is not None:
+            out.append(guess)
+    out.sort(key=lambda gs: (not gs.compliant, gs.energy))
+    return out
+
+
+def _joint_bounds(body, limits, m):
+    """Per joint: its range (lo, hi) and rate limit U (infinite when none)."""
     lo = np.full(m, -math.inf)
     hi = np.full(m, math.inf)
     U = np.full(m, math.inf)
@@ -216,9 +240,12 @@ def shape_guesses(body, basis, x0, x1, T: float, ends: dict | None = None, limit
             lo[j], hi[j] = limits.bounds(name)
             b = limits.input_bound(f"u_{name}")
             U[j] = math.inf if b is None else b
+    return lo, hi, U
 
-    # candidates: (pair, phi, kappa, F)
-    f0 = float(_turn(conn, T, SH[0], dSH[0], _WSG)) - target
+
+def _candidates(conn, qh, m, n, alpha, beta, f0, loops, everything):
+    """The families to try, ``(pair, phi, kappa, F)``: bumps of each joint and the tuck (when the
+    basis holds them), then loops in each pair of joints, the strongest curvature first."""
     cands = []
     if n >= alpha + beta:
         cands += [((i,), 0.0, sgn, float("nan")) for i in range(m) for sgn in (1.0, -1.0)]
@@ -248,13 +275,13 @@ def shape_guesses(body, basis, x0, x1, T: float, ends: dict | None = None, limit
         if not everything:
             loop_c = loop_c[:loops]
         cands += [(c[1], c[2], c[3], c[4]) for c in loop_c]
-    out = []
-    if abs(f0) <= 1e-12 * (1 + abs(target)):
-        out.append(_make(basis, T, SH[0], dSH[0], np.zeros((m, _SG.size)), np.zeros((m, _SG.size)), 0.0, f0,
-                         "base", (), float("nan"), lo, hi, U, x0[1:]))
-    if not cands:
-        return out
-    # scan every candidate's amplitude at once on the coarse rule
+    return cands, loop_c
+
+
+def _coarse_brackets(conn, T, SH, dSH, cands, target, wC, dwC, lo, hi, U, m):
+    """Every candidate's amplitude scanned at once on the coarse rule: per candidate its first
+    bracket of the target and its motion there (interpolated; energy and limits on the coarse
+    nodes), so that only the best few are solved accurately. Returns (ranked, directions, amplitudes)."""
     Dc = np.array([_directions(m, c[0], c[1], c[2], wC, dwC, _SC) for c in cands])  # (K, 2, m, N)
     S = SH[1][None, :, None, :] + _LAMS[None, None, :, None] * Dc[:, 0, :, None, :]  # (K, m, L, N)
     dS = dSH[1][None, :, None, :] + _LAMS[None, None, :, None] * Dc[:, 1, :, None, :]
@@ -262,10 +289,8 @@ def shape_guesses(body, basis, x0, x1, T: float, ends: dict | None = None, limit
     fc0 = float(_turn(conn, T, SH[1], dSH[1], _WSC)) - target
     vals = np.concatenate([np.full((len(cands), 1), fc0), vals], axis=1)
     lams = np.concatenate([[0.0], _LAMS])
-    # the first bracket of each candidate, and its motion there (interpolated): energy and limits on
-    # the coarse nodes, so that only the best few are solved accurately
     ranked = []
-    for k, c in enumerate(cands):
+    for k in range(len(cands)):
         row = vals[k]
         idx = np.flatnonzero(np.sign(row[:-1]) * np.sign(row[1:]) <= 0)
         if not idx.size:
@@ -278,30 +303,27 @@ def shape_guesses(body, basis, x0, x1, T: float, ends: dict | None = None, limit
         ok = bool(np.all(Sx.min(axis=1) >= lo) and np.all(Sx.max(axis=1) <= hi)
                   and np.all(np.abs(dSx).max(axis=1) <= 0.99 * U * T))
         ranked.append((not ok, float(np.sum((dSx**2) @ _WSC)), k, i0))
-    if not ranked and not everything and len(loop_c) < 32 * m * (m - 1) // 2 and n >= alpha + beta + 1:
-        # nothing brackets among the best placements: try every placement and orientation
-        return out + shape_guesses(body, basis, x0, x1, T, ends, limits, conn=conn, everything=True, keep=keep)
-    ranked.sort()
-    for _, _, k, i0 in ranked[:keep]:
-        c = cands[k]
-        a, b = lams[i0], lams[i0 + 1]
-        D, dD = _directions(m, c[0], c[1], c[2], wG, dwG, _SG)
+    return ranked, Dc, lams
 
-        def g(lam, D=D, dD=dD):
-            return float(_turn(conn, T, SH[0] + lam * D, dSH[0] + lam * dD, _WSG)) - target
 
+def _solved(conn, basis, T, SH, dSH, c, a, b, target, wG, dwG, lo, hi, U, x0, m):
+    """The candidate ``c``'s amplitude that meets the target on the fine rule (bracketed in
+    ``[a, b]``), as a guess; ``None`` when the rules disagree even on a wider bracket."""
+    D, dD = _directions(m, c[0], c[1], c[2], wG, dwG, _SG)
+
+    def g(lam, D=D, dD=dD):
+        return float(_turn(conn, T, SH[0] + lam * D, dSH[0] + lam * dD, _WSG)) - target
+
+    ga, gb = g(a), g(b)
+    if ga * gb > 0:  # the rules disagree on this bracket (a large motion): look one step wider
+        a, b = max(0.0, a - (b - a)), min(LAMBDA_MAX, b + (b - a))
         ga, gb = g(a), g(b)
-        if ga * gb > 0:  # the rules disagree on this bracket (a large motion): look one step wider
-            a, b = max(0.0, a - (b - a)), min(LAMBDA_MAX, b + (b - a))
-            ga, gb = g(a), g(b)
-            if ga * gb > 0:
-                continue
-        lam = a if ga == 0 else b if gb == 0 else brentq(g, a, b, xtol=1e-15, rtol=1e-15, maxiter=100)
-        kind = "tuck" if c[2] == 0.0 else "bump" if len(c[0]) == 1 else "loop"
-        out.append(_make(basis, T, SH[0], dSH[0], D, dD, lam, g(lam), kind, () if kind == "tuck" else c[0], c[3],
-                         lo, hi, U, x0[1:]))
-    out.sort(key=lambda gs: (not gs.compliant, gs.energy))
-    return out
+        if ga * gb > 0:
+            return None
+    lam = a if ga == 0 else b if gb == 0 else brentq(g, a, b, xtol=1e-15, rtol=1e-15, maxiter=100)
+    kind = "tuck" if c[2] == 0.0 else "bump" if len(c[0]) == 1 else "loop"
+    return _make(basis, T, SH[0], dSH[0], D, dD, lam, g(lam), kind, () if kind == "tuck" else c[0], c[3],
+                 lo, hi, U, x0[1:])
 
 
 def _make(basis, T, SH, dSH, D, dD, lam, err, kind, joints, F, lo, hi, U, q0) -> ShapeGuess:
