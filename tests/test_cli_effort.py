@@ -19,6 +19,10 @@ from acroplan.io.results import load_result
 
 import texts  # the shared problem texts (tests/texts.py)
 
+# one worker runs this module, so that its module-scoped fixtures are built once (pytest-xdist's
+# loadgroup, pyproject.toml)
+pytestmark = pytest.mark.xdist_group("test_cli_effort")
+
 #: a physical acrobot (it gives torques), one segment: energy-optimal in well under a second
 BODY = texts.problem()
 

@@ -20,6 +20,10 @@ from acroplan.io import examples as bundled
 from acroplan.io.cli import main
 from acroplan.io.problem import load_problem, parse_problem
 
+# one worker runs this module, so that its module-scoped fixtures are built once (pytest-xdist's
+# loadgroup, pyproject.toml)
+pytestmark = pytest.mark.xdist_group("test_cli_human")
+
 pytest.importorskip("yeadon")
 
 

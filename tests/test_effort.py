@@ -32,6 +32,10 @@ from acroplan.families.acrobot.effort import (AcrobotTorque, effort_summary, joi
                                               torque_coefficients, torque_expression, torque_optimal, torques)
 from acroplan.zoo import random_segment
 
+# one worker runs this module, so that its module-scoped fixtures are built once (pytest-xdist's
+# loadgroup, pyproject.toml)
+pytestmark = pytest.mark.xdist_group("test_effort")
+
 
 # ----------------------------------------------------------------------------------------- helpers
 def kkt_of(message: str) -> float:

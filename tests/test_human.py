@@ -29,6 +29,10 @@ from acroplan.families.human import yeadon_body as yeadon_module
 from acroplan.families.human.examples import platform_dive
 from acroplan.families.human.yeadon_body import load_human, whole_body
 
+# one worker runs this module, so that its module-scoped fixtures are built once (pytest-xdist's
+# loadgroup, pyproject.toml)
+pytestmark = pytest.mark.xdist_group("test_human")
+
 yeadon = pytest.importorskip("yeadon")
 
 # (hip flexion, shoulder flexion) in rad: straight, pike, arms forward, piked with arms overhead,

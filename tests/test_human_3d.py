@@ -34,6 +34,10 @@ from acroplan.families.spatial import SpatialBody, SpatialLink, read_urdf, to_ur
 from acroplan.families.spatial import rotations as rot
 from acroplan.families.spatial.model import kinematic_locked_inertia
 
+# one worker runs this module, so that its module-scoped fixtures are built once (pytest-xdist's
+# loadgroup, pyproject.toml)
+pytestmark = pytest.mark.xdist_group("test_human_3d")
+
 yeadon = pytest.importorskip("yeadon")
 
 

@@ -11,6 +11,10 @@ from acroplan.families.acrobot import Acrobot
 from acroplan.families.acrobot.momentum import least_momentum, somersault_table
 from acroplan.core.errors import InvalidInputError
 
+# one worker runs this module, so that its module-scoped fixtures are built once (pytest-xdist's
+# loadgroup, pyproject.toml)
+pytestmark = pytest.mark.xdist_group("test_momentum")
+
 PIKE = acroplan.Limits(phi_min=-math.pi, phi_max=-0.4, u_max=12.0)
 
 

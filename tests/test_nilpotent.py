@@ -16,6 +16,10 @@ import acroplan
 from acroplan.core import lie
 from acroplan.families.acrobot import nilpotent as nil
 
+# one worker runs this module, so that its module-scoped fixtures are built once (pytest-xdist's
+# loadgroup, pyproject.toml)
+pytestmark = pytest.mark.xdist_group("test_nilpotent")
+
 PI = math.pi
 
 

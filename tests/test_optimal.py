@@ -30,6 +30,10 @@ from acroplan.core.system import ControlAffineSystem
 from acroplan.families.acrobot.effort import effort_summary, joint_torque, torques
 from acroplan.zoo import random_segment
 
+# one worker runs this module, so that its module-scoped fixtures are built once (pytest-xdist's
+# loadgroup, pyproject.toml)
+pytestmark = pytest.mark.xdist_group("test_optimal")
+
 
 def plan_energy(result) -> float:
     return sum(energy(s.basis, s.t1 - s.t0, s.basis_coefficients) for s in result.segments)

@@ -30,6 +30,10 @@ from acroplan.families.planar.pin import build_model
 from acroplan.families.planar.zoo import random_segment
 from acroplan.zoo import random_segment as acrobot_segment
 
+# one worker runs this module, so that its module-scoped fixtures are built once (pytest-xdist's
+# loadgroup, pyproject.toml)
+pytestmark = pytest.mark.xdist_group("test_planar_effort")
+
 pin = pytest.importorskip("pinocchio")
 
 NODES = np.linspace(0.0, 1.0, 41)

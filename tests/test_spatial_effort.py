@@ -31,6 +31,10 @@ from acroplan.families.spatial.effort import (SpatialTorque, _model, attitude_sa
                                               inverse_dynamics, register)
 from acroplan.families.spatial.zoo import box_inertia, random_segment
 
+# one worker runs this module, so that its module-scoped fixtures are built once (pytest-xdist's
+# loadgroup, pyproject.toml)
+pytestmark = pytest.mark.xdist_group("test_spatial_effort")
+
 pin = pytest.importorskip("pinocchio")
 
 NODES = np.linspace(0.0, 1.0, 41)
