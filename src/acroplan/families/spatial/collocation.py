@@ -1,0 +1,585 @@
+"""The endpoint map of a spatial body and its Jacobian, by Gauss collocation of the attitude alone.
+
+Why not the Taylor integrator
+-----------------------------
+On a segment (normalised time :math:`\\sigma \\in [0, 1]`, duration :math:`T`) the joint rates are
+the basis series :math:`u(\\sigma) = \\sum_i c_{\\cdot i} b_i(\\sigma)` and the shape is their exact
+integral, a polynomial of time:
+
+.. math::  s(\\sigma) = s_0 + T \\sum_i c_{\\cdot i} B_i(\\sigma) ,\\qquad B_i(\\sigma) = \\int_0^\\sigma b_i .
+
+So everything that is expensive in (2) of :mod:`~acroplan.families.spatial.model` (the rotations of
+the links, the locked inertia :math:`\\mathbb{I}(s)`, the coupling :math:`A(s)`, the solve) is a
+known function of time, and only the attitude :math:`q` needs integrating:
+
+.. math::  \\frac{dq}{d\\sigma} = \\tfrac12\\, q \\otimes (0, \\Omega) ,\\qquad
+           \\Omega(\\sigma, q) = \\omega(\\sigma) + W(\\sigma)\\, R(q)^\\top L ,\\qquad
+           \\omega = -T\\,\\mathbb{I}^{-1} A\\, u ,\\quad W = T\\,\\mathbb{I}^{-1} .        \\qquad (1)
+
+The compiled Taylor integrator (:mod:`acroplan.core.backend`) instead carries the whole field in
+Taylor arithmetic, where each product costs :math:`O(p^2)` at order :math:`p = 19`, over some
+50 steps for the bundled cat, plus 7 x 42 variational equations: 30-80 ms per evaluation. Here the
+momentum map is evaluated at points only (a compiled function, :func:`heyoka.cfunc`, of the
+shape and the rates: :math:`\\mathbb{I}^{-1}`, :math:`\\mathbb{I}^{-1}Au`, :math:`\\mathcal{A} =
+\\mathbb{I}^{-1}A` and the shape derivatives :math:`X_k = \\mathbb{I}^{-1}\\partial_k\\mathbb{I}`,
+:math:`y_k = \\mathbb{I}^{-1}\\partial_k A\\, u`), at some 100 points per segment
+(``benchmarks/spatial_endpoint.py`` measures both).
+
+The scheme
+----------
+:math:`[0, 1]` is cut into panels; on a panel :math:`[a, a + H]` the attitude is the Gauss
+collocation polynomial at the :data:`NODES` Gauss-Legendre nodes :math:`a + H\\gamma_i` (the
+implicit Runge-Kutta method of order :math:`2N`):
+
+.. math::  Y_i = y_0 + H \\sum_j \\alpha_{ij} F_j ,\\qquad y_1 = y_0 + H \\sum_j \\beta_j F_j ,\\qquad
+           F_j = \\tfrac12\\, Y_j \\otimes (0, \\Omega(\\sigma_j, Y_j)),
+
+solved by Newton's method (one step when :math:`L = 0`, where (1) is linear in :math:`q`: then every
+panel is solved at once from the identity and the panels are chained by quaternion products).
+Gauss methods keep the quadratic invariant :math:`|q|^2` exactly, so the attitude stays a unit
+quaternion to rounding.
+
+*Panels.* Bisection from two halves: a panel is kept when the last two Legendre coefficients of
+:math:`H\\omega` and :math:`H |L| W` on it (the interpolants at its nodes) are below
+:data:`TAIL_TOL`; after the solve, the same test on :math:`H F` (the attitude's own resolution).
+The endpoint error of Gauss collocation is of the order of the square of that tail (the
+quadrature is exact to degree :math:`2N - 1`): ``tests/test_spatial_endpoint.py`` checks it against
+a tight independent integration. The layout depends on the inputs alone, so the same call always
+gives the same numbers.
+
+The Jacobian
+------------
+It is the exact derivative of the discrete map (to rounding), by implicit differentiation of the
+collocation equations. With :math:`S = \\mathbb{1} - H (\\alpha \\otimes \\mathbb{1}_4)\\,
+\\mathrm{diag}_j(\\partial F_j / \\partial q)` at the solution and
+:math:`M = (\\beta^\\top \\otimes \\mathbb{1}_4)\\, \\mathrm{diag}_j(\\partial F_j/\\partial q)\\, S^{-1}`
+(one transposed solve with four right-hand sides), a panel maps perturbations as
+
+.. math::  \\delta y_1 = \\Phi\\, \\delta y_0 + H \\sum_j Z_j\\, \\tfrac12 \\Xi(Y_j)\\, \\delta\\Omega_j ,\\qquad
+           \\Phi = \\mathbb{1} + H \\sum_i M_i ,\\qquad Z_j = \\beta_j \\mathbb{1} + H \\sum_i M_i \\alpha_{ij} ,
+
+:math:`\\Xi(q) v = q \\otimes (0, v)`, and the coefficients enter through :math:`\\Omega` at fixed
+:math:`q`:
+
+.. math::  \\frac{\\partial \\Omega}{\\partial c_{li}} = -T \\mathcal{A}_l\\, b_i(\\sigma)
+           + \\big(-X_l \\Omega - T y_l\\big)\\, T B_i(\\sigma) .
+
+The joint rows are exact: :math:`\\partial s_l(1)/\\partial c_{li} = T B_i(1)`.
+"""
+
+from __future__ import annotations
+
+import copy
+import functools
+import threading
+
+import numpy as np
+
+from ...core.backend import IntegrationError
+
+__all__ = ["endpoint", "compile_map", "NODES", "TAIL_TOL", "MAX_PANELS"]
+
+#: Gauss-Legendre nodes per panel (the collocation method has order 2 NODES)
+NODES = 16
+#: the largest Legendre tail (rad) of a kept panel (module docstring)
+TAIL_TOL = 1e-8
+#: the most panels one segment may take (a wild input, as the Taylor integrator's step limit)
+MAX_PANELS = 2048
+#: the shortest panel (normalised time)
+MIN_PANEL = 1e-7
+#: the largest turn of the root by the shape's motion on one panel (rad), :math:`H \\max|\\omega|`
+MAX_TURN = 8.0
+#: Newton iterations per panel before it is split
+NEWTON_ITERATIONS = 12
+#: Newton stops after a step this small (the next would be about its square)
+NEWTON_TOL = 1e-8
+
+_SYM = ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))
+_FULL = np.array([[0, 1, 2], [1, 3, 4], [2, 4, 5]])
+
+
+# ---------------------------------------------------------------------- Gauss tables
+@functools.cache
+def _gauss(N: int):
+    """Nodes ``g`` on [0, 1], weights ``b``, the collocation matrix ``a`` (:math:`\\alpha_{ij} =
+    \\int_0^{g_i} \\ell_j`) and ``Vi`` (nodal values to Legendre coefficients on the panel)."""
+    x, w = np.polynomial.legendre.leggauss(N)
+    g, b = (x + 1.0) / 2.0, w / 2.0
+    V = np.polynomial.legendre.legvander(x, N - 1)
+    Vi = np.linalg.inv(V)
+    Q = np.polynomial.legendre.legint(np.eye(N), lbnd=-1.0, scl=0.5, axis=0)
+    a = (np.polynomial.legendre.legvander(x, N) @ Q) @ Vi
+    for t in (g, b, a, Vi):
+        t.setflags(write=False)
+    return g, b, a, Vi
+
+
+# ---------------------------------------------------------------------- the compiled momentum map
+_MAPS: dict = {}
+_LOCK = threading.Lock()
+_LOCAL = threading.local()
+
+
+def _build(body):
+    """The compiled function of a topology: inputs ``(s, u)``, parameters the lumped parameters;
+    outputs :math:`\\mathbb{I}^{-1}` (6 entries), :math:`\\mathbb{I}^{-1} A u` (3), :math:`\\mathcal{A}`
+    (3 m, column by column), then per joint :math:`k` the 9 entries of :math:`X_k` (row by row) and
+    the 3 of :math:`y_k`."""
+    import heyoka as hy
+
+    x, p = body.symbols()
+    I, A = body.symbolic_momentum_map()  # noqa: E741
+    m = len(A)
+    sv = list(hy.make_vars(*[f"s{j}" for j in range(m)])) if m > 1 else [hy.make_vars("s0")]
+    uv = list(hy.make_vars(*[f"u{j}" for j in range(m)])) if m > 1 else [hy.make_vars("u0")]
+    sub = {sym: v for sym, v in zip(x[4:], sv)}
+    sub.update({sym: hy.par[i] for i, sym in enumerate(p)})
+    Ie = [hy.from_sympy(I[i, j], sub) for i, j in _SYM]
+    Ae = [[hy.from_sympy(A[j][i], sub) for i in range(3)] for j in range(m)]
+    jac = hy.diff_tensors(Ie + [e for col in Ae for e in col], sv, diff_order=1).jacobian
+    a = [[Ie[_FULL[i, j]] for j in range(3)] for i in range(3)]
+    c00 = a[1][1] * a[2][2] - a[1][2] * a[1][2]
+    c01 = a[0][2] * a[1][2] - a[0][1] * a[2][2]
+    c02 = a[0][1] * a[1][2] - a[0][2] * a[1][1]
+    c11 = a[0][0] * a[2][2] - a[0][2] * a[0][2]
+    c12 = a[0][2] * a[0][1] - a[0][0] * a[1][2]
+    c22 = a[0][0] * a[1][1] - a[0][1] * a[0][1]
+    inv_det = 1.0 / (a[0][0] * c00 + a[0][1] * c01 + a[0][2] * c02)
+    Wl = [c00 * inv_det, c01 * inv_det, c02 * inv_det, c11 * inv_det, c12 * inv_det, c22 * inv_det]
+    W = [[Wl[_FULL[i, j]] for j in range(3)] for i in range(3)]
+
+    def mv(M, v):
+        return [M[i][0] * v[0] + M[i][1] * v[1] + M[i][2] * v[2] for i in range(3)]
+
+    out = list(Wl)
+    out += mv(W, [sum(Ae[j][i] * uv[j] for j in range(m)) for i in range(3)])
+    for j in range(m):
+        out += mv(W, Ae[j])
+    for k in range(m):
+        dI = [[jac[_FULL[i, j], k] for j in range(3)] for i in range(3)]
+        out += [sum(W[i][r] * dI[r][j] for r in range(3)) for i in range(3) for j in range(3)]
+        out += mv(W, [sum(jac[6 + 3 * j + i, k] * uv[j] for j in range(m)) for i in range(3)])
+    return hy.cfunc(out, sv + uv)
+
+
+def compile_map(body):
+    """The compiled momentum map of a body's topology (:func:`_build`), built once per process, and
+    this thread's own copy of it."""
+    parents = body.links.parents
+    fn = _MAPS.get(parents)
+    if fn is None:
+        with _LOCK:
+            fn = _MAPS.get(parents)
+            if fn is None:
+                fn = _MAPS[parents] = _build(body)
+    mine = getattr(_LOCAL, "maps", None)
+    if mine is None:
+        mine = _LOCAL.maps = {}
+    own = mine.get(parents)
+    if own is None:
+        own = mine[parents] = copy.copy(fn)
+    return own
+
+
+# ---------------------------------------------------------------------- quaternion algebra, vectorised
+def _tensors():
+    """Constant tensors: ``RIGHT[k]`` the matrix of :math:`q \\mapsto \\tfrac12 q \\otimes (0, e_k)`,
+    ``XI[a]`` the part of :math:`\\tfrac12 \\Xi(q)` linear in :math:`q_a`, ``LEFT[a]`` that of
+    :math:`p \\mapsto q \\otimes p`, and ``QUAD[i, l]`` the symmetric matrices with
+    :math:`(R(q)^\\top L)_i = \\sum_l L_l\\, q^\\top Q_{il}\\, q`."""
+    E = np.eye(4)
+
+    def qm(a, b):
+        return _qmul(a, b)
+
+    RIGHT = np.zeros((3, 4, 4))
+    XI = np.zeros((4, 4, 3))
+    LEFT = np.zeros((4, 4, 4))
+    for k in range(3):
+        v = np.zeros(4)
+        v[k + 1] = 1.0
+        for b in range(4):
+            RIGHT[k][:, b] = 0.5 * qm(E[b], v)
+            XI[b][:, k] = 0.5 * qm(E[b], v)
+    for a in range(4):
+        for b in range(4):
+            LEFT[a][:, b] = qm(E[a], E[b])
+    QUAD = np.zeros((3, 3, 4, 4))
+    for a in range(4):
+        for b in range(4):
+            qa, qb = E[a], E[b]
+            # R(q)^T L = vec(q^* (0, L) q), bilinear in (q, q): symmetrise
+            for l in range(3):  # noqa: E741
+                Lv = np.zeros(4)
+                Lv[l + 1] = 1.0
+                val = qm(qm(np.array([qa[0], -qa[1], -qa[2], -qa[3]]), Lv), qb)[1:]
+                QUAD[:, l, a, b] += 0.5 * val
+                QUAD[:, l, b, a] += 0.5 * val
+    for t in (RIGHT, XI, LEFT, QUAD):
+        t.setflags(write=False)
+    return RIGHT, XI, LEFT, QUAD
+
+
+def _qmul(a, b):
+    aw, ax, ay, az = a
+    bw, bx, by, bz = b
+    return np.array([aw * bw - ax * bx - ay * by - az * bz, aw * bx + ax * bw + ay * bz - az * by,
+                     aw * by - ax * bz + ay * bw + az * bx, aw * bz + ax * by - ay * bx + az * bw])
+
+
+_RIGHT, _XI, _LEFT, _QUAD = _tensors()
+
+
+def _right(w):
+    """The matrices of :math:`q \\mapsto \\tfrac12 q \\otimes (0, w)`, shape (..., 4, 4)."""
+    return np.einsum("...k,kab->...ab", w, _RIGHT)
+
+
+def _xi(q):
+    """:math:`\\tfrac12 \\Xi(q)`, :math:`\\Xi(q) v = q \\otimes (0, v)`, shape (..., 4, 3)."""
+    return np.einsum("...a,abc->...bc", q, _XI)
+
+
+def _left(q):
+    """The matrix of :math:`p \\mapsto q \\otimes p`, shape (..., 4, 4)."""
+    return np.einsum("...a,abc->...bc", q, _LEFT)
+
+
+def _quad(L):
+    """:math:`Q(L) = \\sum_l L_l Q_{il}`, shape (3, 4, 4): :math:`R(q)^\\top L = (q^\\top Q_i q)_i`
+    (the quadratic form of the model's fields, also off the unit sphere)."""
+    return np.einsum("l,ilab->iab", np.asarray(L, dtype=float), _QUAD)
+
+
+# ---------------------------------------------------------------------- the segment
+class _Segment:
+    """One segment's data: the body, the basis, the inputs; node data of panels on demand."""
+
+    def __init__(self, body, basis, x0, T, c):
+        self.m, self.n = body.n_inputs, basis.n
+        self.basis = basis
+        self.T = float(T)
+        self.c = np.asarray(c, dtype=float).reshape(self.m, self.n)
+        self.x0 = np.asarray(x0, dtype=float)
+        self.L = np.asarray(body.L, dtype=float)
+        self.drift = bool(np.any(self.L != 0.0))
+        self.Lnorm = float(np.linalg.norm(self.L))
+        self.Q = _quad(self.L)
+        self.params = np.asarray(body._param_tuple, dtype=float)[:, None]
+        self.fn = compile_map(body)
+        self.N = NODES
+        self.g, self.b, self.a, self.Vi = _gauss(NODES)
+
+    def data(self, starts, widths):
+        """Node data of panels ``[starts[k], starts[k] + widths[k]]``: a dict of arrays whose first
+        two axes are (panel, node)."""
+        P, N, m, T = len(starts), self.N, self.m, self.T
+        sig = (starts[:, None] + widths[:, None] * self.g[None, :]).ravel()
+        Bm = self.basis.matrix(sig)
+        Bi = self.basis.integral(sig)
+        u = self.c @ Bm.T
+        s = self.x0[4:, None] + T * (self.c @ Bi.T)
+        out = self.fn(np.concatenate([s, u]), pars=np.repeat(self.params, sig.size, axis=1))
+        if not np.isfinite(out).all():
+            raise IntegrationError("the locked inertia is singular or the input is not finite on this segment")
+        out = out.T  # (PN, outputs)
+        W = T * out[:, _FULL]  # (PN, 3, 3)
+        w = -T * out[:, 6:9]
+        cA = out[:, 9:9 + 3 * m].reshape(-1, m, 3).transpose(0, 2, 1)  # (PN, 3, m): column l is A_l
+        rest = out[:, 9 + 3 * m:].reshape(-1, m, 12)
+        X = rest[:, :, :9].reshape(-1, m, 3, 3)  # X_l
+        y = rest[:, :, 9:]  # (PN, m, 3)
+        shp = (P, N)
+        return dict(sig=sig.reshape(shp), Bm=Bm.reshape(shp + (-1,)), Bi=Bi.reshape(shp + (-1,)),
+                    W=W.reshape(shp + (3, 3)), w=w.reshape(shp + (3,)), cA=cA.reshape(shp + (3, m)),
+                    X=X.reshape(shp + (m, 3, 3)), y=y.reshape(shp + (m, 3)))
+
+    def tails(self, vals, widths):
+        """``H`` times the largest of the last two Legendre coefficients of nodal values ``vals``
+        (panel, node, channels...) on each panel."""
+        P, N = vals.shape[:2]
+        co = np.einsum("kn,pnc->pkc", self.Vi[N - 2:], vals.reshape(P, N, -1))
+        return widths * np.abs(co).max(axis=(1, 2))
+
+
+def _take(d, idx):
+    return {k: v[idx] for k, v in d.items()}
+
+
+def _cat(parts):
+    return {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}
+
+
+def _split(starts, widths, d, bad, seg, kept_count=0):
+    """Halve the panels ``bad`` (a boolean mask): starts, widths and node data of the new panels."""
+    h = widths[bad] / 2.0
+    if h.size and (h.min() < MIN_PANEL or kept_count + 2 * h.size > MAX_PANELS):
+        raise IntegrationError(f"the input is too large to integrate: more than {MAX_PANELS} panels on one "
+                               f"segment")
+    st = np.concatenate([starts[bad], starts[bad] + h])
+    wd = np.concatenate([h, h])
+    return st, wd
+
+
+def _layout(seg, starts=None, widths=None, kept=None):
+    """The panels (module docstring): starts, widths, node data, sorted by start. Bisection of
+    ``starts, widths`` (default: the two halves of the segment), keeping the panels ``kept``
+    (``(starts, widths, data)``) as they are."""
+    if starts is None:
+        starts, widths = np.array([0.0, 0.5]), np.array([0.5, 0.5])
+    kept = list(kept or [])
+    while starts.size:
+        d = seg.data(starts, widths)
+        vals = d["w"]
+        if seg.drift:
+            vals = np.concatenate([vals, seg.Lnorm * d["W"].reshape(vals.shape[:2] + (9,))], axis=2)
+        turn = widths * np.sqrt((d["w"] * d["w"]).sum(axis=2).max(axis=1))
+        ok = (seg.tails(vals, widths) <= TAIL_TOL) & (turn <= MAX_TURN)
+        if ok.any():
+            kept.append((starts[ok], widths[ok], _take(d, ok)))
+        if ok.all():
+            break
+        starts, widths = _split(starts, widths, d, ~ok, seg, sum(k[0].size for k in kept))
+    st = np.concatenate([k[0] for k in kept])
+    wd = np.concatenate([k[1] for k in kept])
+    d = _cat([k[2] for k in kept])
+    order = np.argsort(st, kind="stable")
+    return st[order], wd[order], _take(d, order)
+
+
+def _blocks(seg, widths, J):
+    """``S = 1 - H (alpha (x) 1) diag_j(J_j)`` of every panel, from blocks ``J`` (P, N, k, k)."""
+    P, N, k = J.shape[0], J.shape[1], J.shape[2]
+    S = (seg.a[None, :, None, :, None] * (-widths[:, None, None, None, None] * np.swapaxes(J, 1, 2)[:, None]))
+    S = S.reshape(P, N * k, N * k)
+    S[:, _diag(N * k), _diag(N * k)] += 1.0
+    return S
+
+
+@functools.cache
+def _diag(n):
+    return np.arange(n)
+
+
+def _skew(v):
+    """:math:`[v]_\\times`, shape (..., 3, 3)."""
+    return (v @ _E2).reshape(v.shape[:-1] + (3, 3))
+
+
+_EPS = np.zeros((3, 3, 3))
+for _i, _j, _k in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
+    _EPS[_k, _i, _j], _EPS[_k, _j, _i] = -1.0, 1.0  # [v]x[i, j] = -eps_ijk v_k
+_EPS.setflags(write=False)
+_E2 = _EPS.reshape(3, 9)
+
+
+def _rotate(v, theta):
+    """``v`` turned by the rotation vectors ``theta`` (N, 3) (Rodrigues), shape (N, 3)."""
+    t = np.sqrt((theta * theta).sum(axis=1))
+    small = t < 1e-8
+    ts = np.where(small, 1.0, t)
+    s1 = np.where(small, 1.0 - t * t / 6.0, np.sin(ts) / ts)
+    s2 = np.where(small, 0.5 - t * t / 24.0, (1.0 - np.cos(ts)) / (ts * ts))
+    K = _skew(theta)
+    tv = K @ v
+    return v + s1[:, None] * tv + s2[:, None] * (K @ tv[:, :, None])[:, :, 0]
+
+
+@functools.cache
+def _ak(N: int, k: int):
+    """:math:`\\alpha_{ij}` at the rows (i, a) and columns (j, b) of a stage system with ``k``
+    unknowns per node, as an (N, 1, N k) array."""
+    out = np.repeat(_gauss(N)[2], k, axis=1)[:, None, :]
+    out.setflags(write=False)
+    return out
+
+
+def _block1(seg, H, J):
+    """``S`` of one panel from blocks ``J`` (N, k, k) (:func:`_blocks`)."""
+    N, k = J.shape[0], J.shape[1]
+    S = (_ak(N, k) * ((-H) * np.swapaxes(J, 0, 1).reshape(k, N * k))).reshape(N * k, N * k)
+    S.flat[::N * k + 1] += 1.0
+    return S
+
+
+def _momentum_panel(seg, lam, H, d):
+    """Newton's method on one panel's collocation equations of :math:`\\lambda' = \\lambda \\times
+    \\Omega`, :math:`\\Omega = \\omega + W \\lambda`, from the guess :math:`\\Lambda_j =
+    \\exp(-[\\theta_j]_\\times)\\, \\lambda`, :math:`\\theta_j = H \\sum_i \\alpha_{ji}\\, \\Omega_i(\\lambda)` (the
+    start's momentum turned back by the body's turn to node :math:`j` at the frozen momentum). Returns
+    ``(lam1, Lam, J, S, tail)`` (``J`` the blocks :math:`\\partial(\\lambda \\times \\Omega)/\\partial
+    \\lambda` at the nodes), or ``None`` when Newton's method does not converge."""
+    W, w, a = d["W"], d["w"], seg.a
+    tol = NEWTON_TOL * seg.Lnorm
+
+    def field(Lam):
+        Om = w + (W @ Lam[:, :, None])[:, :, 0]
+        C = _skew(Lam)
+        return (C @ Om[:, :, None])[:, :, 0], C @ W - _skew(Om)
+
+    Lam = _rotate(lam, (-H) * (a @ (w + W @ lam)))
+    for _ in range(NEWTON_ITERATIONS):
+        F, J = field(Lam)
+        step = np.linalg.solve(_block1(seg, H, J), (Lam - lam - H * (a @ F)).ravel())
+        Lam = Lam - step.reshape(-1, 3)
+        if np.abs(step).max() <= tol:
+            break
+    else:
+        return None
+    F, J = field(Lam)
+    tail = H * np.abs(seg.Vi[-2:] @ F).max() / seg.Lnorm
+    if not (np.isfinite(tail) and np.isfinite(Lam).all()):
+        return None
+    return lam + H * (seg.b @ F), Lam, J, _block1(seg, H, J), tail
+
+
+def _momentum(seg, starts, widths, d):
+    """The body-frame momentum :math:`\\lambda = R(q)^\\top L` panel after panel
+    (:func:`_momentum_panel`), halving a panel whose Newton iteration fails or whose momentum is
+    not resolved. Returns the (possibly refined) ``starts, widths, d`` and ``Lam`` (P, N, 3),
+    ``J`` (P, N, 3, 3), ``S`` (P, 3N, 3N)."""
+    lam = np.einsum("a,iab,b->i", seg.x0[:4], seg.Q, seg.x0[:4])
+    queue = [(starts[k], widths[k], _take(d, k)) for k in range(widths.size)][::-1]
+    out = []
+    while queue:
+        a0, H, dk = queue.pop()
+        r = _momentum_panel(seg, lam, H, dk)
+        if r is None or r[4] > TAIL_TOL:
+            h = H / 2.0
+            if h < MIN_PANEL or len(out) + len(queue) + 2 > MAX_PANELS:
+                raise IntegrationError(f"the input is too large to integrate: more than {MAX_PANELS} panels on "
+                                       f"one segment")
+            dd = seg.data(np.array([a0, a0 + h]), np.array([h, h]))
+            queue += [(a0 + h, h, _take(dd, 1)), (a0, h, _take(dd, 0))]
+            continue
+        lam = r[0]
+        out.append((a0, H, dk) + r[1:4])
+    st = np.array([o[0] for o in out])
+    wd = np.array([o[1] for o in out])
+    dd = {k: np.stack([o[2][k] for o in out]) for k in out[0][2]}
+    return st, wd, dd, np.stack([o[3] for o in out]), np.stack([o[4] for o in out]), np.stack([o[5] for o in out])
+
+
+def _attitude(seg, widths, Om):
+    """The attitude on every panel at once, given :math:`\\Omega` at the nodes (P, N, 3): the linear
+    collocation equations of each panel solved from the identity, the panels chained by quaternion
+    products, and the panels' maps of perturbations (module docstring).
+
+    Returns
+    -------
+    q1 : (4,); Y : (P, N, 4) stage values; Phi : (P, 4, 4); Z : (P, N, 4, 4); tails : (P,) of
+    :math:`H q'`.
+    """
+    P, N = widths.size, seg.N
+    Fq = _right(Om)  # (P, N, 4, 4): F_j = Fq_j Y_j
+    S = _blocks(seg, widths, Fq)
+    rhs = np.zeros((P, 4 * N, 5))
+    rhs[:, 0::4, 0] = 1.0
+    rhs[:, :, 1:] = (seg.b[:, None, None] * np.swapaxes(Fq, -1, -2)).reshape(P, 4 * N, 4)
+    Yl = np.linalg.solve(S, rhs[:, :, :1])[..., 0].reshape(P, N, 4)
+    Xs = np.linalg.solve(np.swapaxes(S, -1, -2), rhs[:, :, 1:])  # M^T (module docstring)
+    Fl = np.einsum("pnab,pnb->pna", Fq, Yl)
+    Pk = widths[:, None] * np.einsum("n,pna->pa", seg.b, Fl)
+    Pk[:, 0] += 1.0
+    ys = np.empty((P + 1, 4))
+    ys[0] = seg.x0[:4]
+    for k in range(P):
+        ys[k + 1] = _qmul(ys[k], Pk[k])
+    Y = np.einsum("pab,pnb->pna", _left(ys[:-1]), Yl)
+    Mb = np.swapaxes(Xs.reshape(P, N, 4, 4), -1, -2)  # M_i, (P, N, 4, 4)
+    Phi = np.eye(4) + widths[:, None, None] * Mb.sum(axis=1)
+    Z = seg.b[None, :, None, None] * np.eye(4) + widths[:, None, None, None] * np.einsum("piab,ij->pjab", Mb, seg.a)
+    tails = seg.tails(np.einsum("pnab,pnb->pna", Fq, Y), widths)
+    return ys[-1], Y, Phi, Z, tails
+
+
+def _solve(seg):
+    """Layout and solution, splitting panels until the attitude is resolved too. Returns
+    ``(q1, widths, data, Omega, Y, Phi, Z, momentum)``; ``momentum`` is ``(Lam, J, S)`` or ``None``
+    at :math:`L = 0`."""
+    starts, widths, d = _layout(seg)
+    while True:
+        mom = None
+        if seg.drift:
+            starts, widths, d, *mom = _momentum(seg, starts, widths, d)
+            Om = d["w"] + (d["W"] @ mom[0][..., None])[..., 0]
+        else:
+            Om = d["w"]
+        q1, Y, Phi, Z, tq = _attitude(seg, widths, Om)
+        bad = tq > TAIL_TOL
+        if not bad.any():
+            return q1, widths, d, Om, Y, Phi, Z, mom
+        ok = ~bad
+        st, wd = _split(starts, widths, d, bad, seg, int(ok.sum()))
+        starts, widths, d = _layout(seg, st, wd, [(starts[ok], widths[ok], _take(d, ok))])
+
+
+def endpoint(body, basis, x0, T, c, *, jacobian: bool = True):
+    """The endpoint map of a spatial body on one segment and its Jacobian in the coefficients
+    (module docstring), as :func:`acroplan.core.backend.endpoint` returns them.
+
+    Parameters
+    ----------
+    body : SpatialBody
+    basis : InputBasis
+    x0 : array_like, shape (4 + m,)
+    T : float
+    c : array_like, shape (m, basis.n) or (m * basis.n,)
+    jacobian : bool
+        Compute the Jacobian (else ``None``).
+
+    Returns
+    -------
+    xT : numpy.ndarray, shape (4 + m,)
+    J : numpy.ndarray, shape (4 + m, m * basis.n), or None
+    """
+    seg = _Segment(body, basis, x0, T, c)
+    q1, widths, d, Om, Y, Phi, Z, mom = _solve(seg)
+    m, n, Tn = seg.m, seg.n, seg.T
+    B1 = basis.integral([1.0])[0]
+    xT = np.concatenate([q1, seg.x0[4:] + Tn * (seg.c @ B1)])
+    if not np.isfinite(xT).all():
+        raise IntegrationError("integration gave a non-finite state")
+    if not jacobian:
+        return xT, None
+    P, N = widths.size, seg.N
+    suf = np.empty((P, 4, 4))
+    acc = np.eye(4)
+    for k in range(P - 1, -1, -1):
+        suf[k] = acc
+        acc = acc @ Phi[k]
+    # g_j = dq(1)/dOmega_j = (Phi_K ... Phi_{k+1}) H Z_j Xi(Y_j) / 2, (P, N, 4, 3)
+    g = np.einsum("pab,pnbc,pncd->pnad", suf, widths[:, None, None, None] * Z, _xi(Y))
+    if mom is not None:
+        g = g + _momentum_adjoint(seg, widths, d, g, *mom)
+    dOm_du = -Tn * d["cA"]  # (P, N, 3, m)
+    dOm_ds = -np.einsum("pnlij,pnj->pnil", d["X"], Om) - Tn * np.swapaxes(d["y"], -1, -2)
+    Gu = np.einsum("pnad,pndl->pnal", g, dOm_du)
+    Gs = np.einsum("pnad,pndl->pnal", g, dOm_ds)
+    Jq = np.einsum("pnal,pni->ali", Gu, d["Bm"]) + Tn * np.einsum("pnal,pni->ali", Gs, d["Bi"])
+    J = np.zeros((4 + m, m * n))
+    J[:4] = Jq.reshape(4, m * n)
+    for l in range(m):  # noqa: E741
+        J[4 + l, l * n:(l + 1) * n] = Tn * B1
+    return xT, J
+
+
+def _momentum_adjoint(seg, widths, d, g, Lam, J, S):
+    """:math:`\\kappa_j`, what the momentum's dependence on :math:`\\Omega_j` adds to
+    :math:`\\partial q(1)/\\partial \\Omega_j` (module docstring), shape (P, N, 4, 3)."""
+    P, N = widths.size, seg.N
+    Gk = np.einsum("pnai,pnij->pnaj", g, d["W"])  # g_j W_j, (P, N, 4, 3)
+    rhs = np.concatenate([np.swapaxes(Gk, -1, -2).reshape(P, 3 * N, 4),
+                          ((widths[:, None] * seg.b[None, :])[:, :, None, None]
+                           * np.swapaxes(J, -1, -2)).reshape(P, 3 * N, 3)], axis=2)
+    R = np.linalg.solve(np.swapaxes(S, -1, -2), rhs).reshape(P, N, 3, 7)
+    R1, R2 = np.swapaxes(R[..., :4], -1, -2), np.swapaxes(R[..., 4:], -1, -2)  # (P, N, 4, 3), (P, N, 3, 3)
+    mu = np.zeros((P + 1, 4, 3))
+    for k in range(P - 1, 0, -1):
+        rho = R1[k] + np.einsum("ab,nbc->nac", mu[k + 1], R2[k])
+        mu[k] = mu[k + 1] + rho.sum(axis=0)
+    rho = R1 + np.einsum("pab,pnbc->pnac", mu[1:], R2)  # (P, N, 4, 3)
+    C = _skew(Lam)
+    kappa = widths[:, None, None, None] * (np.einsum("pnab,nj->pjab", rho, seg.a)
+                                           + seg.b[None, :, None, None] * mu[1:, None])
+    return np.einsum("pnab,pnbc->pnac", kappa, C)
