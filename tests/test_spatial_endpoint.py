@@ -9,7 +9,6 @@ equations, and its bookkeeping (panels, unit quaternion, determinism, threads, w
 import concurrent.futures
 import math
 
-import heyoka as hy
 import numpy as np
 import pytest
 
@@ -20,40 +19,9 @@ from acroplan.families.spatial import rotations as rot
 from acroplan.families.spatial.examples import falling_cat_turn
 from acroplan.families.spatial.zoo import random_segment
 
-_TIGHT = {}
-
-
 def tight_endpoint(body, basis, x0, T, c):
     """x(T) by heyoka's Taylor integrator of the model's fields (f + G u) in long double, tol 1e-19."""
-    key = (body.structure_key, basis.n)
-    ta = _TIGHT.get(key)
-    if ta is None:
-        xs, ps = body.symbols()
-        f, G = body.symbolic()
-        n_x, m, n_p = len(xs), G.shape[1], len(ps)
-        hx = hy.make_vars(*body.state_names)
-        sub = {s: v for s, v in zip(xs, hx)}
-        sub.update({s: hy.par[i] for i, s in enumerate(ps)})
-        coeffs = [[hy.par[n_p + 1 + j * basis.n + i] for i in range(basis.n)] for j in range(m)]
-        u = [basis.expression(hy.time, coeffs[j]) for j in range(m)]
-        rhs = []
-        for r in range(n_x):
-            e = hy.from_sympy(f[r], sub) if f[r] != 0 else 0.0 * hx[0]
-            for j in range(m):
-                if G[r, j] != 0:
-                    e = e + hy.from_sympy(G[r, j], sub) * u[j]
-            rhs.append(hy.par[n_p] * e)
-        ta = _TIGHT[key] = hy.taylor_adaptive(list(zip(hx, rhs)), np.zeros(n_x, dtype=np.longdouble),
-                                              tol=np.longdouble(1e-19), compact_mode=True, fp_type=np.longdouble,
-                                              pars=np.zeros(n_p + 1 + m * basis.n, dtype=np.longdouble))
-    n_p = len(body.param_names)
-    ta.time = np.longdouble(0.0)
-    ta.state[:] = np.asarray(x0, dtype=np.longdouble)
-    ta.pars[:n_p] = np.asarray(body._param_tuple, dtype=np.longdouble)
-    ta.pars[n_p] = T
-    ta.pars[n_p + 1:] = np.ravel(c)
-    assert ta.propagate_until(np.longdouble(1.0))[0] == hy.taylor_outcome.time_limit
-    return np.array(ta.state, dtype=float)
+    return backend.reference_endpoint(body, basis, x0, T, c)
 
 
 def state_error(y, ref):

@@ -45,7 +45,8 @@ from . import budget
 from .basis import InputBasis
 from .system import ControlAffineSystem
 
-__all__ = ["IntegrationError", "endpoint", "taylor_endpoint", "sample", "compile_for", "compiled_count"]
+__all__ = ["IntegrationError", "endpoint", "taylor_endpoint", "reference_endpoint", "sample", "compile_for",
+           "compiled_count"]
 
 #: Taylor integrator tolerance: machine precision for double.
 TOL = 1e-15
@@ -205,6 +206,57 @@ def taylor_endpoint(system: ControlAffineSystem, basis: InputBasis, x0, T: float
     families' own maps are checked against."""
     budget.check()
     return _taylor(system, basis, x0, T, c)
+
+
+_REFERENCE: dict[tuple, hy.taylor_adaptive] = {}
+
+
+def reference_endpoint(system: ControlAffineSystem, basis: InputBasis, x0, T: float, c, *,
+                       tol: float = 1e-19) -> np.ndarray:
+    """:math:`x(T)` by the Taylor integrator of the fields alone (no variational equations) in
+    extended precision (``long double``, tolerance ``tol``): a tight reference for checks and
+    benchmarks, some thousand times more exact than the double-precision maps. Compiled on first
+    use per (structure, basis family, size), in compact mode; not thread-safe (one integrator per
+    key).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,)
+    """
+    key = (system.structure_key, type(basis), basis.n, float(tol))
+    ta = _REFERENCE.get(key)
+    if ta is None:
+        x_sym, p_sym = system.symbols()
+        f, G = system.symbolic()
+        n_x, m, n_p = len(x_sym), G.shape[1], len(p_sym)
+        hx = hy.make_vars(*system.state_names)
+        if n_x == 1:
+            hx = [hx]
+        sub = {sym: var for sym, var in zip(x_sym, hx)}
+        sub.update({sym: hy.par[i] for i, sym in enumerate(p_sym)})
+        coeffs = [[hy.par[n_p + 1 + j * basis.n + i] for i in range(basis.n)] for j in range(m)]
+        u = [basis.expression(hy.time, coeffs[j]) for j in range(m)]
+        rhs = []
+        for r in range(n_x):
+            e = hy.from_sympy(f[r], sub) if f[r] != 0 else 0.0 * hx[0]
+            for j in range(m):
+                if G[r, j] != 0:
+                    e = e + hy.from_sympy(G[r, j], sub) * u[j]
+            rhs.append(hy.par[n_p] * e)
+        ld = np.longdouble
+        ta = hy.taylor_adaptive(list(zip(hx, rhs)), np.zeros(n_x, dtype=ld), tol=ld(tol), compact_mode=True,
+                                fp_type=ld, pars=np.zeros(n_p + 1 + m * basis.n, dtype=ld))
+        _REFERENCE[key] = ta
+    n_p = len(system.param_names)
+    ta.time = np.longdouble(0.0)
+    ta.state[:] = np.asarray(x0, dtype=np.longdouble)
+    ta.pars[:n_p] = np.asarray(system._param_tuple, dtype=np.longdouble)
+    ta.pars[n_p] = T
+    ta.pars[n_p + 1:] = np.ravel(np.asarray(c, dtype=float))
+    res = ta.propagate_until(np.longdouble(1.0), max_steps=MAX_STEPS)
+    if res[0] != _TIME_LIMIT:
+        raise IntegrationError(_why(res[0], float(ta.time)))
+    return np.array(ta.state, dtype=float)
 
 
 def _taylor(system, basis, x0, T, c):

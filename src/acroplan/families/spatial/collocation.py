@@ -74,6 +74,7 @@ import functools
 import threading
 
 import numpy as np
+from scipy.linalg import lapack
 
 from ...core.backend import IntegrationError
 
@@ -83,12 +84,16 @@ __all__ = ["endpoint", "compile_map", "NODES", "TAIL_TOL", "MAX_PANELS"]
 NODES = 16
 #: the largest Legendre tail (rad) of a kept panel (module docstring)
 TAIL_TOL = 1e-8
+#: the largest tail of the solution's own rates (:math:`H\\lambda'/|L|`, :math:`H q'`) after the solve: a
+#: safety net for the attitude's resolution (those rates' tails follow the data's within a factor
+#: of about two)
+SOLUTION_TAIL_TOL = 10 * TAIL_TOL
 #: the most panels one segment may take (a wild input, as the Taylor integrator's step limit)
 MAX_PANELS = 2048
 #: the shortest panel (normalised time)
 MIN_PANEL = 1e-7
 #: the largest turn of the root by the shape's motion on one panel (rad), :math:`H \\max|\\omega|`
-MAX_TURN = 8.0
+MAX_TURN = 3.0
 #: Newton iterations per panel before it is split
 NEWTON_ITERATIONS = 12
 #: Newton stops after a step this small (the next would be about its square)
@@ -232,17 +237,17 @@ _RIGHT, _XI, _LEFT, _QUAD = _tensors()
 
 def _right(w):
     """The matrices of :math:`q \\mapsto \\tfrac12 q \\otimes (0, w)`, shape (..., 4, 4)."""
-    return np.einsum("...k,kab->...ab", w, _RIGHT)
+    return (w @ _RIGHT.reshape(3, 16)).reshape(w.shape[:-1] + (4, 4))
 
 
 def _xi(q):
     """:math:`\\tfrac12 \\Xi(q)`, :math:`\\Xi(q) v = q \\otimes (0, v)`, shape (..., 4, 3)."""
-    return np.einsum("...a,abc->...bc", q, _XI)
+    return (q @ _XI.reshape(4, 12)).reshape(q.shape[:-1] + (4, 3))
 
 
 def _left(q):
     """The matrix of :math:`p \\mapsto q \\otimes p`, shape (..., 4, 4)."""
-    return np.einsum("...a,abc->...bc", q, _LEFT)
+    return (q @ _LEFT.reshape(4, 16)).reshape(q.shape[:-1] + (4, 4))
 
 
 def _quad(L):
@@ -275,8 +280,7 @@ class _Segment:
         two axes are (panel, node)."""
         P, N, m, T = len(starts), self.N, self.m, self.T
         sig = (starts[:, None] + widths[:, None] * self.g[None, :]).ravel()
-        Bm = self.basis.matrix(sig)
-        Bi = self.basis.integral(sig)
+        Bm, Bi = _basis_at(self.basis, N, starts, widths)
         u = self.c @ Bm.T
         s = self.x0[4:, None] + T * (self.c @ Bi.T)
         out = self.fn(np.concatenate([s, u]), pars=np.repeat(self.params, sig.size, axis=1))
@@ -298,8 +302,32 @@ class _Segment:
         """``H`` times the largest of the last two Legendre coefficients of nodal values ``vals``
         (panel, node, channels...) on each panel."""
         P, N = vals.shape[:2]
-        co = np.einsum("kn,pnc->pkc", self.Vi[N - 2:], vals.reshape(P, N, -1))
+        co = self.Vi[N - 2:] @ vals.reshape(P, N, -1)
         return widths * np.abs(co).max(axis=(1, 2))
+
+
+@functools.lru_cache(maxsize=64)
+def _dyadic_tables(basis, N: int, depth: int):
+    """The basis and its integrals at the Gauss nodes of every panel of width :math:`2^{-d}`:
+    arrays (2^d, N, n), cached (the layout's panels are all dyadic)."""
+    K = 2 ** depth
+    g = _gauss(N)[0]
+    sig = ((np.arange(K)[:, None] + g[None, :]) / K).ravel()
+    out = (basis.matrix(sig).reshape(K, N, -1), basis.integral(sig).reshape(K, N, -1))
+    for t in out:
+        t.setflags(write=False)
+    return out
+
+
+def _basis_at(basis, N, starts, widths):
+    """``(B, Bi)`` of shape (P N, n): the basis and its integrals at the nodes of the panels."""
+    depth = np.rint(-np.log2(widths)).astype(int)
+    if depth.min() == depth.max() and depth[0] <= 10 and np.all(widths == 2.0 ** -depth):
+        k = np.rint(starts * 2.0 ** depth[0]).astype(int)
+        Bm, Bi = _dyadic_tables(basis, N, int(depth[0]))
+        return Bm[k].reshape(k.size * N, -1), Bi[k].reshape(k.size * N, -1)
+    sig = (starts[:, None] + widths[:, None] * _gauss(N)[0][None, :]).ravel()
+    return basis.matrix(sig), basis.integral(sig)
 
 
 def _take(d, idx):
@@ -407,7 +435,7 @@ def _momentum_panel(seg, lam, H, d):
     \\Omega`, :math:`\\Omega = \\omega + W \\lambda`, from the guess :math:`\\Lambda_j =
     \\exp(-[\\theta_j]_\\times)\\, \\lambda`, :math:`\\theta_j = H \\sum_i \\alpha_{ji}\\, \\Omega_i(\\lambda)` (the
     start's momentum turned back by the body's turn to node :math:`j` at the frozen momentum). Returns
-    ``(lam1, Lam, J, S, tail)`` (``J`` the blocks :math:`\\partial(\\lambda \\times \\Omega)/\\partial
+    ``(lam1, Lam, J, (lu, piv), tail)`` (``J`` the blocks :math:`\\partial(\\lambda \\times \\Omega)/\\partial
     \\lambda` at the nodes), or ``None`` when Newton's method does not converge."""
     W, w, a = d["W"], d["w"], seg.a
     tol = NEWTON_TOL * seg.Lnorm
@@ -420,7 +448,7 @@ def _momentum_panel(seg, lam, H, d):
     Lam = _rotate(lam, (-H) * (a @ (w + W @ lam)))
     for _ in range(NEWTON_ITERATIONS):
         F, J = field(Lam)
-        step = np.linalg.solve(_block1(seg, H, J), (Lam - lam - H * (a @ F)).ravel())
+        step = lapack.dgesv(_block1(seg, H, J), (Lam - lam - H * (a @ F)).ravel())[2]
         Lam = Lam - step.reshape(-1, 3)
         if np.abs(step).max() <= tol:
             break
@@ -430,21 +458,24 @@ def _momentum_panel(seg, lam, H, d):
     tail = H * np.abs(seg.Vi[-2:] @ F).max() / seg.Lnorm
     if not (np.isfinite(tail) and np.isfinite(Lam).all()):
         return None
-    return lam + H * (seg.b @ F), Lam, J, _block1(seg, H, J), tail
+    lu, piv, info = lapack.dgetrf(_block1(seg, H, J))
+    if info != 0:
+        return None
+    return lam + H * (seg.b @ F), Lam, J, (lu, piv), tail
 
 
 def _momentum(seg, starts, widths, d):
     """The body-frame momentum :math:`\\lambda = R(q)^\\top L` panel after panel
     (:func:`_momentum_panel`), halving a panel whose Newton iteration fails or whose momentum is
     not resolved. Returns the (possibly refined) ``starts, widths, d`` and ``Lam`` (P, N, 3),
-    ``J`` (P, N, 3, 3), ``S`` (P, 3N, 3N)."""
+    ``J`` (P, N, 3, 3) and the LU factors of each panel's ``S`` (3N, 3N)."""
     lam = np.einsum("a,iab,b->i", seg.x0[:4], seg.Q, seg.x0[:4])
     queue = [(starts[k], widths[k], _take(d, k)) for k in range(widths.size)][::-1]
     out = []
     while queue:
         a0, H, dk = queue.pop()
         r = _momentum_panel(seg, lam, H, dk)
-        if r is None or r[4] > TAIL_TOL:
+        if r is None or r[4] > SOLUTION_TAIL_TOL:
             h = H / 2.0
             if h < MIN_PANEL or len(out) + len(queue) + 2 > MAX_PANELS:
                 raise IntegrationError(f"the input is too large to integrate: more than {MAX_PANELS} panels on "
@@ -457,7 +488,7 @@ def _momentum(seg, starts, widths, d):
     st = np.array([o[0] for o in out])
     wd = np.array([o[1] for o in out])
     dd = {k: np.stack([o[2][k] for o in out]) for k in out[0][2]}
-    return st, wd, dd, np.stack([o[3] for o in out]), np.stack([o[4] for o in out]), np.stack([o[5] for o in out])
+    return st, wd, dd, np.stack([o[3] for o in out]), np.stack([o[4] for o in out]), [o[5] for o in out]
 
 
 def _attitude(seg, widths, Om):
@@ -476,20 +507,28 @@ def _attitude(seg, widths, Om):
     rhs = np.zeros((P, 4 * N, 5))
     rhs[:, 0::4, 0] = 1.0
     rhs[:, :, 1:] = (seg.b[:, None, None] * np.swapaxes(Fq, -1, -2)).reshape(P, 4 * N, 4)
-    Yl = np.linalg.solve(S, rhs[:, :, :1])[..., 0].reshape(P, N, 4)
-    Xs = np.linalg.solve(np.swapaxes(S, -1, -2), rhs[:, :, 1:])  # M^T (module docstring)
-    Fl = np.einsum("pnab,pnb->pna", Fq, Yl)
-    Pk = widths[:, None] * np.einsum("n,pna->pa", seg.b, Fl)
+    Yl = np.empty((P, 4 * N))
+    Xs = np.empty((P, 4 * N, 4))  # M^T (module docstring)
+    for k in range(P):
+        lu, piv, info = lapack.dgetrf(S[k])
+        if info != 0:
+            raise IntegrationError("a panel's collocation equations are singular (the input is too large)")
+        Yl[k] = lapack.dgetrs(lu, piv, rhs[k, :, 0])[0]
+        Xs[k] = lapack.dgetrs(lu, piv, rhs[k, :, 1:], trans=1)[0]
+    Yl = Yl.reshape(P, N, 4)
+    Fl = (Fq @ Yl[..., None])[..., 0]
+    Pk = widths[:, None] * (seg.b @ Fl)
     Pk[:, 0] += 1.0
     ys = np.empty((P + 1, 4))
     ys[0] = seg.x0[:4]
     for k in range(P):
         ys[k + 1] = _qmul(ys[k], Pk[k])
-    Y = np.einsum("pab,pnb->pna", _left(ys[:-1]), Yl)
+    Y = (_left(ys[:-1])[:, None] @ Yl[..., None])[..., 0]
     Mb = np.swapaxes(Xs.reshape(P, N, 4, 4), -1, -2)  # M_i, (P, N, 4, 4)
     Phi = np.eye(4) + widths[:, None, None] * Mb.sum(axis=1)
-    Z = seg.b[None, :, None, None] * np.eye(4) + widths[:, None, None, None] * np.einsum("piab,ij->pjab", Mb, seg.a)
-    tails = seg.tails(np.einsum("pnab,pnb->pna", Fq, Y), widths)
+    Z = seg.b[None, :, None, None] * np.eye(4) + widths[:, None, None, None] * (
+        seg.a.T @ Mb.reshape(P, N, 16)).reshape(P, N, 4, 4)
+    tails = seg.tails((Fq @ Y[..., None])[..., 0], widths)
     return ys[-1], Y, Phi, Z, tails
 
 
@@ -506,7 +545,7 @@ def _solve(seg):
         else:
             Om = d["w"]
         q1, Y, Phi, Z, tq = _attitude(seg, widths, Om)
-        bad = tq > TAIL_TOL
+        bad = tq > SOLUTION_TAIL_TOL
         if not bad.any():
             return q1, widths, d, Om, Y, Phi, Z, mom
         ok = ~bad
@@ -549,14 +588,17 @@ def endpoint(body, basis, x0, T, c, *, jacobian: bool = True):
         suf[k] = acc
         acc = acc @ Phi[k]
     # g_j = dq(1)/dOmega_j = (Phi_K ... Phi_{k+1}) H Z_j Xi(Y_j) / 2, (P, N, 4, 3)
-    g = np.einsum("pab,pnbc,pncd->pnad", suf, widths[:, None, None, None] * Z, _xi(Y))
+    g = ((widths[:, None, None, None] * (suf[:, None] @ Z)) @ _xi(Y))
     if mom is not None:
         g = g + _momentum_adjoint(seg, widths, d, g, *mom)
-    dOm_du = -Tn * d["cA"]  # (P, N, 3, m)
-    dOm_ds = -np.einsum("pnlij,pnj->pnil", d["X"], Om) - Tn * np.swapaxes(d["y"], -1, -2)
-    Gu = np.einsum("pnad,pndl->pnal", g, dOm_du)
-    Gs = np.einsum("pnad,pndl->pnal", g, dOm_ds)
-    Jq = np.einsum("pnal,pni->ali", Gu, d["Bm"]) + Tn * np.einsum("pnal,pni->ali", Gs, d["Bi"])
+    PN = P * N
+    g = g.reshape(PN, 4, 3)
+    dOm_du = (-Tn) * d["cA"].reshape(PN, 3, m)
+    dOm_ds = -np.swapaxes((d["X"].reshape(PN, m, 3, 3) @ Om.reshape(PN, 1, 3, 1))[..., 0]
+                          + Tn * d["y"].reshape(PN, m, 3), 1, 2)  # (PN, 3, m)
+    Gu = (g @ dOm_du).reshape(PN, 4 * m)
+    Gs = (g @ dOm_ds).reshape(PN, 4 * m)
+    Jq = Gu.T @ d["Bm"].reshape(PN, n) + Tn * (Gs.T @ d["Bi"].reshape(PN, n))
     J = np.zeros((4 + m, m * n))
     J[:4] = Jq.reshape(4, m * n)
     for l in range(m):  # noqa: E741
@@ -564,22 +606,21 @@ def endpoint(body, basis, x0, T, c, *, jacobian: bool = True):
     return xT, J
 
 
-def _momentum_adjoint(seg, widths, d, g, Lam, J, S):
+def _momentum_adjoint(seg, widths, d, g, Lam, J, LU):
     """:math:`\\kappa_j`, what the momentum's dependence on :math:`\\Omega_j` adds to
     :math:`\\partial q(1)/\\partial \\Omega_j` (module docstring), shape (P, N, 4, 3)."""
     P, N = widths.size, seg.N
-    Gk = np.einsum("pnai,pnij->pnaj", g, d["W"])  # g_j W_j, (P, N, 4, 3)
+    Gk = g @ d["W"]  # g_j W_j, (P, N, 4, 3)
     rhs = np.concatenate([np.swapaxes(Gk, -1, -2).reshape(P, 3 * N, 4),
                           ((widths[:, None] * seg.b[None, :])[:, :, None, None]
                            * np.swapaxes(J, -1, -2)).reshape(P, 3 * N, 3)], axis=2)
-    R = np.linalg.solve(np.swapaxes(S, -1, -2), rhs).reshape(P, N, 3, 7)
+    R = np.stack([lapack.dgetrs(lu, piv, rhs[k], trans=1)[0] for k, (lu, piv) in enumerate(LU)]).reshape(P, N, 3, 7)
     R1, R2 = np.swapaxes(R[..., :4], -1, -2), np.swapaxes(R[..., 4:], -1, -2)  # (P, N, 4, 3), (P, N, 3, 3)
     mu = np.zeros((P + 1, 4, 3))
     for k in range(P - 1, 0, -1):
-        rho = R1[k] + np.einsum("ab,nbc->nac", mu[k + 1], R2[k])
+        rho = R1[k] + mu[k + 1] @ R2[k]
         mu[k] = mu[k + 1] + rho.sum(axis=0)
-    rho = R1 + np.einsum("pab,pnbc->pnac", mu[1:], R2)  # (P, N, 4, 3)
-    C = _skew(Lam)
-    kappa = widths[:, None, None, None] * (np.einsum("pnab,nj->pjab", rho, seg.a)
+    rho = R1 + mu[1:, None] @ R2  # (P, N, 4, 3)
+    kappa = widths[:, None, None, None] * ((seg.a.T @ rho.reshape(P, N, 12)).reshape(P, N, 4, 3)
                                            + seg.b[None, :, None, None] * mu[1:, None])
-    return np.einsum("pnab,pnbc->pnac", kappa, C)
+    return kappa @ _skew(Lam)
