@@ -125,7 +125,7 @@ _LOCK = threading.Lock()
 _LOCAL = threading.local()
 
 
-def _build(body):
+def _build(body, light=False):
     """The compiled function of a topology: inputs ``(s, u)``, parameters the lumped parameters;
     outputs :math:`\\mathbb{I}^{-1}` (6 entries), :math:`\\mathbb{I}^{-1} A u` (3), :math:`\\mathcal{A}`
     (3 m, column by column), then per joint :math:`k` the 9 entries of :math:`X_k` (row by row) and
@@ -141,7 +141,6 @@ def _build(body):
     sub.update({sym: hy.par[i] for i, sym in enumerate(p)})
     Ie = [hy.from_sympy(I[i, j], sub) for i, j in _SYM]
     Ae = [[hy.from_sympy(A[j][i], sub) for i in range(3)] for j in range(m)]
-    jac = hy.diff_tensors(Ie + [e for col in Ae for e in col], sv, diff_order=1).jacobian
     a = [[Ie[_FULL[i, j]] for j in range(3)] for i in range(3)]
     c00 = a[1][1] * a[2][2] - a[1][2] * a[1][2]
     c01 = a[0][2] * a[1][2] - a[0][1] * a[2][2]
@@ -158,6 +157,9 @@ def _build(body):
 
     out = list(Wl)
     out += mv(W, [sum(Ae[j][i] * uv[j] for j in range(m)) for i in range(3)])
+    if light:
+        return hy.cfunc(out, sv + uv)
+    jac = hy.diff_tensors(Ie + [e for col in Ae for e in col], sv, diff_order=1).jacobian
     for j in range(m):
         out += mv(W, Ae[j])
     for k in range(m):
@@ -167,23 +169,57 @@ def _build(body):
     return hy.cfunc(out, sv + uv)
 
 
-def compile_map(body):
+def compile_map(body, light: bool = False):
     """The compiled momentum map of a body's topology (:func:`_build`), built once per process, and
-    this thread's own copy of it."""
-    parents = body.links.parents
-    fn = _MAPS.get(parents)
+    this thread's own copy of it. ``light``: the first 9 outputs alone (:math:`\\mathbb{I}^{-1}`
+    and :math:`\\mathbb{I}^{-1} A u`, for the guesses' fast integration)."""
+    key = (body.links.parents, bool(light))
+    fn = _MAPS.get(key)
     if fn is None:
         with _LOCK:
-            fn = _MAPS.get(parents)
+            fn = _MAPS.get(key)
             if fn is None:
-                fn = _MAPS[parents] = _build(body)
+                fn = _MAPS[key] = _build(body, light=bool(light))
     mine = getattr(_LOCAL, "maps", None)
     if mine is None:
         mine = _LOCAL.maps = {}
-    own = mine.get(parents)
+    own = mine.get(key)
     if own is None:
-        own = mine[parents] = copy.copy(fn)
+        own = mine[key] = copy.copy(fn)
     return own
+
+
+#: points per call of a compiled map (:func:`evaluate_map`)
+CHUNK = 4096
+
+
+@functools.lru_cache(maxsize=24)
+def _repeated(params: tuple, P: int) -> np.ndarray:
+    """The parameters repeated for ``P`` points, C-contiguous (what ``cfunc`` wants), read-only."""
+    out = np.repeat(np.asarray(params, dtype=float)[:, None], P, axis=1)
+    out.setflags(write=False)
+    return out
+
+
+def evaluate_map(body, fn, inputs) -> np.ndarray:
+    """A compiled map ``fn`` (:func:`compile_map`) at the points ``inputs`` (columns: the shape and
+    the rates), in chunks of :data:`CHUNK` points with the body's parameters repeated once per size.
+
+    Returns
+    -------
+    numpy.ndarray, shape (outputs, points)
+    """
+    inputs = np.ascontiguousarray(inputs, dtype=float)
+    P = inputs.shape[1]
+    params = body._param_tuple
+    if P <= CHUNK:
+        return fn(inputs, pars=_repeated(params, P))
+    out = np.empty((fn.nouts, P))
+    pars = _repeated(params, CHUNK)
+    for a in range(0, P, CHUNK):
+        b = min(P, a + CHUNK)
+        out[:, a:b] = fn(np.ascontiguousarray(inputs[:, a:b]), pars=pars if b - a == CHUNK else _repeated(params, b - a))
+    return out
 
 
 # ---------------------------------------------------------------------- quaternion algebra, vectorised
@@ -270,7 +306,7 @@ class _Segment:
         self.drift = bool(np.any(self.L != 0.0))
         self.Lnorm = float(np.linalg.norm(self.L))
         self.Q = _quad(self.L)
-        self.params = np.asarray(body._param_tuple, dtype=float)[:, None]
+        self.body = body
         self.fn = compile_map(body)
         self.N = NODES
         self.g, self.b, self.a, self.Vi = _gauss(NODES)
@@ -283,7 +319,7 @@ class _Segment:
         Bm, Bi = _basis_at(self.basis, N, starts, widths)
         u = self.c @ Bm.T
         s = self.x0[4:, None] + T * (self.c @ Bi.T)
-        out = self.fn(np.concatenate([s, u]), pars=np.repeat(self.params, sig.size, axis=1))
+        out = evaluate_map(self.body, self.fn, np.concatenate([s, u]))
         if not np.isfinite(out).all():
             raise IntegrationError("the locked inertia is singular or the input is not finite on this segment")
         out = out.T  # (PN, outputs)
