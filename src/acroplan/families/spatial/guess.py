@@ -126,7 +126,7 @@ def fast_attitudes(body, q0, T: float, S, dS) -> np.ndarray:
     -------
     numpy.ndarray, shape (4, K)
     """
-    from .collocation import compile_map, evaluate_map
+    from .collocation import _quad, _right, compile_map, evaluate_map
 
     S = np.asarray(S, dtype=float)
     dS = np.asarray(dS, dtype=float)
@@ -134,39 +134,37 @@ def fast_attitudes(body, q0, T: float, S, dS) -> np.ndarray:
     fn = compile_map(body, light=True)
     P = K * M
     out = evaluate_map(body, fn, np.concatenate([S.reshape(m, P), dS.reshape(m, P)]))
-    shape_w = -out[6:9].reshape(3, K, M)  # -I^-1 A s', (3, K, M)
+    # the generators of q' = M q at every grid point, (K, M, 4, 4): M = (1/2) q (x) (0, o)
+    shape_w = -np.moveaxis(out[6:9].reshape(3, K, M), 0, -1)  # -I^-1 A s', (K, M, 3)
     Lv = T * body.angular_momentum
     drift = np.linalg.norm(Lv) > 0
-    if drift:
-        Wl = out[:6].reshape(6, K, M)
-        Iinv = Wl[[0, 1, 2, 1, 3, 4, 2, 4, 5]].reshape(3, 3, K, M)
     N = (M - 1) // 2
     h = 1.0 / N
-    q = np.tile(np.asarray(q0, dtype=float)[:, None], (1, K))
+    q = np.tile(np.asarray(q0, dtype=float), (K, 1))  # (K, 4)
+    if not drift:
+        Mg = _right(shape_w)
 
-    def f(q, k):
-        o = shape_w[:, :, k]
-        if drift:
-            w, a, b, c = q
-            RtL = np.stack([(w * w + a * a - b * b - c * c) * Lv[0] + 2 * (a * b + w * c) * Lv[1]
-                            + 2 * (a * c - w * b) * Lv[2],
-                            2 * (a * b - w * c) * Lv[0] + (w * w - a * a + b * b - c * c) * Lv[1]
-                            + 2 * (b * c + w * a) * Lv[2],
-                            2 * (a * c + w * b) * Lv[0] + 2 * (b * c - w * a) * Lv[1]
-                            + (w * w - a * a - b * b + c * c) * Lv[2]])
-            o = o + np.einsum("ijk,jk->ik", Iinv[:, :, :, k], RtL)
-        qw, qx, qy, qz = q
-        return 0.5 * np.stack([-qx * o[0] - qy * o[1] - qz * o[2], qw * o[0] - qz * o[1] + qy * o[2],
-                               qz * o[0] + qw * o[1] - qx * o[2], -qy * o[0] + qx * o[1] + qw * o[2]])
+        def f(q, k):
+            return (Mg[:, k] @ q[:, :, None])[:, :, 0]
+    else:
+        Wl = np.moveaxis(out[:6].reshape(6, K, M), 0, -1)
+        Iinv = Wl[..., [0, 1, 2, 1, 3, 4, 2, 4, 5]].reshape(K, M, 3, 3)
+        Q = _quad(Lv)  # (R(q)^T L T)_i = q^T Q_i q
 
-    for step in range(N):
-        k = 2 * step
-        k1 = f(q, k)
-        k2 = f(q + 0.5 * h * k1, k + 1)
-        k3 = f(q + 0.5 * h * k2, k + 1)
-        k4 = f(q + h * k3, k + 2)
-        q = q + (h / 6.0) * (k1 + 2 * k2 + 2 * k3 + k4)
-    return q / np.linalg.norm(q, axis=0)
+        def f(q, k):
+            lam = np.einsum("ka,iab,kb->ki", q, Q, q)
+            o = shape_w[:, k] + (Iinv[:, k] @ lam[:, :, None])[:, :, 0]
+            return (_right(o) @ q[:, :, None])[:, :, 0]
+
+    with np.errstate(over="ignore", invalid="ignore"):  # wild candidates blow up: ranked last (NaN)
+        for step in range(N):
+            k = 2 * step
+            k1 = f(q, k)
+            k2 = f(q + 0.5 * h * k1, k + 1)
+            k3 = f(q + 0.5 * h * k2, k + 1)
+            k4 = f(q + h * k3, k + 2)
+            q = q + (h / 6.0) * (k1 + 2 * k2 + 2 * k3 + k4)
+        return (q / np.linalg.norm(q, axis=1)[:, None]).T
 
 
 @dataclasses.dataclass(frozen=True)
@@ -340,20 +338,26 @@ def loop_guesses(body, basis, x0, x1, T: float, ends: dict | None = None, limits
             if nb > 0:
                 dirs += [(a, bv / nb)]
     amps = np.array(AMPLITUDES)
-    cand = [(a * ra, b * rb) for a, b in dirs for ra in amps for rb in amps]
-    Av = np.array([c[0] for c in cand]).T  # (m, K)
-    Bv = np.array([c[1] for c in cand]).T
+    Ad = np.array([d[0] for d in dirs])  # (D, m)
+    Bd = np.array([d[1] for d in dirs])
+    na = amps.size
+    Av = (Ad[:, None, None, :] * amps[None, :, None, None] + 0.0 * amps[None, None, :, None]).reshape(-1, m).T
+    Bv = (Bd[:, None, None, :] * amps[None, None, :, None] + 0.0 * amps[None, :, None, None]).reshape(-1, m).T
+    cand = [(Av[:, k], Bv[:, k]) for k in range(Av.shape[1])]
     xg = 2 * grid - 1
     S = SHg[:, None, :] + wg[None, None, :] * (Av[:, :, None] + xg[None, None, :] * Bv[:, :, None])
     dS = dSHg[:, None, :] + dwg[None, None, :] * (Av[:, :, None] + xg[None, None, :] * Bv[:, :, None]) \
         + 2.0 * wg[None, None, :] * Bv[:, :, None]
     qe = fast_attitudes(body, x0[:4], T, S, dS)
     rel = rot.qmul(rot.qconj(x1[:4] / np.linalg.norm(x1[:4])), qe)  # (4, K), unit
-    err = 2.0 * np.arctan2(np.linalg.norm(rel[1:], axis=0), np.abs(rel[0]))
+    with np.errstate(invalid="ignore"):
+        err = 2.0 * np.arctan2(np.linalg.norm(rel[1:], axis=0), np.abs(rel[0]))
+    err = np.where(np.isfinite(err), err, np.inf)
     ok = np.all(S.min(axis=2) >= lo[:, None], axis=0) & np.all(S.max(axis=2) <= hi[:, None], axis=0) \
         & np.all(np.abs(dS).max(axis=2) <= 0.99 * U[:, None] * T, axis=0)
     size = np.sqrt(np.sum(Av**2, axis=0) + np.sum(Bv**2, axis=0))
-    order = sorted(range(len(cand)), key=lambda k: (not ok[k], round(err[k], 2), size[k]))
+    order = np.lexsort((size, np.round(err, 2), ~ok))  # compliant first, then the error, then the size
+    del na
     out, seen = [], []
     for k in order:
         a, b = cand[k]
