@@ -476,6 +476,42 @@ def _block1(seg, H, J):
     return S
 
 
+@functools.cache
+def _momentum_kernel(N: int):
+    """One Newton iteration's numbers for a panel's momentum collocation, compiled (independent of
+    the body: one per node count). Inputs, flat: :math:`\\Lambda` (N x 3), :math:`\\lambda_0` (3),
+    :math:`\\omega` (N x 3), :math:`W` (N x 9); parameter :math:`H`. Outputs, flat: the residual
+    :math:`\\Lambda_i - \\lambda_0 - H\\sum_j \\alpha_{ij} F_j` (3N), the Jacobian
+    :math:`S = 1 - H(\\alpha \\otimes 1) \\mathrm{diag}(J_j)` (3N x 3N), :math:`F_j = \\Lambda_j \\times
+    \\Omega_j` (3N) and :math:`J_j = [\\Lambda_j]_\\times W_j - [\\Omega_j]_\\times` (9N)."""
+    import heyoka as hy
+
+    a = _gauss(N)[2]
+    v = hy.make_vars(*[f"v{i}" for i in range(15 * N + 3)])
+    Lam = [v[3 * j:3 * j + 3] for j in range(N)]
+    lam0 = v[3 * N:3 * N + 3]
+    w = [v[3 * N + 3 + 3 * j:3 * N + 6 + 3 * j] for j in range(N)]
+    W = [[v[6 * N + 3 + 9 * j + 3 * r:6 * N + 6 + 9 * j + 3 * r] for r in range(3)] for j in range(N)]
+    H = hy.par[0]
+
+    def cross(x, y):
+        return [x[1] * y[2] - x[2] * y[1], x[2] * y[0] - x[0] * y[2], x[0] * y[1] - x[1] * y[0]]
+
+    def skew(x):
+        return [[0.0, -x[2], x[1]], [x[2], 0.0, -x[0]], [-x[1], x[0], 0.0]]
+
+    F, Jb = [], []
+    for j in range(N):
+        Om = [w[j][r] + W[j][r][0] * Lam[j][0] + W[j][r][1] * Lam[j][1] + W[j][r][2] * Lam[j][2] for r in range(3)]
+        F.append(cross(Lam[j], Om))
+        C, O = skew(Lam[j]), skew(Om)
+        Jb.append([[sum(C[r][k] * W[j][k][c] for k in range(3) if not isinstance(C[r][k], float)) - O[r][c]
+                    for c in range(3)] for r in range(3)])
+    res = [Lam[i][c] - lam0[c] - H * sum(float(a[i, j]) * F[j][c] for j in range(N)) for i in range(N) for c in range(3)]
+    out = res + [x for f in F for x in f] + [x for blk in Jb for row in blk for x in row]
+    return hy.cfunc(out, list(v))
+
+
 def _momentum_panel(seg, lam, H, d):
     """Newton's method on one panel's collocation equations of :math:`\\lambda' = \\lambda \\times
     \\Omega`, :math:`\\Omega = \\omega + W \\lambda`, from the guess :math:`\\Lambda_j =
@@ -483,24 +519,30 @@ def _momentum_panel(seg, lam, H, d):
     start's momentum turned back by the body's turn to node :math:`j` at the frozen momentum). Returns
     ``(lam1, Lam, J, (lu, piv), tail)`` (``J`` the blocks :math:`\\partial(\\lambda \\times \\Omega)/\\partial
     \\lambda` at the nodes), or ``None`` when Newton's method does not converge."""
-    W, w, a = d["W"], d["w"], seg.a
+    W, w, a, N = d["W"], d["w"], seg.a, seg.N
     tol = NEWTON_TOL * seg.Lnorm
-
-    def field(Lam):
-        Om = w + (W @ Lam[:, :, None])[:, :, 0]
-        C = _skew(Lam)
-        return (C @ Om[:, :, None])[:, :, 0], C @ W - _skew(Om)
-
+    kern = _momentum_kernel_copy(N)
+    inp = np.empty(15 * N + 3)
+    inp[3 * N:3 * N + 3] = lam
+    inp[3 * N + 3:6 * N + 3] = w.ravel()
+    inp[6 * N + 3:] = W.ravel()
+    par = np.array([H])
+    out = np.empty(kern.nouts)
+    n3 = 3 * N
     Lam = _rotate(lam, (-H) * (a @ (w + W @ lam)))
     for _ in range(NEWTON_ITERATIONS):
-        F, J = field(Lam)
-        step = lapack.dgesv(_block1(seg, H, J), (Lam - lam - H * (a @ F)).ravel())[2]
+        inp[:n3] = Lam.ravel()
+        kern(inp, pars=par, outputs=out)
+        step = lapack.dgesv(_block1(seg, H, out[2 * n3:].reshape(N, 3, 3)), out[:n3])[2]
         Lam = Lam - step.reshape(-1, 3)
-        if np.abs(step).max() <= tol:
+        if not np.abs(step).max() > tol:
             break
     else:
         return None
-    F, J = field(Lam)
+    inp[:n3] = Lam.ravel()
+    kern(inp, pars=par, outputs=out)
+    F = out[n3:2 * n3].reshape(N, 3)
+    J = out[2 * n3:].reshape(N, 3, 3).copy()
     tail = H * np.abs(seg.Vi[-2:] @ F).max() / seg.Lnorm
     if not (np.isfinite(tail) and np.isfinite(Lam).all()):
         return None
@@ -508,6 +550,19 @@ def _momentum_panel(seg, lam, H, d):
     if info != 0:
         return None
     return lam + H * (seg.b @ F), Lam, J, (lu, piv), tail
+
+
+def _momentum_kernel_copy(N):
+    """This thread's copy of :func:`_momentum_kernel`."""
+    mine = getattr(_LOCAL, "kernels", None)
+    if mine is None:
+        mine = _LOCAL.kernels = {}
+    own = mine.get(N)
+    if own is None:
+        with _LOCK:
+            base = _momentum_kernel(N)
+        own = mine[N] = copy.copy(base)
+    return own
 
 
 def _momentum(seg, starts, widths, d):

@@ -490,10 +490,13 @@ class SpatialBody(ControlAffineSystem):
         return endpoint(self, basis, x0, T, c)
 
     def prepare_endpoint_map(self) -> bool:
-        """Compile the momentum map of this topology (:func:`~acroplan.families.spatial.collocation.compile_map`)."""
-        from .collocation import compile_map
+        """Compile the momentum map of this topology (:func:`~acroplan.families.spatial.collocation.compile_map`),
+        and with :math:`L \\ne 0` the momentum's Newton kernel (one per process)."""
+        from .collocation import NODES, _momentum_kernel, compile_map
 
         compile_map(self)
+        if any(self.L):
+            _momentum_kernel(NODES)
         return True
 
     # ------------------------------------------------------------------ the state space: SO(3) x R^m
