@@ -12,8 +12,9 @@ Each problem is planned warm (the compiled integrators built before timing) with
 acroplan.families.spatial.check.pinocchio_errors (the Pinocchio-driven motion, timed separately),
 and a success whose check exceeds 1e-9 is counted as a failure and reported as a false success.
 
-``--examples`` plans the bundled examples (acroplan.families.spatial.examples) once each, with the
-default verify=True, and prints their times.
+``--examples`` plans the bundled examples (acroplan.families.spatial.examples) and the issue #22
+two-joint cat (zoo.two_joint_cat, zoo.long_axis_turn) once each, warm (acroplan.warm_up first),
+with the default verify=True, and prints their times.
 
 Run:  python benchmarks/spatial.py [--n 50] [--seed 2024] [--links 3 4 5] [--tree] [--examples]
 """
@@ -71,15 +72,25 @@ def summary(rows):
             f"    Pinocchio re-check of every success: median {np.median(errs):.1e} max {np.max(errs):.1e}")
 
 
+def two_joint_cat_turn():
+    """The issue's two-joint cat (zoo.two_joint_cat): 180 deg about its long axis at L = 0 in 1 s, from
+    bend 0.6, sway 0 back to it."""
+    from acroplan.families.spatial.zoo import long_axis_turn, two_joint_cat
+
+    cat = two_joint_cat()
+    return cat, long_axis_turn(cat, [0.6, 0.0], 1.0)
+
+
 def examples():
     from acroplan.families.spatial.examples import EXAMPLES
 
-    for name, make in EXAMPLES.items():
+    for name, make in dict(EXAMPLES, **{"two-joint-cat (issue #22)": two_joint_cat_turn}).items():
+        acroplan.warm_up(make()[0])
         body, kw = make()
         t0 = time.perf_counter()
         r = acroplan.plan(body, **kw)
         dt = time.perf_counter() - t0
-        print(f"\nexample {name}: {r.status} in {dt:.1f} s ({len(r.segments)} segment(s), "
+        print(f"\nexample {name}: {r.status} in {dt:.2f} s ({len(r.segments)} segment(s), "
               f"{r.evaluations} evaluations); {r.message}")
 
 

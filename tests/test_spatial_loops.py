@@ -1,50 +1,17 @@
 """Large reorientations of spatial bodies within their limits (issue #22): the two-joint cat of the
 issue, the bundled cat by repeated loops, and the limit-aware steps of the refinement."""
 
-import math
-
 import numpy as np
 import pytest
 
 import acroplan
 from acroplan.core.limits import violation
 from acroplan.core.linalg import least_norm_step, least_squares_step
-from acroplan.families.spatial import SpatialBody, SpatialLink
-from acroplan.families.spatial import rotations as rot
 from acroplan.families.spatial.check import pinocchio_errors
 from acroplan.families.spatial.examples import falling_cat_turn
+from acroplan.families.spatial.zoo import long_axis_turn, two_joint_cat
 
 pytest.importorskip("pinocchio")
-
-
-def two_joint_cat():
-    """The issue's cat: two halves of 1.5 kg (principal moments 0.0012, 0.0085, 0.0085 kg m^2,
-    centres of mass 0.12 m either side of the waist), a bend joint about y and a sway joint about z,
-    both within +-1.6 rad and 50 rad/s."""
-    inertia = (0.0012, 0.0085, 0.0085)
-    return SpatialBody([
-        SpatialLink("front", None, 1.5, inertia, com=(0.12, 0.0, 0.0)),
-        SpatialLink("waist", "front", 0.0, (0.0, 0.0, 0.0), axis=(0.0, 1.0, 0.0), joint_name="bend",
-                    lower=-1.6, upper=1.6, velocity=50.0),
-        SpatialLink("rear", "waist", 1.5, inertia, com=(-0.12, 0.0, 0.0), axis=(0.0, 0.0, 1.0), joint_name="sway",
-                    lower=-1.6, upper=1.6, velocity=50.0),
-    ])
-
-
-def long_axis_turn(body, shape, front, rear, T):
-    """180 degrees about the long axis (through both halves' centres of mass) at L = 0 in ``T``, from
-    ``shape`` back to it, upside down to upright, at rest at both ends."""
-    _, _, coms = body.link_poses(np.concatenate([[1.0, 0.0, 0.0, 0.0], shape]))
-    x = coms[front] - coms[rear]
-    x /= np.linalg.norm(x)
-    z = np.array([0.0, 0.0, 1.0]) - x[2] * x
-    z /= np.linalg.norm(z)
-    C = np.column_stack([x, np.cross(z, x), z])
-    up = rot.from_matrix(C.T)
-    down = rot.from_matrix(rot.to_matrix(rot.exp([math.pi, 0.0, 0.0])) @ C.T)
-    joints = {name: [float(v)] * 2 for name, v in zip(body.links.joint_names, shape)}
-    return dict(times=[0.0, T], conditions="free", start_rate=0.0, end_rate=0.0, **joints,
-                **rot.attitude_states([down, up]))
 
 
 def _check(body, kw, r):
@@ -60,7 +27,7 @@ def _check(body, kw, r):
 
 def test_the_two_joint_cat_turns_over_within_its_limits():
     cat = two_joint_cat()
-    kw = long_axis_turn(cat, [0.6, 0.0], 0, 2, 1.0)
+    kw = long_axis_turn(cat, [0.6, 0.0], 1.0)
     r = acroplan.plan(cat, **kw)
     _check(cat, kw, r)
     assert r.evaluations <= 100
