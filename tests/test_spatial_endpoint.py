@@ -147,3 +147,18 @@ def test_a_body_without_momentum_uses_the_linear_solve():
     basis = Legendre(10)
     y, _ = collocation.endpoint(still, basis, x0, T, c)
     assert state_error(y, tight_endpoint(still, basis, x0, T, c)) <= 1e-12
+
+
+@pytest.mark.parametrize("name", ["cat n=14", "4 links L!=0 n=10"])
+def test_samples_meet_the_taylor_integrator(name):
+    """Dense states: the collocation cut at the samples, each a panel's end, against the Taylor
+    integrator's dense output."""
+    body, x0, T, c = CASES[name]()
+    basis = Legendre(c.shape[1])
+    s = np.concatenate([[0.0], np.sort(np.random.default_rng(5).uniform(0, 1, 40)), [1.0]])
+    X = backend.sample(body, basis, x0, T, c, s)
+    Xt = backend.taylor_sample(body, basis, x0, T, c, s)
+    assert X.shape == Xt.shape == (body.n_states, s.size)
+    assert max(state_error(X[:, k], Xt[:, k]) for k in range(s.size)) <= 1e-12
+    assert np.allclose(X[:, -1], collocation.endpoint(body, basis, x0, T, c, jacobian=False)[0], rtol=0, atol=1e-13)
+    assert np.array_equal(X[:, 0], x0)

@@ -45,8 +45,8 @@ from . import budget
 from .basis import InputBasis
 from .system import ControlAffineSystem
 
-__all__ = ["IntegrationError", "endpoint", "taylor_endpoint", "reference_endpoint", "sample", "compile_for",
-           "compiled_count"]
+__all__ = ["IntegrationError", "endpoint", "taylor_endpoint", "reference_endpoint", "sample", "taylor_sample",
+           "compile_for", "compiled_count"]
 
 #: Taylor integrator tolerance: machine precision for double.
 TOL = 1e-15
@@ -269,12 +269,22 @@ def _taylor(system, basis, x0, T, c):
 
 
 def sample(system: ControlAffineSystem, basis: InputBasis, x0, T: float, c, s) -> np.ndarray:
-    """States at normalised times ``s`` (sorted, starting at 0) on one segment.
+    """States at normalised times ``s`` (sorted, starting at 0) on one segment: the family's own
+    (:meth:`ControlAffineSystem.sample_map`) when it has one, else the Taylor integrator's
+    (``propagate_grid``).
 
     Returns
     -------
     numpy.ndarray, shape (n, len(s))
     """
+    own = system.sample_map(basis, x0, T, c, s)
+    if own is not None:
+        return own
+    return taylor_sample(system, basis, x0, T, c, s)
+
+
+def taylor_sample(system: ControlAffineSystem, basis: InputBasis, x0, T: float, c, s) -> np.ndarray:
+    """:func:`sample` by the compiled Taylor integrator whatever the system."""
     s = np.asarray(s, dtype=float)
     ta, _, n_x = _load(system, basis, x0, T, c)
     res = ta.propagate_grid(s, max_steps=MAX_STEPS)

@@ -110,7 +110,7 @@ class ControlAffineSystem(abc.ABC):
     (:meth:`diff`) are ``(n,)`` too (``ndx == n``) unless a subclass says otherwise.
 
     Family hooks, each a method with a default: :meth:`check_segment`, :meth:`continuation_path`,
-    :meth:`family_errors`, :meth:`fill_free`, :meth:`endpoint_map`, :meth:`default_limits`, :meth:`reference_lines`,
+    :meth:`family_errors`, :meth:`fill_free`, :meth:`endpoint_map`, :meth:`sample_map`, :meth:`default_limits`, :meth:`reference_lines`,
     :meth:`auto_strategy`, :meth:`torque_model` (the joint torques of a motion: ``None`` by
     default, or the model registered with :func:`acroplan.register_torque_model`),
     :meth:`to_dict` / :meth:`from_dict`.
@@ -386,6 +386,12 @@ class ControlAffineSystem(abc.ABC):
         T : float
         c : array_like, shape (m, basis.n) or (m * basis.n,)
         """
+        return None
+
+    def sample_map(self, basis, x0, T: float, c, s):
+        """The family's own states at normalised times ``s`` of one segment (what
+        :func:`acroplan.core.backend.sample` returns, shape ``(n, len(s))``), or ``None`` (the
+        default: the compiled Taylor integrator's dense output)."""
         return None
 
     def prepare_endpoint_map(self) -> bool:

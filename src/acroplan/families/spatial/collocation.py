@@ -78,7 +78,7 @@ from scipy.linalg import lapack
 
 from ...core.backend import IntegrationError
 
-__all__ = ["endpoint", "compile_map", "NODES", "TAIL_TOL", "MAX_PANELS"]
+__all__ = ["endpoint", "sample", "compile_map", "evaluate_map", "NODES", "TAIL_TOL", "MAX_PANELS"]
 
 #: Gauss-Legendre nodes per panel (the collocation method has order 2 NODES)
 NODES = 16
@@ -630,14 +630,44 @@ def _attitude(seg, widths, Om):
     Z = seg.b[None, :, None, None] * np.eye(4) + widths[:, None, None, None] * (
         seg.a.T @ Mb.reshape(P, N, 16)).reshape(P, N, 4, 4)
     tails = seg.tails((Fq @ Y[..., None])[..., 0], widths)
-    return ys[-1], Y, Phi, Z, tails
+    return ys, Y, Phi, Z, tails
 
 
-def _solve(seg):
-    """Layout and solution, splitting panels until the attitude is resolved too. Returns
-    ``(q1, widths, data, Omega, Y, Phi, Z, momentum)``; ``momentum`` is ``(Lam, J, S)`` or ``None``
-    at :math:`L = 0`."""
+def _cut(seg, starts, widths, d, points):
+    """The layout cut at ``points`` (normalised times): every panel holding points strictly inside
+    is replaced by its pieces between them (node data evaluated anew). Points within 1e-12 of a
+    boundary are taken as that boundary."""
+    keep, new_st, new_wd = [], [], []
+    for k in range(widths.size):
+        a0, b0 = starts[k], starts[k] + widths[k]
+        inside = points[(points > a0 + 1e-12) & (points < b0 - 1e-12)]
+        if inside.size == 0:
+            keep.append(k)
+            continue
+        edges = np.concatenate([[a0], inside, [b0]])
+        new_st.append(edges[:-1])
+        new_wd.append(np.diff(edges))
+    if not new_st:
+        return starts, widths, d
+    st, wd = np.concatenate(new_st), np.concatenate(new_wd)
+    if widths.size - len(keep) + st.size > MAX_PANELS:
+        raise IntegrationError(f"the input is too large to integrate: more than {MAX_PANELS} panels on one segment")
+    keep = np.array(keep, dtype=int)
+    dn = seg.data(st, wd)
+    all_st = np.concatenate([starts[keep], st])
+    order = np.argsort(all_st, kind="stable")
+    dd = _cat([_take(d, keep), dn])
+    return all_st[order], np.concatenate([widths[keep], wd])[order], _take(dd, order)
+
+
+def _solve(seg, points=None):
+    """Layout and solution, splitting panels until the attitude is resolved too, and cut at
+    ``points`` when given (:func:`_cut`). Returns ``(ys, widths, data, Omega, Y, Phi, Z,
+    momentum)``: ``ys`` (P + 1, 4) the attitude at the panels' boundaries, ``momentum`` is
+    ``(Lam, J, LU)`` or ``None`` at :math:`L = 0`."""
     starts, widths, d = _layout(seg)
+    if points is not None:
+        starts, widths, d = _cut(seg, starts, widths, d, points)
     while True:
         mom = None
         if seg.drift:
@@ -645,10 +675,10 @@ def _solve(seg):
             Om = d["w"] + (d["W"] @ mom[0][..., None])[..., 0]
         else:
             Om = d["w"]
-        q1, Y, Phi, Z, tq = _attitude(seg, widths, Om)
+        ys, Y, Phi, Z, tq = _attitude(seg, widths, Om)
         bad = tq > SOLUTION_TAIL_TOL
         if not bad.any():
-            return q1, widths, d, Om, Y, Phi, Z, mom
+            return ys, widths, d, Om, Y, Phi, Z, mom
         ok = ~bad
         st, wd = _split(starts, widths, d, bad, seg, int(ok.sum()))
         starts, widths, d = _layout(seg, st, wd, [(starts[ok], widths[ok], _take(d, ok))])
@@ -674,7 +704,8 @@ def endpoint(body, basis, x0, T, c, *, jacobian: bool = True):
     J : numpy.ndarray, shape (4 + m, m * basis.n), or None
     """
     seg = _Segment(body, basis, x0, T, c)
-    q1, widths, d, Om, Y, Phi, Z, mom = _solve(seg)
+    ys, widths, d, Om, Y, Phi, Z, mom = _solve(seg)
+    q1 = ys[-1]
     m, n, Tn = seg.m, seg.n, seg.T
     B1 = basis.integral([1.0])[0]
     xT = np.concatenate([q1, seg.x0[4:] + Tn * (seg.c @ B1)])
@@ -705,6 +736,31 @@ def endpoint(body, basis, x0, T, c, *, jacobian: bool = True):
     for l in range(m):  # noqa: E741
         J[4 + l, l * n:(l + 1) * n] = Tn * B1
     return xT, J
+
+
+def sample(body, basis, x0, T, c, s) -> np.ndarray:
+    """States at normalised times ``s`` (sorted, in [0, 1]) on one segment, as
+    :func:`acroplan.core.backend.sample` returns them: the collocation's panels cut at ``s``, so
+    that every sample is a panel's end, where the collocation is as exact as at the segment's end
+    (order :math:`2N`); the joints from their polynomials.
+
+    Returns
+    -------
+    numpy.ndarray, shape (4 + m, len(s))
+    """
+    s = np.asarray(s, dtype=float).reshape(-1)
+    seg = _Segment(body, basis, x0, T, c)
+    ys, widths, d = _solve(seg, points=np.unique(np.clip(s, 0.0, 1.0)))[:3]
+    bounds = np.concatenate([[0.0], np.cumsum(widths)])
+    bounds[-1] = 1.0
+    idx = np.clip(np.searchsorted(bounds, s - 1e-12), 0, bounds.size - 1)
+    out = np.empty((4 + seg.m, s.size))
+    out[:4] = ys[idx].T
+    out[4:] = seg.x0[4:, None] + seg.T * (seg.c @ basis.integral(s).T)
+    out[4:, s == 0.0] = seg.x0[4:, None]  # the integrals vanish there (the basis series leaves ~1e-17)
+    if not np.isfinite(out).all():
+        raise IntegrationError("integration gave a non-finite state")
+    return out
 
 
 def _momentum_adjoint(seg, widths, d, g, Lam, J, LU):

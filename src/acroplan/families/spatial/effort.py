@@ -247,9 +247,10 @@ def _basis_tables(basis, s_bytes: bytes):
 
 
 def attitude_samples(system, basis, x0, T, c, s, *, jacobian: bool = False):
-    """The states of a segment at normalised times ``s`` (any order, in [0, 1]) by the compiled
-    integrator (:mod:`acroplan.core.backend`), and with ``jacobian`` their sensitivities to the
-    coefficients from its variational equations, at the same cost (one ``propagate_grid``).
+    """The states of a segment at normalised times ``s`` (any order, in [0, 1]): without
+    ``jacobian`` the back end's dense states (:func:`acroplan.core.backend.sample`: the spatial
+    collocation cut at the nodes); with ``jacobian`` the compiled Taylor integrator and its
+    sensitivities to the coefficients from its variational equations (one ``propagate_grid``).
 
     Returns
     -------
@@ -262,6 +263,8 @@ def attitude_samples(system, basis, x0, T, c, s, *, jacobian: bool = False):
         raise InvalidInputError("s", "must hold normalised times in [0, 1], got one below 0 or not finite",
                                 "give s = (t - t0) / T for times t inside the segment")
     grid, where = np.unique(np.concatenate([[0.0], np.maximum(s, 0.0)]), return_inverse=True)
+    if not jacobian:  # the family's own dense states (the collocation cut at the nodes)
+        return backend.sample(system, basis, x0, T, c, grid)[:, where[1:]]
     ta, _, n_x = backend._load(system, basis, x0, T, c)
     res = ta.propagate_grid(grid, max_steps=backend.MAX_STEPS)
     out = res[-1]

@@ -489,6 +489,13 @@ class SpatialBody(ControlAffineSystem):
 
         return endpoint(self, basis, x0, T, c)
 
+    def sample_map(self, basis, x0, T, c, s):
+        """States at normalised times ``s`` by the same collocation, cut at ``s``
+        (:func:`acroplan.families.spatial.collocation.sample`)."""
+        from .collocation import sample
+
+        return sample(self, basis, x0, T, c, s)
+
     def prepare_endpoint_map(self) -> bool:
         """Compile the momentum map of this topology (:func:`~acroplan.families.spatial.collocation.compile_map`),
         and with :math:`L \\ne 0` the momentum's Newton kernel (one per process)."""
