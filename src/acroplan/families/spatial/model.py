@@ -502,6 +502,7 @@ class SpatialBody(ControlAffineSystem):
         from .collocation import NODES, _momentum_kernel, compile_map
 
         compile_map(self)
+        compile_map(self, light=True)  # the guesses' fast integration
         if any(self.L):
             _momentum_kernel(NODES)
         return True
