@@ -157,8 +157,8 @@ def _build(body, light=False):
 
     out = list(Wl)
     out += mv(W, [sum(Ae[j][i] * uv[j] for j in range(m)) for i in range(3)])
-    if light:
-        return hy.cfunc(out, sv + uv)
+    if light:  # and the momentum map itself: I (6 entries), A (3 m, column by column)
+        return hy.cfunc(out + Ie + [e for col in Ae for e in col], sv + uv)
     jac = hy.diff_tensors(Ie + [e for col in Ae for e in col], sv, diff_order=1).jacobian
     for j in range(m):
         out += mv(W, Ae[j])
@@ -172,7 +172,9 @@ def _build(body, light=False):
 def compile_map(body, light: bool = False):
     """The compiled momentum map of a body's topology (:func:`_build`), built once per process, and
     this thread's own copy of it. ``light``: the first 9 outputs alone (:math:`\\mathbb{I}^{-1}`
-    and :math:`\\mathbb{I}^{-1} A u`, for the guesses' fast integration)."""
+    and :math:`\\mathbb{I}^{-1} A u`, for the guesses' fast integration), then :math:`\\mathbb{I}`
+    (6 entries) and :math:`A` (3 m, column by column) themselves
+    (:meth:`SpatialBody.momentum_map <acroplan.families.spatial.model.SpatialBody.momentum_map>`)."""
     key = (body.links.parents, bool(light))
     fn = _MAPS.get(key)
     if fn is None:

@@ -556,14 +556,19 @@ class SpatialBody(ControlAffineSystem):
         -------
         I : numpy.ndarray, shape (3, 3) or (3, 3, N)
         A : numpy.ndarray, shape (3, m) or (3, m, N)
+
+        Evaluated by the topology's compiled map (:func:`~acroplan.families.spatial.collocation.compile_map`,
+        heyoka); the lambdified sympy map stays for the independent re-simulation (``verify="ode"``).
         """
+        from .collocation import compile_map, evaluate_map
+
         s = self._shape(shape)
         m = self.n_links - 1
-        vals = _numeric_map(self.links.parents)(tuple(s), self._param_tuple)
         rest = s.shape[1:]
-        arr = np.array([np.broadcast_to(np.asarray(v, dtype=float), rest) for v in vals])
-        I = arr[:9].reshape((3, 3) + rest)  # noqa: E741
-        A = arr[9:].reshape((m, 3) + rest).swapaxes(0, 1)
+        S = s.reshape(m, -1)
+        out = evaluate_map(self, compile_map(self, light=True), np.concatenate([S, np.zeros_like(S)]))
+        I = out[9:15][[0, 1, 2, 1, 3, 4, 2, 4, 5]].reshape((3, 3) + rest)  # noqa: E741
+        A = out[15:15 + 3 * m].reshape((m, 3) + rest).swapaxes(0, 1)
         return I, A
 
     def locked_inertia(self, shape) -> np.ndarray:
