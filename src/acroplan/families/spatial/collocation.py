@@ -34,18 +34,28 @@ implicit Runge-Kutta method of order :math:`2N`):
 .. math::  Y_i = y_0 + H \\sum_j \\alpha_{ij} F_j ,\\qquad y_1 = y_0 + H \\sum_j \\beta_j F_j ,\\qquad
            F_j = \\tfrac12\\, Y_j \\otimes (0, \\Omega(\\sigma_j, Y_j)),
 
-solved by Newton's method (one step when :math:`L = 0`, where (1) is linear in :math:`q`: then every
-panel is solved at once from the identity and the panels are chained by quaternion products).
-Gauss methods keep the quadratic invariant :math:`|q|^2` exactly, so the attitude stays a unit
-quaternion to rounding.
+At :math:`L = 0`, (1) is linear in :math:`q`: every panel is solved at once from the identity (one
+dense 4N x 4N solve each) and the panels are chained by quaternion products. With :math:`L \\ne 0`
+the body-frame momentum :math:`\\lambda = R(q)^\\top L` carries the nonlinearity alone,
+
+.. math::  \\lambda' = \\lambda \\times \\Omega ,\\qquad \\Omega = \\omega + W \\lambda ,
+
+and its Gauss collocation is solved first, panel after panel, by Newton's method (3N x 3N systems,
+from the start's momentum turned back by the body's turn at the frozen momentum; one compiled
+kernel per node count gives the residual and the Jacobian's blocks), then the attitude as at
+:math:`L = 0` with :math:`\\Omega` at the nodes. Collocating :math:`\\lambda` and then :math:`q` at the
+same nodes is exactly the Gauss collocation of the coupled system :math:`(\\lambda, q)`, so the
+endpoint keeps order :math:`2N`. Gauss methods keep quadratic invariants exactly: :math:`|q|^2` and
+:math:`|\\lambda|^2 = |L|^2` hold to rounding.
 
 *Panels.* Bisection from two halves: a panel is kept when the last two Legendre coefficients of
 :math:`H\\omega` and :math:`H |L| W` on it (the interpolants at its nodes) are below
-:data:`TAIL_TOL`; after the solve, the same test on :math:`H F` (the attitude's own resolution).
-The endpoint error of Gauss collocation is of the order of the square of that tail (the
-quadrature is exact to degree :math:`2N - 1`): ``tests/test_spatial_endpoint.py`` checks it against
-a tight independent integration. The layout depends on the inputs alone, so the same call always
-gives the same numbers.
+:data:`TAIL_TOL` and the shape turns the root by at most :data:`MAX_TURN` on it; after the solve,
+the same test on :math:`H q'` and :math:`H \\lambda'/|L|` (the solution's own resolution) with
+:data:`SOLUTION_TAIL_TOL`. The endpoint error of Gauss collocation is of the order of the square of
+that tail (the quadrature is exact to degree :math:`2N - 1`): ``tests/test_spatial_endpoint.py``
+checks it against a tight independent integration. The layout depends on the inputs alone, so the
+same call always gives the same numbers. :func:`sample` cuts the panels at the requested times.
 
 The Jacobian
 ------------
@@ -59,7 +69,8 @@ collocation equations. With :math:`S = \\mathbb{1} - H (\\alpha \\otimes \\mathb
            \\Phi = \\mathbb{1} + H \\sum_i M_i ,\\qquad Z_j = \\beta_j \\mathbb{1} + H \\sum_i M_i \\alpha_{ij} ,
 
 :math:`\\Xi(q) v = q \\otimes (0, v)`, and the coefficients enter through :math:`\\Omega` at fixed
-:math:`q`:
+:math:`q` (with :math:`L \\ne 0` also through the momentum: an adjoint sweep over the momentum's
+panels, :func:`_momentum_adjoint`, adds its part to :math:`\\partial q(1)/\\partial \\Omega_j`):
 
 .. math::  \\frac{\\partial \\Omega}{\\partial c_{li}} = -T \\mathcal{A}_l\\, b_i(\\sigma)
            + \\big(-X_l \\Omega - T y_l\\big)\\, T B_i(\\sigma) .
