@@ -72,11 +72,16 @@ non-root link the nine entries ``R<k>_<ij>`` of :math:`R^0_k` and ``w<k>_{x,y,z}
 topology (:attr:`SpatialBody.structure_key` ``= ("spatial", parents)``): one compilation serves
 every body of that topology, whatever its masses, inertias, geometry, axes, names and :math:`L`.
 
-Compilation uses heyoka's compact mode: with the variational equations a 3-link body with 6
+The endpoint map, its Jacobian and dense states are the family's own
+(:meth:`SpatialBody.endpoint_map`, :meth:`SpatialBody.sample_map`: Gauss collocation of the attitude
+alone, :mod:`~acroplan.families.spatial.collocation`, with the momentum map compiled once per
+topology as a ``heyoka.cfunc``, which :meth:`SpatialBody.momentum_map` also evaluates). The Taylor
+integrator of the whole state (``backend.taylor_endpoint``, and the torques' Jacobian at
+:math:`L \\ne 0`) uses heyoka's compact mode: with the variational equations a 3-link body with 6
 coefficients per input has 4,317 nodes in heyoka's decomposition, a 5-link body with 10 coefficients
 12,691; full mode had not compiled an earlier form of the 3-link fields (4,889 nodes) after 15
-minutes, compact mode takes seconds (:attr:`SpatialBody.compact_mode`, which the core's back end honours). The tests check (1)
-against Pinocchio's centroidal map at random shapes to 1e-12.
+minutes, compact mode takes seconds (:attr:`SpatialBody.compact_mode`, which the core's back end
+honours). The tests check (1) against Pinocchio's centroidal map at random shapes to 1e-12.
 """
 
 from __future__ import annotations
