@@ -2,8 +2,9 @@
 
 Populations (``--n`` problems each, the same seeds every run): random physical chains of 3, 4 and 5
 links (acroplan.families.spatial.zoo.random_body: boxes of 1-30 kg, joint axes in random
-directions), L = 0 and L != 0 (a drift of 0.3-2 rad/s at the start, in a random direction); single
-segments whose target is reachable by construction (random_segment: the end of a simulated random
+directions; ``--tree``: random trees, each link on a random earlier one), L = 0 and L != 0 (a
+drift of 0.3-2 rad/s at the start, in a random direction); single segments whose target is
+reachable by construction (random_segment: the end of a simulated random
 smooth joint motion, from a random attitude), conditions="free", no limits.
 
 Each problem is planned warm (the compiled integrators built before timing) with verify=False
@@ -11,10 +12,11 @@ Each problem is planned warm (the compiled integrators built before timing) with
 acroplan.families.spatial.check.pinocchio_errors (the Pinocchio-driven motion, timed separately),
 and a success whose check exceeds 1e-9 is counted as a failure and reported as a false success.
 
-``--examples`` plans the bundled examples (acroplan.families.spatial.examples) once each, with the
-default verify=True, and prints their times.
+``--examples`` plans the bundled examples (acroplan.families.spatial.examples) and the issue #22
+two-joint cat (zoo.two_joint_cat, zoo.long_axis_turn) once each, warm (acroplan.warm_up first),
+with the default verify=True, and prints their times.
 
-Run:  python benchmarks/spatial.py [--n 50] [--seed 2024] [--links 3 4 5] [--examples]
+Run:  python benchmarks/spatial.py [--n 50] [--seed 2024] [--links 3 4 5] [--tree] [--examples]
 """
 
 from __future__ import annotations
@@ -32,9 +34,9 @@ from acroplan.families.spatial.zoo import random_segment
 CHECK_TOL = 1e-9
 
 
-def population(seed, n, links, momentum):
-    rng = np.random.default_rng([seed, links, int(momentum)])
-    return [random_segment(rng, links, momentum=momentum) for _ in range(n)]
+def population(seed, n, links, momentum, tree=False):
+    rng = np.random.default_rng([seed, links, int(momentum)] + ([1] if tree else []))
+    return [random_segment(rng, links, momentum=momentum, tree=tree) for _ in range(n)]
 
 
 def run(problems):
@@ -64,21 +66,31 @@ def summary(rows):
     ev = np.array([r["ev"] for r in ok]) if ok else np.array([0])
     return (f"success {len(ok)}/{len(rows)} ({len(ok) / len(rows):.1%}), false successes {len(false)}\n"
             f"    time per plan (verify=False) median {np.median(t):.0f} ms p90 {np.percentile(t, 90):.0f} ms max "
-            f"{t.max():.0f} ms; the Pinocchio check median {np.median(tc):.0f} ms\n"
+            f"{t.max():.0f} ms (mean {t.mean():.0f} ms); the Pinocchio check median {np.median(tc):.0f} ms\n"
             f"    evaluations median {np.median(ev):.0f} max {ev.max()}; max|u| median {np.median(u):.2f} max "
             f"{np.max(u):.2f} rad/s\n"
             f"    Pinocchio re-check of every success: median {np.median(errs):.1e} max {np.max(errs):.1e}")
 
 
+def two_joint_cat_turn():
+    """The issue's two-joint cat (zoo.two_joint_cat): 180 deg about its long axis at L = 0 in 1 s, from
+    bend 0.6, sway 0 back to it."""
+    from acroplan.families.spatial.zoo import long_axis_turn, two_joint_cat
+
+    cat = two_joint_cat()
+    return cat, long_axis_turn(cat, [0.6, 0.0], 1.0)
+
+
 def examples():
     from acroplan.families.spatial.examples import EXAMPLES
 
-    for name, make in EXAMPLES.items():
+    for name, make in dict(EXAMPLES, **{"two-joint-cat (issue #22)": two_joint_cat_turn}).items():
+        acroplan.warm_up(make()[0])
         body, kw = make()
         t0 = time.perf_counter()
         r = acroplan.plan(body, **kw)
         dt = time.perf_counter() - t0
-        print(f"\nexample {name}: {r.status} in {dt:.1f} s ({len(r.segments)} segment(s), "
+        print(f"\nexample {name}: {r.status} in {dt:.2f} s ({len(r.segments)} segment(s), "
               f"{r.evaluations} evaluations); {r.message}")
 
 
@@ -88,6 +100,7 @@ def main():
     ap.add_argument("--seed", type=int, default=2024)
     ap.add_argument("--links", type=int, nargs="+", default=[3, 4, 5])
     ap.add_argument("--examples", action="store_true", help="plan the bundled examples too")
+    ap.add_argument("--tree", action="store_true", help="random trees (random parents) instead of chains")
     args = ap.parse_args()
     import pinocchio
 
@@ -96,11 +109,12 @@ def main():
           f"{args.seed}, conditions='free'")
     total = []
     for links in args.links:
-        run(population(args.seed + 1, 2, links, True))  # compile and build the Pinocchio models out of the timing
+        run(population(args.seed + 1, 2, links, True, args.tree))  # compile, build the Pinocchio models, untimed
         for momentum in (False, True):
-            rows = run(population(args.seed, args.n, links, momentum))
+            rows = run(population(args.seed, args.n, links, momentum, args.tree))
             total += rows
-            print(f"\n{links} links, L {'!= 0' if momentum else '= 0'}: {summary(rows)}", flush=True)
+            kind = "trees" if args.tree else "links"
+            print(f"\n{links} {kind}, L {'!= 0' if momentum else '= 0'}: {summary(rows)}", flush=True)
             for r in [r for r in rows if not (r["ok"] and r["err"] <= CHECK_TOL)][:5]:
                 print(f"    failure: {r['msg'][:300]}")
     print(f"\nall populations: {summary(total)}")

@@ -600,8 +600,10 @@ def warm_up(system: ControlAffineSystem | type, *, basis: str = "legendre", size
 
     One compiled integrator serves every system of one structure (parameters, durations and
     coefficients are runtime values); this builds the ones for each basis size in ``sizes``
-    (default: those ``method="auto"`` may use) in this process. Without it, each process compiles
-    on first use.
+    (default: those ``method="auto"`` may use) in this process, or the family's own endpoint map
+    when it has one (:meth:`~acroplan.core.system.ControlAffineSystem.prepare_endpoint_map`: a
+    spatial body's compiled momentum map, one per topology, whatever the basis). Without it, each
+    process compiles on first use.
 
     Parameters
     ----------
@@ -619,6 +621,8 @@ def warm_up(system: ControlAffineSystem | type, *, basis: str = "legendre", size
     if not isinstance(system, ControlAffineSystem):
         raise InvalidInputError("system", f"must be a ControlAffineSystem, got {type(system).__name__}",
                                 "use for example acroplan.Acrobot(...)")
+    if system.prepare_endpoint_map():  # the family's own endpoint map (spatial bodies): no Taylor integrator
+        return
     for n in sizes:
         backend.compile_for(system, type(make_basis(basis, int(n))), int(n))
 

@@ -1,5 +1,10 @@
 """The compiled integrator back end (heyoka): endpoint map, its Jacobian, dense samples.
 
+A family may bring its own endpoint map (:meth:`ControlAffineSystem.endpoint_map`: the spatial
+bodies integrate their attitude alone by Gauss collocation, some 10-30 times faster);
+:func:`endpoint` uses it when there is one, and the Taylor integrator below otherwise
+(:func:`taylor_endpoint` always).
+
 One segment is integrated in normalised time :math:`s \\in [0, 1]`:
 
 .. math::  \\frac{dx}{ds} = T\\,\\Big(f(x;p) + \\sum_j g_j(x;p)\\, u_j(s)\\Big),\\qquad
@@ -40,7 +45,8 @@ from . import budget
 from .basis import InputBasis
 from .system import ControlAffineSystem
 
-__all__ = ["IntegrationError", "endpoint", "sample", "compile_for", "compiled_count"]
+__all__ = ["IntegrationError", "endpoint", "taylor_endpoint", "reference_endpoint", "sample", "taylor_sample",
+           "compile_for", "compiled_count"]
 
 #: Taylor integrator tolerance: machine precision for double.
 TOL = 1e-15
@@ -166,7 +172,9 @@ def _why(outcome, s: float) -> str:
 
 
 def endpoint(system: ControlAffineSystem, basis: InputBasis, x0, T: float, c) -> tuple[np.ndarray, np.ndarray]:
-    """The endpoint map and its Jacobian on one segment.
+    """The endpoint map and its Jacobian on one segment: the family's own
+    (:meth:`ControlAffineSystem.endpoint_map`, the spatial bodies') when it has one, else
+    :func:`taylor_endpoint`.
 
     Parameters
     ----------
@@ -186,6 +194,72 @@ def endpoint(system: ControlAffineSystem, basis: InputBasis, x0, T: float, c) ->
         :math:`\\partial x(T) / \\partial c`, columns in flattened ``c`` order.
     """
     budget.check()
+    own = system.endpoint_map(basis, x0, T, c)
+    if own is not None:
+        return own
+    return _taylor(system, basis, x0, T, c)
+
+
+def taylor_endpoint(system: ControlAffineSystem, basis: InputBasis, x0, T: float, c) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`endpoint` by the compiled Taylor integrator whatever the system (the fields and
+    their variational equations in the coefficients, one ``propagate_until``): the reference the
+    families' own maps are checked against."""
+    budget.check()
+    return _taylor(system, basis, x0, T, c)
+
+
+_REFERENCE: dict[tuple, hy.taylor_adaptive] = {}
+
+
+def reference_endpoint(system: ControlAffineSystem, basis: InputBasis, x0, T: float, c, *,
+                       tol: float = 1e-19) -> np.ndarray:
+    """:math:`x(T)` by the Taylor integrator of the fields alone (no variational equations) in
+    extended precision (``long double``, tolerance ``tol``): a tight reference for checks and
+    benchmarks, some thousand times more exact than the double-precision maps. Compiled on first
+    use per (structure, basis family, size), in compact mode; not thread-safe (one integrator per
+    key).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,)
+    """
+    key = (system.structure_key, type(basis), basis.n, float(tol))
+    ta = _REFERENCE.get(key)
+    if ta is None:
+        x_sym, p_sym = system.symbols()
+        f, G = system.symbolic()
+        n_x, m, n_p = len(x_sym), G.shape[1], len(p_sym)
+        hx = hy.make_vars(*system.state_names)
+        if n_x == 1:
+            hx = [hx]
+        sub = {sym: var for sym, var in zip(x_sym, hx)}
+        sub.update({sym: hy.par[i] for i, sym in enumerate(p_sym)})
+        coeffs = [[hy.par[n_p + 1 + j * basis.n + i] for i in range(basis.n)] for j in range(m)]
+        u = [basis.expression(hy.time, coeffs[j]) for j in range(m)]
+        rhs = []
+        for r in range(n_x):
+            e = hy.from_sympy(f[r], sub) if f[r] != 0 else 0.0 * hx[0]
+            for j in range(m):
+                if G[r, j] != 0:
+                    e = e + hy.from_sympy(G[r, j], sub) * u[j]
+            rhs.append(hy.par[n_p] * e)
+        ld = np.longdouble
+        ta = hy.taylor_adaptive(list(zip(hx, rhs)), np.zeros(n_x, dtype=ld), tol=ld(tol), compact_mode=True,
+                                fp_type=ld, pars=np.zeros(n_p + 1 + m * basis.n, dtype=ld))
+        _REFERENCE[key] = ta
+    n_p = len(system.param_names)
+    ta.time = np.longdouble(0.0)
+    ta.state[:] = np.asarray(x0, dtype=np.longdouble)
+    ta.pars[:n_p] = np.asarray(system._param_tuple, dtype=np.longdouble)
+    ta.pars[n_p] = T
+    ta.pars[n_p + 1:] = np.ravel(np.asarray(c, dtype=float))
+    res = ta.propagate_until(np.longdouble(1.0), max_steps=MAX_STEPS)
+    if res[0] != _TIME_LIMIT:
+        raise IntegrationError(_why(res[0], float(ta.time)))
+    return np.array(ta.state, dtype=float)
+
+
+def _taylor(system, basis, x0, T, c):
     ta, state, n_x = _load(system, basis, x0, T, c)
     res = ta.propagate_until(1.0, max_steps=MAX_STEPS)
     out = state.copy()
@@ -195,12 +269,22 @@ def endpoint(system: ControlAffineSystem, basis: InputBasis, x0, T: float, c) ->
 
 
 def sample(system: ControlAffineSystem, basis: InputBasis, x0, T: float, c, s) -> np.ndarray:
-    """States at normalised times ``s`` (sorted, starting at 0) on one segment.
+    """States at normalised times ``s`` (sorted, starting at 0) on one segment: the family's own
+    (:meth:`ControlAffineSystem.sample_map`) when it has one, else the Taylor integrator's
+    (``propagate_grid``).
 
     Returns
     -------
     numpy.ndarray, shape (n, len(s))
     """
+    own = system.sample_map(basis, x0, T, c, s)
+    if own is not None:
+        return own
+    return taylor_sample(system, basis, x0, T, c, s)
+
+
+def taylor_sample(system: ControlAffineSystem, basis: InputBasis, x0, T: float, c, s) -> np.ndarray:
+    """:func:`sample` by the compiled Taylor integrator whatever the system."""
     s = np.asarray(s, dtype=float)
     ta, _, n_x = _load(system, basis, x0, T, c)
     res = ta.propagate_grid(s, max_steps=MAX_STEPS)

@@ -110,7 +110,7 @@ class ControlAffineSystem(abc.ABC):
     (:meth:`diff`) are ``(n,)`` too (``ndx == n``) unless a subclass says otherwise.
 
     Family hooks, each a method with a default: :meth:`check_segment`, :meth:`continuation_path`,
-    :meth:`family_errors`, :meth:`fill_free`, :meth:`default_limits`, :meth:`reference_lines`,
+    :meth:`family_errors`, :meth:`fill_free`, :meth:`endpoint_map`, :meth:`sample_map`, :meth:`default_limits`, :meth:`reference_lines`,
     :meth:`auto_strategy`, :meth:`torque_model` (the joint torques of a motion: ``None`` by
     default, or the model registered with :func:`acroplan.register_torque_model`),
     :meth:`to_dict` / :meth:`from_dict`.
@@ -366,6 +366,38 @@ class ControlAffineSystem(abc.ABC):
         (:data:`acroplan.core.strategies.AUTO_DEFAULT`). A family with better knowledge (a flat
         output, a good first guess) overrides it."""
         return None
+
+    def endpoint_map(self, basis, x0, T: float, c):
+        """The family's own endpoint map and its Jacobian on one segment, or ``None`` (the default):
+        then :func:`acroplan.core.backend.endpoint` integrates the fields and their variational
+        equations with the compiled Taylor integrator.
+
+        A family overrides it when it knows a faster integration that is as exact (the spatial
+        bodies: only the attitude is integrated, by Gauss collocation, the joint angles being
+        polynomials of time). It must return what :func:`~acroplan.core.backend.endpoint` returns,
+        ``(xT, J)`` with ``xT`` of shape ``(n,)`` and ``J`` of shape ``(n, m * basis.n)``
+        (:math:`\\partial x(T)/\\partial c`, flattened ``c``), and raise
+        :class:`~acroplan.core.backend.IntegrationError` when it cannot integrate the input.
+
+        Parameters
+        ----------
+        basis : InputBasis
+        x0 : array_like, shape (n,)
+        T : float
+        c : array_like, shape (m, basis.n) or (m * basis.n,)
+        """
+        return None
+
+    def sample_map(self, basis, x0, T: float, c, s):
+        """The family's own states at normalised times ``s`` of one segment (what
+        :func:`acroplan.core.backend.sample` returns, shape ``(n, len(s))``), or ``None`` (the
+        default: the compiled Taylor integrator's dense output)."""
+        return None
+
+    def prepare_endpoint_map(self) -> bool:
+        """Compile what :meth:`endpoint_map` needs (:func:`acroplan.warm_up`); ``True`` when the
+        family has its own map, ``False`` (the default) when it uses the compiled Taylor integrator."""
+        return False
 
     def torque_model(self):
         """The joint torques of a planned motion, or ``None`` when none are known (the default, for

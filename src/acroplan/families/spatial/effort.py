@@ -32,11 +32,12 @@ twist and its rate follow from the momentum, with Pinocchio's centroidal momentu
              \\quad\\Longrightarrow\\quad
              \\dot\\nu = -A_{G,r}^{-1}\\big(A_{G,j}\\,\\dot u + \\dot A_G\\,v\\big) .         \\qquad (2)
 
-In 3-D the torques depend on the attitude: the momentum in the root's frame is :math:`R(q)^\\top L`
-(turning the body about :math:`L` changes nothing; turning :math:`L` in the body changes the
-torques). So the attitude is integrated along the segment first (the compiled integrator of the
-family's state equation, :mod:`acroplan.core.backend`, at every node at once, with its variational
-equations: :math:`\\partial q(s)/\\partial c` comes with it).
+In 3-D the torques depend on the attitude through the momentum in the root's frame,
+:math:`R(q)^\\top L`, alone (no gravity: turning the whole body changes nothing else). At
+:math:`L = 0` they do not depend on it at all, and the attitude is not integrated. Otherwise it is
+integrated along the segment first, by the compiled Taylor integrator of the family's state
+equation with its variational equations (:math:`\\partial q(s)/\\partial c` comes with it), at
+every node at once.
 
 The torques
 -----------
@@ -248,8 +249,9 @@ def _basis_tables(basis, s_bytes: bytes):
 
 def attitude_samples(system, basis, x0, T, c, s, *, jacobian: bool = False):
     """The states of a segment at normalised times ``s`` (any order, in [0, 1]) by the compiled
-    integrator (:mod:`acroplan.core.backend`), and with ``jacobian`` their sensitivities to the
-    coefficients from its variational equations, at the same cost (one ``propagate_grid``).
+    Taylor integrator (:func:`acroplan.core.backend.taylor_sample`'s), and with ``jacobian`` their
+    sensitivities to the coefficients from its variational equations, at the same cost (one
+    ``propagate_grid``): the torques with and without their Jacobian see the same attitude.
 
     Returns
     -------
@@ -334,6 +336,11 @@ class SpatialTorque:
         s = np.ascontiguousarray(np.atleast_1d(np.asarray(s, dtype=float)))
         V, V1, Int = _basis_tables(basis, s.tobytes())
         joints = (x0[4:, None] + T * (c @ Int.T), c @ V.T, (c @ V1.T) / T)
+        if not np.any(system.angular_momentum):
+            # at L = 0 the torques do not depend on the attitude (no gravity, and no momentum for the
+            # body to turn in): the start's attitude serves at every node, with no sensitivity
+            att = np.repeat(x0[:4, None], s.size, axis=1)
+            return (att,) + joints + ((np.zeros((s.size, 3, m * basis.n)),) if jacobian else ())
         if not jacobian:
             return (attitude_samples(system, basis, x0, T, c, s)[:4],) + joints
         X, DX = attitude_samples(system, basis, x0, T, c, s, jacobian=True)

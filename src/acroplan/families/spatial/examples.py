@@ -19,8 +19,9 @@
   asymmetric arm motions add half a twist (two quarter twists, the arms down at take-off, half
   way and at the end).
 
-Planning times (``python benchmarks/spatial.py --examples``, in ``benchmarks/RESULTS.md``): 4-7 s
-for the cat, 18-90 s for the others on a shared machine.
+Planning times (``python benchmarks/spatial.py --examples``, in ``benchmarks/RESULTS.md``, with the
+Pinocchio check): 0.3 s for the cat (two copies of one loop), 3-11 s for the others on a shared,
+busy machine (issue #22; 4-90 s before).
 """
 
 from __future__ import annotations

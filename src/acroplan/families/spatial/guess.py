@@ -76,10 +76,12 @@ class Connection:
 
     def __call__(self, S) -> np.ndarray:
         """:math:`\\mathcal{A}` at shapes ``S`` of shape ``(m, N)``; returns shape ``(3, m, N)``."""
+        from .collocation import compile_map, evaluate_map
+
         S = np.asarray(S, dtype=float).reshape(self.m, -1)
-        I, A = self.body.momentum_map(S)  # noqa: E741
-        out = np.linalg.solve(np.moveaxis(I, -1, 0), np.moveaxis(A, -1, 0))  # (N, 3, m)
-        return np.moveaxis(out, 0, -1)
+        m, N = S.shape
+        out = evaluate_map(self.body, compile_map(self.body), np.concatenate([S, np.zeros((m, N))]))
+        return out[9:9 + 3 * m].reshape(m, 3, N).swapaxes(0, 1)
 
 
 def curvature(conn: Connection, S, h: float = 1e-5) -> np.ndarray:
@@ -128,44 +130,45 @@ def fast_attitudes(body, q0, T: float, S, dS) -> np.ndarray:
     -------
     numpy.ndarray, shape (4, K)
     """
+    from .collocation import _quad, _right, compile_map, evaluate_map
+
     S = np.asarray(S, dtype=float)
     dS = np.asarray(dS, dtype=float)
     m, K, M = S.shape
-    I, A = body.momentum_map(S.reshape(m, K * M))  # noqa: E741
-    Iinv = np.linalg.inv(np.moveaxis(I, -1, 0))  # (K M, 3, 3)
-    Ad = np.einsum("imn,mn->in", A, dS.reshape(m, K * M))  # (3, K M)
-    shape_w = -np.einsum("nij,jn->ni", Iinv, Ad).reshape(K, M, 3)
+    fn = compile_map(body, light=True)
+    P = K * M
+    out = evaluate_map(body, fn, np.concatenate([S.reshape(m, P), dS.reshape(m, P)]))
+    # the generators of q' = M q at every grid point, (K, M, 4, 4): M = (1/2) q (x) (0, o)
+    shape_w = -np.moveaxis(out[6:9].reshape(3, K, M), 0, -1)  # -I^-1 A s', (K, M, 3)
     Lv = T * body.angular_momentum
     drift = np.linalg.norm(Lv) > 0
-    Iinv = Iinv.reshape(K, M, 3, 3)
     N = (M - 1) // 2
     h = 1.0 / N
-    q = np.tile(np.asarray(q0, dtype=float)[:, None], (1, K))
+    q = np.tile(np.asarray(q0, dtype=float), (K, 1))  # (K, 4)
+    if not drift:
+        Mg = _right(shape_w)
 
-    def f(q, k):
-        w = shape_w[:, k]
-        if drift:
-            w, a, b, c = q
-            RtL = np.stack([(w * w + a * a - b * b - c * c) * Lv[0] + 2 * (a * b + w * c) * Lv[1]
-                            + 2 * (a * c - w * b) * Lv[2],
-                            2 * (a * b - w * c) * Lv[0] + (w * w - a * a + b * b - c * c) * Lv[1]
-                            + 2 * (b * c + w * a) * Lv[2],
-                            2 * (a * c + w * b) * Lv[0] + 2 * (b * c - w * a) * Lv[1]
-                            + (w * w - a * a - b * b + c * c) * Lv[2]], axis=1)
-            w = shape_w[:, k] + np.einsum("kij,kj->ki", Iinv[:, k], RtL)
-        o = w.T
-        qw, qx, qy, qz = q
-        return 0.5 * np.stack([-qx * o[0] - qy * o[1] - qz * o[2], qw * o[0] - qz * o[1] + qy * o[2],
-                               qz * o[0] + qw * o[1] - qx * o[2], -qy * o[0] + qx * o[1] + qw * o[2]])
+        def f(q, k):
+            return (Mg[:, k] @ q[:, :, None])[:, :, 0]
+    else:
+        Wl = np.moveaxis(out[:6].reshape(6, K, M), 0, -1)
+        Iinv = Wl[..., [0, 1, 2, 1, 3, 4, 2, 4, 5]].reshape(K, M, 3, 3)
+        Q = _quad(Lv)  # (R(q)^T L T)_i = q^T Q_i q
 
-    for step in range(N):
-        k = 2 * step
-        k1 = f(q, k)
-        k2 = f(q + 0.5 * h * k1, k + 1)
-        k3 = f(q + 0.5 * h * k2, k + 1)
-        k4 = f(q + h * k3, k + 2)
-        q = q + (h / 6.0) * (k1 + 2 * k2 + 2 * k3 + k4)
-    return q / np.linalg.norm(q, axis=0)
+        def f(q, k):
+            lam = np.einsum("ka,iab,kb->ki", q, Q, q)
+            o = shape_w[:, k] + (Iinv[:, k] @ lam[:, :, None])[:, :, 0]
+            return (_right(o) @ q[:, :, None])[:, :, 0]
+
+    with np.errstate(over="ignore", invalid="ignore"):  # wild candidates blow up: ranked last (NaN)
+        for step in range(N):
+            k = 2 * step
+            k1 = f(q, k)
+            k2 = f(q + 0.5 * h * k1, k + 1)
+            k3 = f(q + 0.5 * h * k2, k + 1)
+            k4 = f(q + h * k3, k + 2)
+            q = q + (h / 6.0) * (k1 + 2 * k2 + 2 * k3 + k4)
+        return (q / np.linalg.norm(q, axis=1)[:, None]).T
 
 
 @dataclasses.dataclass(frozen=True)
@@ -339,19 +342,26 @@ def loop_guesses(body, basis, x0, x1, T: float, ends: dict | None = None, limits
             if nb > 0:
                 dirs += [(a, bv / nb)]
     amps = np.array(AMPLITUDES)
-    cand = [(a * ra, b * rb) for a, b in dirs for ra in amps for rb in amps]
-    Av = np.array([c[0] for c in cand]).T  # (m, K)
-    Bv = np.array([c[1] for c in cand]).T
+    Ad = np.array([d[0] for d in dirs])  # (D, m)
+    Bd = np.array([d[1] for d in dirs])
+    na = amps.size
+    Av = (Ad[:, None, None, :] * amps[None, :, None, None] + 0.0 * amps[None, None, :, None]).reshape(-1, m).T
+    Bv = (Bd[:, None, None, :] * amps[None, None, :, None] + 0.0 * amps[None, :, None, None]).reshape(-1, m).T
+    cand = [(Av[:, k], Bv[:, k]) for k in range(Av.shape[1])]
     xg = 2 * grid - 1
     S = SHg[:, None, :] + wg[None, None, :] * (Av[:, :, None] + xg[None, None, :] * Bv[:, :, None])
     dS = dSHg[:, None, :] + dwg[None, None, :] * (Av[:, :, None] + xg[None, None, :] * Bv[:, :, None]) \
         + 2.0 * wg[None, None, :] * Bv[:, :, None]
     qe = fast_attitudes(body, x0[:4], T, S, dS)
-    err = np.array([rot.angle_between(qe[:, k], x1[:4]) for k in range(qe.shape[1])])
+    rel = rot.qmul(rot.qconj(x1[:4] / np.linalg.norm(x1[:4])), qe)  # (4, K), unit
+    with np.errstate(invalid="ignore"):
+        err = 2.0 * np.arctan2(np.linalg.norm(rel[1:], axis=0), np.abs(rel[0]))
+    err = np.where(np.isfinite(err), err, np.inf)
     ok = np.all(S.min(axis=2) >= lo[:, None], axis=0) & np.all(S.max(axis=2) <= hi[:, None], axis=0) \
         & np.all(np.abs(dS).max(axis=2) <= 0.99 * U[:, None] * T, axis=0)
     size = np.sqrt(np.sum(Av**2, axis=0) + np.sum(Bv**2, axis=0))
-    order = sorted(range(len(cand)), key=lambda k: (not ok[k], round(err[k], 2), size[k]))
+    order = np.lexsort((size, np.round(err, 2), ~ok))  # compliant first, then the error, then the size
+    del na
     out, seen = [], []
     for k in order:
         a, b = cand[k]
@@ -365,20 +375,30 @@ def loop_guesses(body, basis, x0, x1, T: float, ends: dict | None = None, limits
     return out + [base]
 
 
-def refine(body, basis, x0, x1, T: float, guess: LoopGuess, *, budget: int = 30, tol: float = 1e-12):
+def refine(body, basis, x0, x1, T: float, guess: LoopGuess, *, budget: int = 30, tol: float = 1e-12,
+           limits=None):
     """Gauss-Newton on the loop's vectors :math:`z = (v_0, \\dots, v_d)` of
     :math:`\\delta s = \\hat w(\\sigma) \\sum_k P_k(2\\sigma - 1)\\, v_k` (Legendre polynomials
     :math:`P_k`, :math:`d \\le 3` as the basis allows; the teardrop is :math:`v_0 = a`,
     :math:`v_1 = b`, the rest 0): :math:`(d + 1) m` unknowns, the attitude's 3 equations (the
-    joints end on target whatever :math:`z`); minimum-norm steps
-    :math:`\\delta z = (J_z)^+ r`, :math:`r` the attitude's rotation vector to the target and
-    :math:`J_z` its Jacobian (compiled integrator, tangent space), with backtracking.
+    joints end on target whatever :math:`z`); the shortest steps with :math:`J_z\\, \\delta z = r`,
+    :math:`r` the attitude's rotation vector to the target and :math:`J_z` its Jacobian (compiled
+    integrator, tangent space), with backtracking.
+
+    With ``limits``, the joint ranges and rate limits hold inside the refinement: they are linear in
+    :math:`z` on a grid of 64 times (:func:`acroplan.core.limits.linear_limits`, with a margin of
+    0.2%), and each step is the shortest one that also keeps them
+    (:func:`acroplan.core.linalg.least_norm_step`), so a refined loop needs no constrained solve
+    afterwards.
 
     Returns
     -------
     (coefficients, error, evaluations)
         The best input found (shape (m, n)), its attitude error (rad), the endpoint evaluations spent.
     """
+    from ...core.limits import linear_limits
+    from ...core.linalg import least_norm_step, least_squares_step
+
     if guess.subspace is None:
         return guess.coefficients, float("nan"), 0
     m, n = body.n_inputs, basis.n
@@ -386,10 +406,26 @@ def refine(body, basis, x0, x1, T: float, guess: LoopGuess, *, budget: int = 30,
     z = np.zeros(K.shape[1])
     z[:2 * m] = np.concatenate([guess.a, guess.b])
     evals = 0
+    G = np.zeros((0, K.shape[1]))
+    h = np.zeros(0)
+    if limits is not None and limits.active:
+        A, b = linear_limits(body, basis, x0, T, limits, margin=2e-3)
+        G, h = A @ K, b - A @ c0
 
     def evaluate(z):
         y, J = backend.endpoint(body, basis, x0, T, c0 + K @ z)
         return body.diff(y, x1)[:3], body.tangent_jacobian(y, J)[:3] @ K
+
+    def step(Jz, r, z):
+        """The step, and whether the limits kept it from meeting the linearised target."""
+        if not G.shape[0]:
+            return np.linalg.lstsq(Jz, r, rcond=1e-12)[0], False
+        d, ok = least_norm_step(Jz, r, G, h - G @ z)
+        if ok:
+            return d, False
+        # the limits do not let one step meet the target: the step that comes closest under them
+        d, ok = least_squares_step(Jz, r, G, h - G @ z)
+        return (d if ok else np.linalg.lstsq(Jz, r, rcond=1e-12)[0]), True
 
     try:
         r, Jz = evaluate(z)
@@ -397,8 +433,10 @@ def refine(body, basis, x0, x1, T: float, guess: LoopGuess, *, budget: int = 30,
         return guess.coefficients, float("inf"), 1
     evals += 1
     res = float(np.linalg.norm(r))
-    while evals < budget and res > tol:
-        d = np.linalg.lstsq(Jz, r, rcond=1e-12)[0]
+    slow = 0
+    while evals < budget and res > tol and slow < 2:
+        d, blocked = step(Jz, r, z)
+        before = res
         alpha, moved = 1.0, False
         while alpha >= 1.0 / 64 and evals < budget:
             evals += 1
@@ -413,4 +451,5 @@ def refine(body, basis, x0, x1, T: float, guess: LoopGuess, *, budget: int = 30,
             alpha /= 4.0
         if not moved:
             break
+        slow = slow + 1 if blocked and res > 0.7 * before else 0  # stalled against the limits
     return (c0 + K @ z).reshape(m, n), res, evals

@@ -22,7 +22,7 @@ from .links import SpatialLink
 from .model import SpatialBody
 
 __all__ = ["random_body", "random_segment", "SpatialSegment", "box_inertia", "cylinder_inertia", "falling_cat",
-           "cat_frame", "astronaut", "twisting_diver"]
+           "cat_frame", "two_joint_cat", "long_axis_turn", "astronaut", "twisting_diver"]
 
 
 def box_inertia(mass: float, a: float, b: float, c: float) -> tuple[float, float, float]:
@@ -103,6 +103,51 @@ def cat_frame(cat: SpatialBody, shape) -> np.ndarray:
     z = np.array([0.0, 0.0, 1.0]) - x[2] * x
     z /= np.linalg.norm(z)
     return np.column_stack([x, np.cross(z, x), z])
+
+
+def two_joint_cat() -> SpatialBody:
+    """A cat of two joints (issue #22): two halves of 1.5 kg (principal moments 0.0012, 0.0085,
+    0.0085 kg m^2, the first about the half's axis), their centres of mass 0.12 m either side of the
+    waist on the front half's :math:`x` axis; ``bend`` about :math:`y`, then ``sway`` about
+    :math:`z`, both within :math:`\\pm 1.6` rad and 50 rad/s.
+
+    Returns
+    -------
+    SpatialBody
+        At :math:`L = 0`.
+    """
+    inertia = (0.0012, 0.0085, 0.0085)
+    return SpatialBody([
+        SpatialLink("front", None, 1.5, inertia, com=(0.12, 0.0, 0.0)),
+        SpatialLink("waist", "front", 0.0, (0.0, 0.0, 0.0), axis=(0.0, 1.0, 0.0), joint_name="bend",
+                    lower=-1.6, upper=1.6, velocity=50.0),
+        SpatialLink("rear", "waist", 1.5, inertia, com=(-0.12, 0.0, 0.0), axis=(0.0, 0.0, 1.0), joint_name="sway",
+                    lower=-1.6, upper=1.6, velocity=50.0),
+    ])
+
+
+def long_axis_turn(body: SpatialBody, shape, T: float, *, front: str = "front", rear: str = "rear") -> dict:
+    """Plan keywords: 180 degrees about the long axis (the line through the centres of mass of the
+    links ``front`` and ``rear``) at the body's :math:`L` in ``T`` seconds, from ``shape`` back to
+    it, upside down to upright, the joints at rest at both ends (``conditions="free"``).
+
+    Returns
+    -------
+    dict
+        Keywords of :func:`acroplan.plan`.
+    """
+    shape = np.asarray(shape, dtype=float)
+    _, _, coms = body.link_poses(np.concatenate([[1.0, 0.0, 0.0, 0.0], shape]))
+    x = coms[body.links.index(front)] - coms[body.links.index(rear)]
+    x /= np.linalg.norm(x)
+    z = np.array([0.0, 0.0, 1.0]) - x[2] * x
+    z /= np.linalg.norm(z)
+    C = np.column_stack([x, np.cross(z, x), z])
+    up = rot.from_matrix(C.T)
+    down = rot.from_matrix(rot.to_matrix(rot.exp([np.pi, 0.0, 0.0])) @ C.T)
+    joints = {name: [float(v)] * 2 for name, v in zip(body.links.joint_names, shape)}
+    return dict(times=[0.0, float(T)], conditions="free", start_rate=0.0, end_rate=0.0, **joints,
+                **rot.attitude_states([down, up]))
 
 
 def astronaut(*, arm_mass: float = 3.6) -> SpatialBody:

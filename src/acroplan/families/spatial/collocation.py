@@ -1,0 +1,796 @@
+"""The endpoint map of a spatial body and its Jacobian, by Gauss collocation of the attitude alone.
+
+Why not the Taylor integrator
+-----------------------------
+On a segment (normalised time :math:`\\sigma \\in [0, 1]`, duration :math:`T`) the joint rates are
+the basis series :math:`u(\\sigma) = \\sum_i c_{\\cdot i} b_i(\\sigma)` and the shape is their exact
+integral, a polynomial of time:
+
+.. math::  s(\\sigma) = s_0 + T \\sum_i c_{\\cdot i} B_i(\\sigma) ,\\qquad B_i(\\sigma) = \\int_0^\\sigma b_i .
+
+So everything that is expensive in (2) of :mod:`~acroplan.families.spatial.model` (the rotations of
+the links, the locked inertia :math:`\\mathbb{I}(s)`, the coupling :math:`A(s)`, the solve) is a
+known function of time, and only the attitude :math:`q` needs integrating:
+
+.. math::  \\frac{dq}{d\\sigma} = \\tfrac12\\, q \\otimes (0, \\Omega) ,\\qquad
+           \\Omega(\\sigma, q) = \\omega(\\sigma) + W(\\sigma)\\, R(q)^\\top L ,\\qquad
+           \\omega = -T\\,\\mathbb{I}^{-1} A\\, u ,\\quad W = T\\,\\mathbb{I}^{-1} .        \\qquad (1)
+
+The compiled Taylor integrator (:mod:`acroplan.core.backend`) instead carries the whole field in
+Taylor arithmetic, where each product costs :math:`O(p^2)` at order :math:`p = 19`, over some
+50 steps for the bundled cat, plus 7 x 42 variational equations: 30-80 ms per evaluation. Here the
+momentum map is evaluated at points only (a compiled function, :func:`heyoka.cfunc`, of the
+shape and the rates: :math:`\\mathbb{I}^{-1}`, :math:`\\mathbb{I}^{-1}Au`, :math:`\\mathcal{A} =
+\\mathbb{I}^{-1}A` and the shape derivatives :math:`X_k = \\mathbb{I}^{-1}\\partial_k\\mathbb{I}`,
+:math:`y_k = \\mathbb{I}^{-1}\\partial_k A\\, u`), at some 100 points per segment
+(``benchmarks/spatial_endpoint.py`` measures both).
+
+The scheme
+----------
+:math:`[0, 1]` is cut into panels; on a panel :math:`[a, a + H]` the attitude is the Gauss
+collocation polynomial at the :data:`NODES` Gauss-Legendre nodes :math:`a + H\\gamma_i` (the
+implicit Runge-Kutta method of order :math:`2N`):
+
+.. math::  Y_i = y_0 + H \\sum_j \\alpha_{ij} F_j ,\\qquad y_1 = y_0 + H \\sum_j \\beta_j F_j ,\\qquad
+           F_j = \\tfrac12\\, Y_j \\otimes (0, \\Omega(\\sigma_j, Y_j)),
+
+At :math:`L = 0`, (1) is linear in :math:`q`: every panel is solved at once from the identity (one
+dense 4N x 4N solve each) and the panels are chained by quaternion products. With :math:`L \\ne 0`
+the body-frame momentum :math:`\\lambda = R(q)^\\top L` carries the nonlinearity alone,
+
+.. math::  \\lambda' = \\lambda \\times \\Omega ,\\qquad \\Omega = \\omega + W \\lambda ,
+
+and its Gauss collocation is solved first, panel after panel, by Newton's method (3N x 3N systems,
+from the start's momentum turned back by the body's turn at the frozen momentum; one compiled
+kernel per node count gives the residual and the Jacobian's blocks), then the attitude as at
+:math:`L = 0` with :math:`\\Omega` at the nodes. Collocating :math:`\\lambda` and then :math:`q` at the
+same nodes is exactly the Gauss collocation of the coupled system :math:`(\\lambda, q)`, so the
+endpoint keeps order :math:`2N`. Gauss methods keep quadratic invariants exactly: :math:`|q|^2` and
+:math:`|\\lambda|^2 = |L|^2` hold to rounding.
+
+*Panels.* Bisection from two halves: a panel is kept when the last two Legendre coefficients of
+:math:`H\\omega` and :math:`H |L| W` on it (the interpolants at its nodes) are below
+:data:`TAIL_TOL` and the shape turns the root by at most :data:`MAX_TURN` on it; after the solve,
+the same test on :math:`H q'` and :math:`H \\lambda'/|L|` (the solution's own resolution) with
+:data:`SOLUTION_TAIL_TOL`. The endpoint error of Gauss collocation is of the order of the square of
+that tail (the quadrature is exact to degree :math:`2N - 1`): ``tests/test_spatial_endpoint.py``
+checks it against a tight independent integration. The layout depends on the inputs alone, so the
+same call always gives the same numbers. :func:`sample` cuts the panels at the requested times.
+
+The Jacobian
+------------
+It is the exact derivative of the discrete map (to rounding), by implicit differentiation of the
+collocation equations. With :math:`S = \\mathbb{1} - H (\\alpha \\otimes \\mathbb{1}_4)\\,
+\\mathrm{diag}_j(\\partial F_j / \\partial q)` at the solution and
+:math:`M = (\\beta^\\top \\otimes \\mathbb{1}_4)\\, \\mathrm{diag}_j(\\partial F_j/\\partial q)\\, S^{-1}`
+(one transposed solve with four right-hand sides), a panel maps perturbations as
+
+.. math::  \\delta y_1 = \\Phi\\, \\delta y_0 + H \\sum_j Z_j\\, \\tfrac12 \\Xi(Y_j)\\, \\delta\\Omega_j ,\\qquad
+           \\Phi = \\mathbb{1} + H \\sum_i M_i ,\\qquad Z_j = \\beta_j \\mathbb{1} + H \\sum_i M_i \\alpha_{ij} ,
+
+:math:`\\Xi(q) v = q \\otimes (0, v)`, and the coefficients enter through :math:`\\Omega` at fixed
+:math:`q` (with :math:`L \\ne 0` also through the momentum: an adjoint sweep over the momentum's
+panels, :func:`_momentum_adjoint`, adds its part to :math:`\\partial q(1)/\\partial \\Omega_j`):
+
+.. math::  \\frac{\\partial \\Omega}{\\partial c_{li}} = -T \\mathcal{A}_l\\, b_i(\\sigma)
+           + \\big(-X_l \\Omega - T y_l\\big)\\, T B_i(\\sigma) .
+
+The joint rows are exact: :math:`\\partial s_l(1)/\\partial c_{li} = T B_i(1)`.
+"""
+
+from __future__ import annotations
+
+import copy
+import functools
+import threading
+
+import numpy as np
+from scipy.linalg import lapack
+
+from ...core.backend import IntegrationError
+
+__all__ = ["endpoint", "sample", "compile_map", "evaluate_map", "NODES", "TAIL_TOL", "MAX_PANELS"]
+
+#: Gauss-Legendre nodes per panel (the collocation method has order 2 NODES)
+NODES = 16
+#: the largest Legendre tail (rad) of a kept panel (module docstring)
+TAIL_TOL = 1e-8
+#: the largest tail of the solution's own rates (:math:`H\\lambda'/|L|`, :math:`H q'`) after the solve: a
+#: safety net for the attitude's resolution (those rates' tails follow the data's within a factor
+#: of about two)
+SOLUTION_TAIL_TOL = 10 * TAIL_TOL
+#: the most panels one segment may take (a wild input, as the Taylor integrator's step limit)
+MAX_PANELS = 2048
+#: the shortest panel (normalised time)
+MIN_PANEL = 1e-7
+#: the largest turn of the root by the shape's motion on one panel (rad), :math:`H \\max|\\omega|`
+MAX_TURN = 3.0
+#: Newton iterations per panel before it is split
+NEWTON_ITERATIONS = 12
+#: Newton stops after a step this small (the next would be about its square)
+NEWTON_TOL = 1e-8
+
+_SYM = ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))
+_FULL = np.array([[0, 1, 2], [1, 3, 4], [2, 4, 5]])
+
+
+# ---------------------------------------------------------------------- Gauss tables
+@functools.cache
+def _gauss(N: int):
+    """Nodes ``g`` on [0, 1], weights ``b``, the collocation matrix ``a`` (:math:`\\alpha_{ij} =
+    \\int_0^{g_i} \\ell_j`) and ``Vi`` (nodal values to Legendre coefficients on the panel)."""
+    x, w = np.polynomial.legendre.leggauss(N)
+    g, b = (x + 1.0) / 2.0, w / 2.0
+    V = np.polynomial.legendre.legvander(x, N - 1)
+    Vi = np.linalg.inv(V)
+    Q = np.polynomial.legendre.legint(np.eye(N), lbnd=-1.0, scl=0.5, axis=0)
+    a = (np.polynomial.legendre.legvander(x, N) @ Q) @ Vi
+    for t in (g, b, a, Vi):
+        t.setflags(write=False)
+    return g, b, a, Vi
+
+
+# ---------------------------------------------------------------------- the compiled momentum map
+_MAPS: dict = {}
+_LOCK = threading.Lock()
+_LOCAL = threading.local()
+
+
+def _build(body, light=False):
+    """The compiled function of a topology: inputs ``(s, u)``, parameters the lumped parameters;
+    outputs :math:`\\mathbb{I}^{-1}` (6 entries), :math:`\\mathbb{I}^{-1} A u` (3), :math:`\\mathcal{A}`
+    (3 m, column by column), then per joint :math:`k` the 9 entries of :math:`X_k` (row by row) and
+    the 3 of :math:`y_k`."""
+    import heyoka as hy
+
+    x, p = body.symbols()
+    I, A = body.symbolic_momentum_map()  # noqa: E741
+    m = len(A)
+    sv = list(hy.make_vars(*[f"s{j}" for j in range(m)])) if m > 1 else [hy.make_vars("s0")]
+    uv = list(hy.make_vars(*[f"u{j}" for j in range(m)])) if m > 1 else [hy.make_vars("u0")]
+    sub = {sym: v for sym, v in zip(x[4:], sv)}
+    sub.update({sym: hy.par[i] for i, sym in enumerate(p)})
+    Ie = [hy.from_sympy(I[i, j], sub) for i, j in _SYM]
+    Ae = [[hy.from_sympy(A[j][i], sub) for i in range(3)] for j in range(m)]
+    a = [[Ie[_FULL[i, j]] for j in range(3)] for i in range(3)]
+    c00 = a[1][1] * a[2][2] - a[1][2] * a[1][2]
+    c01 = a[0][2] * a[1][2] - a[0][1] * a[2][2]
+    c02 = a[0][1] * a[1][2] - a[0][2] * a[1][1]
+    c11 = a[0][0] * a[2][2] - a[0][2] * a[0][2]
+    c12 = a[0][2] * a[0][1] - a[0][0] * a[1][2]
+    c22 = a[0][0] * a[1][1] - a[0][1] * a[0][1]
+    inv_det = 1.0 / (a[0][0] * c00 + a[0][1] * c01 + a[0][2] * c02)
+    Wl = [c00 * inv_det, c01 * inv_det, c02 * inv_det, c11 * inv_det, c12 * inv_det, c22 * inv_det]
+    W = [[Wl[_FULL[i, j]] for j in range(3)] for i in range(3)]
+
+    def mv(M, v):
+        return [M[i][0] * v[0] + M[i][1] * v[1] + M[i][2] * v[2] for i in range(3)]
+
+    out = list(Wl)
+    out += mv(W, [sum(Ae[j][i] * uv[j] for j in range(m)) for i in range(3)])
+    if light:  # and the momentum map itself: I (6 entries), A (3 m, column by column)
+        return hy.cfunc(out + Ie + [e for col in Ae for e in col], sv + uv)
+    jac = hy.diff_tensors(Ie + [e for col in Ae for e in col], sv, diff_order=1).jacobian
+    for j in range(m):
+        out += mv(W, Ae[j])
+    for k in range(m):
+        dI = [[jac[_FULL[i, j], k] for j in range(3)] for i in range(3)]
+        out += [sum(W[i][r] * dI[r][j] for r in range(3)) for i in range(3) for j in range(3)]
+        out += mv(W, [sum(jac[6 + 3 * j + i, k] * uv[j] for j in range(m)) for i in range(3)])
+    return hy.cfunc(out, sv + uv)
+
+
+def compile_map(body, light: bool = False):
+    """The compiled momentum map of a body's topology (:func:`_build`), built once per process, and
+    this thread's own copy of it. ``light``: the first 9 outputs alone (:math:`\\mathbb{I}^{-1}`
+    and :math:`\\mathbb{I}^{-1} A u`, for the guesses' fast integration), then :math:`\\mathbb{I}`
+    (6 entries) and :math:`A` (3 m, column by column) themselves
+    (:meth:`SpatialBody.momentum_map <acroplan.families.spatial.model.SpatialBody.momentum_map>`)."""
+    key = (body.links.parents, bool(light))
+    fn = _MAPS.get(key)
+    if fn is None:
+        with _LOCK:
+            fn = _MAPS.get(key)
+            if fn is None:
+                fn = _MAPS[key] = _build(body, light=bool(light))
+    mine = getattr(_LOCAL, "maps", None)
+    if mine is None:
+        mine = _LOCAL.maps = {}
+    own = mine.get(key)
+    if own is None:
+        own = mine[key] = copy.copy(fn)
+    return own
+
+
+#: points per call of a compiled map (:func:`evaluate_map`)
+CHUNK = 4096
+
+
+@functools.lru_cache(maxsize=24)
+def _repeated(params: tuple, P: int) -> np.ndarray:
+    """The parameters repeated for ``P`` points, C-contiguous (what ``cfunc`` wants), read-only."""
+    out = np.repeat(np.asarray(params, dtype=float)[:, None], P, axis=1)
+    out.setflags(write=False)
+    return out
+
+
+def evaluate_map(body, fn, inputs) -> np.ndarray:
+    """A compiled map ``fn`` (:func:`compile_map`) at the points ``inputs`` (columns: the shape and
+    the rates), in chunks of :data:`CHUNK` points with the body's parameters repeated once per size.
+
+    Returns
+    -------
+    numpy.ndarray, shape (outputs, points)
+    """
+    inputs = np.ascontiguousarray(inputs, dtype=float)
+    P = inputs.shape[1]
+    params = body._param_tuple
+    if P <= CHUNK:
+        return fn(inputs, pars=_repeated(params, P))
+    out = np.empty((fn.nouts, P))
+    pars = _repeated(params, CHUNK)
+    for a in range(0, P, CHUNK):
+        b = min(P, a + CHUNK)
+        out[:, a:b] = fn(np.ascontiguousarray(inputs[:, a:b]), pars=pars if b - a == CHUNK else _repeated(params, b - a))
+    return out
+
+
+# ---------------------------------------------------------------------- quaternion algebra, vectorised
+def _tensors():
+    """Constant tensors: ``RIGHT[k]`` the matrix of :math:`q \\mapsto \\tfrac12 q \\otimes (0, e_k)`,
+    ``XI[a]`` the part of :math:`\\tfrac12 \\Xi(q)` linear in :math:`q_a`, ``LEFT[a]`` that of
+    :math:`p \\mapsto q \\otimes p`, and ``QUAD[i, l]`` the symmetric matrices with
+    :math:`(R(q)^\\top L)_i = \\sum_l L_l\\, q^\\top Q_{il}\\, q`."""
+    E = np.eye(4)
+
+    def qm(a, b):
+        return _qmul(a, b)
+
+    RIGHT = np.zeros((3, 4, 4))
+    XI = np.zeros((4, 4, 3))
+    LEFT = np.zeros((4, 4, 4))
+    for k in range(3):
+        v = np.zeros(4)
+        v[k + 1] = 1.0
+        for b in range(4):
+            RIGHT[k][:, b] = 0.5 * qm(E[b], v)
+            XI[b][:, k] = 0.5 * qm(E[b], v)
+    for a in range(4):
+        for b in range(4):
+            LEFT[a][:, b] = qm(E[a], E[b])
+    QUAD = np.zeros((3, 3, 4, 4))
+    for a in range(4):
+        for b in range(4):
+            qa, qb = E[a], E[b]
+            # R(q)^T L = vec(q^* (0, L) q), bilinear in (q, q): symmetrise
+            for l in range(3):  # noqa: E741
+                Lv = np.zeros(4)
+                Lv[l + 1] = 1.0
+                val = qm(qm(np.array([qa[0], -qa[1], -qa[2], -qa[3]]), Lv), qb)[1:]
+                QUAD[:, l, a, b] += 0.5 * val
+                QUAD[:, l, b, a] += 0.5 * val
+    for t in (RIGHT, XI, LEFT, QUAD):
+        t.setflags(write=False)
+    return RIGHT, XI, LEFT, QUAD
+
+
+def _qmul(a, b):
+    aw, ax, ay, az = a
+    bw, bx, by, bz = b
+    return np.array([aw * bw - ax * bx - ay * by - az * bz, aw * bx + ax * bw + ay * bz - az * by,
+                     aw * by - ax * bz + ay * bw + az * bx, aw * bz + ax * by - ay * bx + az * bw])
+
+
+_RIGHT, _XI, _LEFT, _QUAD = _tensors()
+
+
+def _right(w):
+    """The matrices of :math:`q \\mapsto \\tfrac12 q \\otimes (0, w)`, shape (..., 4, 4)."""
+    return (w @ _RIGHT.reshape(3, 16)).reshape(w.shape[:-1] + (4, 4))
+
+
+def _xi(q):
+    """:math:`\\tfrac12 \\Xi(q)`, :math:`\\Xi(q) v = q \\otimes (0, v)`, shape (..., 4, 3)."""
+    return (q @ _XI.reshape(4, 12)).reshape(q.shape[:-1] + (4, 3))
+
+
+def _left(q):
+    """The matrix of :math:`p \\mapsto q \\otimes p`, shape (..., 4, 4)."""
+    return (q @ _LEFT.reshape(4, 16)).reshape(q.shape[:-1] + (4, 4))
+
+
+def _quad(L):
+    """:math:`Q(L) = \\sum_l L_l Q_{il}`, shape (3, 4, 4): :math:`R(q)^\\top L = (q^\\top Q_i q)_i`
+    (the quadratic form of the model's fields, also off the unit sphere)."""
+    return np.einsum("l,ilab->iab", np.asarray(L, dtype=float), _QUAD)
+
+
+# ---------------------------------------------------------------------- the segment
+class _Segment:
+    """One segment's data: the body, the basis, the inputs; node data of panels on demand."""
+
+    def __init__(self, body, basis, x0, T, c):
+        self.m, self.n = body.n_inputs, basis.n
+        self.basis = basis
+        self.T = float(T)
+        self.c = np.asarray(c, dtype=float).reshape(self.m, self.n)
+        self.x0 = np.asarray(x0, dtype=float)
+        self.L = np.asarray(body.L, dtype=float)
+        self.drift = bool(np.any(self.L != 0.0))
+        self.Lnorm = float(np.linalg.norm(self.L))
+        self.Q = _quad(self.L)
+        self.body = body
+        self.fn = compile_map(body)
+        self.N = NODES
+        self.g, self.b, self.a, self.Vi = _gauss(NODES)
+
+    def data(self, starts, widths):
+        """Node data of panels ``[starts[k], starts[k] + widths[k]]``: a dict of arrays whose first
+        two axes are (panel, node)."""
+        P, N, m, T = len(starts), self.N, self.m, self.T
+        sig = (starts[:, None] + widths[:, None] * self.g[None, :]).ravel()
+        Bm, Bi = _basis_at(self.basis, N, starts, widths)
+        u = self.c @ Bm.T
+        s = self.x0[4:, None] + T * (self.c @ Bi.T)
+        out = evaluate_map(self.body, self.fn, np.concatenate([s, u]))
+        if not np.isfinite(out).all():
+            raise IntegrationError("the locked inertia is singular or the input is not finite on this segment")
+        out = out.T  # (PN, outputs)
+        W = T * out[:, _FULL]  # (PN, 3, 3)
+        w = -T * out[:, 6:9]
+        cA = out[:, 9:9 + 3 * m].reshape(-1, m, 3).transpose(0, 2, 1)  # (PN, 3, m): column l is A_l
+        rest = out[:, 9 + 3 * m:].reshape(-1, m, 12)
+        X = rest[:, :, :9].reshape(-1, m, 3, 3)  # X_l
+        y = rest[:, :, 9:]  # (PN, m, 3)
+        shp = (P, N)
+        return dict(sig=sig.reshape(shp), Bm=Bm.reshape(shp + (-1,)), Bi=Bi.reshape(shp + (-1,)),
+                    W=W.reshape(shp + (3, 3)), w=w.reshape(shp + (3,)), cA=cA.reshape(shp + (3, m)),
+                    X=X.reshape(shp + (m, 3, 3)), y=y.reshape(shp + (m, 3)))
+
+    def tails(self, vals, widths):
+        """``H`` times the largest of the last two Legendre coefficients of nodal values ``vals``
+        (panel, node, channels...) on each panel."""
+        P, N = vals.shape[:2]
+        co = self.Vi[N - 2:] @ vals.reshape(P, N, -1)
+        return widths * np.abs(co).max(axis=(1, 2))
+
+
+@functools.lru_cache(maxsize=64)
+def _dyadic_tables(basis, N: int, depth: int):
+    """The basis and its integrals at the Gauss nodes of every panel of width :math:`2^{-d}`:
+    arrays (2^d, N, n), cached (the layout's panels are all dyadic)."""
+    K = 2 ** depth
+    g = _gauss(N)[0]
+    sig = ((np.arange(K)[:, None] + g[None, :]) / K).ravel()
+    out = (basis.matrix(sig).reshape(K, N, -1), basis.integral(sig).reshape(K, N, -1))
+    for t in out:
+        t.setflags(write=False)
+    return out
+
+
+def _basis_at(basis, N, starts, widths):
+    """``(B, Bi)`` of shape (P N, n): the basis and its integrals at the nodes of the panels."""
+    depth = np.rint(-np.log2(widths)).astype(int)
+    if depth.min() == depth.max() and depth[0] <= 10 and np.all(widths == 2.0 ** -depth):
+        k = np.rint(starts * 2.0 ** depth[0]).astype(int)
+        Bm, Bi = _dyadic_tables(basis, N, int(depth[0]))
+        return Bm[k].reshape(k.size * N, -1), Bi[k].reshape(k.size * N, -1)
+    sig = (starts[:, None] + widths[:, None] * _gauss(N)[0][None, :]).ravel()
+    return basis.matrix(sig), basis.integral(sig)
+
+
+def _take(d, idx):
+    return {k: v[idx] for k, v in d.items()}
+
+
+def _cat(parts):
+    return {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}
+
+
+def _split(starts, widths, d, bad, seg, kept_count=0):
+    """Halve the panels ``bad`` (a boolean mask): starts, widths and node data of the new panels."""
+    h = widths[bad] / 2.0
+    if h.size and (h.min() < MIN_PANEL or kept_count + 2 * h.size > MAX_PANELS):
+        raise IntegrationError(f"the input is too large to integrate: more than {MAX_PANELS} panels on one "
+                               f"segment")
+    st = np.concatenate([starts[bad], starts[bad] + h])
+    wd = np.concatenate([h, h])
+    return st, wd
+
+
+def _layout(seg, starts=None, widths=None, kept=None):
+    """The panels (module docstring): starts, widths, node data, sorted by start. Bisection of
+    ``starts, widths`` (default: the two halves of the segment), keeping the panels ``kept``
+    (``(starts, widths, data)``) as they are."""
+    if starts is None:
+        starts, widths = np.array([0.0, 0.5]), np.array([0.5, 0.5])
+    kept = list(kept or [])
+    while starts.size:
+        d = seg.data(starts, widths)
+        vals = d["w"]
+        if seg.drift:
+            vals = np.concatenate([vals, seg.Lnorm * d["W"].reshape(vals.shape[:2] + (9,))], axis=2)
+        turn = widths * np.sqrt((d["w"] * d["w"]).sum(axis=2).max(axis=1))
+        ok = (seg.tails(vals, widths) <= TAIL_TOL) & (turn <= MAX_TURN)
+        if ok.any():
+            kept.append((starts[ok], widths[ok], _take(d, ok)))
+        if ok.all():
+            break
+        starts, widths = _split(starts, widths, d, ~ok, seg, sum(k[0].size for k in kept))
+    st = np.concatenate([k[0] for k in kept])
+    wd = np.concatenate([k[1] for k in kept])
+    d = _cat([k[2] for k in kept])
+    order = np.argsort(st, kind="stable")
+    return st[order], wd[order], _take(d, order)
+
+
+def _lu_solve(lu, piv, B, trans=0):
+    """Solve with LU factors (``dgetrs``) one right-hand side at a time: with several at once,
+    OpenBLAS's threaded triangular solves (``trsm``) took milliseconds instead of microseconds on a
+    busy machine (measured: a median of 16 ms for a 64 x 64 system with 4 right-hand sides)."""
+    out = np.empty_like(B)
+    for j in range(B.shape[1]):
+        out[:, j] = lapack.dgetrs(lu, piv, B[:, j], trans=trans)[0]
+    return out
+
+
+def _blocks(seg, widths, J):
+    """``S = 1 - H (alpha (x) 1) diag_j(J_j)`` of every panel, from blocks ``J`` (P, N, k, k)."""
+    P, N, k = J.shape[0], J.shape[1], J.shape[2]
+    S = (seg.a[None, :, None, :, None] * (-widths[:, None, None, None, None] * np.swapaxes(J, 1, 2)[:, None]))
+    S = S.reshape(P, N * k, N * k)
+    S[:, _diag(N * k), _diag(N * k)] += 1.0
+    return S
+
+
+@functools.cache
+def _diag(n):
+    return np.arange(n)
+
+
+def _skew(v):
+    """:math:`[v]_\\times`, shape (..., 3, 3)."""
+    return (v @ _E2).reshape(v.shape[:-1] + (3, 3))
+
+
+_EPS = np.zeros((3, 3, 3))
+for _i, _j, _k in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
+    _EPS[_k, _i, _j], _EPS[_k, _j, _i] = -1.0, 1.0  # [v]x[i, j] = -eps_ijk v_k
+_EPS.setflags(write=False)
+_E2 = _EPS.reshape(3, 9)
+
+
+def _rotate(v, theta):
+    """``v`` turned by the rotation vectors ``theta`` (N, 3) (Rodrigues), shape (N, 3)."""
+    t = np.sqrt((theta * theta).sum(axis=1))
+    small = t < 1e-8
+    ts = np.where(small, 1.0, t)
+    s1 = np.where(small, 1.0 - t * t / 6.0, np.sin(ts) / ts)
+    s2 = np.where(small, 0.5 - t * t / 24.0, (1.0 - np.cos(ts)) / (ts * ts))
+    K = _skew(theta)
+    tv = K @ v
+    return v + s1[:, None] * tv + s2[:, None] * (K @ tv[:, :, None])[:, :, 0]
+
+
+@functools.cache
+def _ak(N: int, k: int):
+    """:math:`\\alpha_{ij}` at the rows (i, a) and columns (j, b) of a stage system with ``k``
+    unknowns per node, as an (N, 1, N k) array."""
+    out = np.repeat(_gauss(N)[2], k, axis=1)[:, None, :]
+    out.setflags(write=False)
+    return out
+
+
+def _block1(seg, H, J):
+    """``S`` of one panel from blocks ``J`` (N, k, k) (:func:`_blocks`)."""
+    N, k = J.shape[0], J.shape[1]
+    S = (_ak(N, k) * ((-H) * np.swapaxes(J, 0, 1).reshape(k, N * k))).reshape(N * k, N * k)
+    S.flat[::N * k + 1] += 1.0
+    return S
+
+
+@functools.cache
+def _momentum_kernel(N: int):
+    """One Newton iteration's numbers for a panel's momentum collocation, compiled (independent of
+    the body: one per node count). Inputs, flat: :math:`\\Lambda` (N x 3), :math:`\\lambda_0` (3),
+    :math:`\\omega` (N x 3), :math:`W` (N x 9); parameter :math:`H`. Outputs, flat: the residual
+    :math:`\\Lambda_i - \\lambda_0 - H\\sum_j \\alpha_{ij} F_j` (3N), the Jacobian
+    :math:`S = 1 - H(\\alpha \\otimes 1) \\mathrm{diag}(J_j)` (3N x 3N), :math:`F_j = \\Lambda_j \\times
+    \\Omega_j` (3N) and :math:`J_j = [\\Lambda_j]_\\times W_j - [\\Omega_j]_\\times` (9N)."""
+    import heyoka as hy
+
+    a = _gauss(N)[2]
+    v = hy.make_vars(*[f"v{i}" for i in range(15 * N + 3)])
+    Lam = [v[3 * j:3 * j + 3] for j in range(N)]
+    lam0 = v[3 * N:3 * N + 3]
+    w = [v[3 * N + 3 + 3 * j:3 * N + 6 + 3 * j] for j in range(N)]
+    W = [[v[6 * N + 3 + 9 * j + 3 * r:6 * N + 6 + 9 * j + 3 * r] for r in range(3)] for j in range(N)]
+    H = hy.par[0]
+
+    def cross(x, y):
+        return [x[1] * y[2] - x[2] * y[1], x[2] * y[0] - x[0] * y[2], x[0] * y[1] - x[1] * y[0]]
+
+    def skew(x):
+        return [[0.0, -x[2], x[1]], [x[2], 0.0, -x[0]], [-x[1], x[0], 0.0]]
+
+    F, Jb = [], []
+    for j in range(N):
+        Om = [w[j][r] + W[j][r][0] * Lam[j][0] + W[j][r][1] * Lam[j][1] + W[j][r][2] * Lam[j][2] for r in range(3)]
+        F.append(cross(Lam[j], Om))
+        C, O = skew(Lam[j]), skew(Om)
+        Jb.append([[sum(C[r][k] * W[j][k][c] for k in range(3) if not isinstance(C[r][k], float)) - O[r][c]
+                    for c in range(3)] for r in range(3)])
+    res = [Lam[i][c] - lam0[c] - H * sum(float(a[i, j]) * F[j][c] for j in range(N)) for i in range(N) for c in range(3)]
+    out = res + [x for f in F for x in f] + [x for blk in Jb for row in blk for x in row]
+    return hy.cfunc(out, list(v))
+
+
+def _momentum_panel(seg, lam, H, d):
+    """Newton's method on one panel's collocation equations of :math:`\\lambda' = \\lambda \\times
+    \\Omega`, :math:`\\Omega = \\omega + W \\lambda`, from the guess :math:`\\Lambda_j =
+    \\exp(-[\\theta_j]_\\times)\\, \\lambda`, :math:`\\theta_j = H \\sum_i \\alpha_{ji}\\, \\Omega_i(\\lambda)` (the
+    start's momentum turned back by the body's turn to node :math:`j` at the frozen momentum). Returns
+    ``(lam1, Lam, J, (lu, piv), tail)`` (``J`` the blocks :math:`\\partial(\\lambda \\times \\Omega)/\\partial
+    \\lambda` at the nodes), or ``None`` when Newton's method does not converge."""
+    W, w, a, N = d["W"], d["w"], seg.a, seg.N
+    tol = NEWTON_TOL * seg.Lnorm
+    kern = _momentum_kernel_copy(N)
+    inp = np.empty(15 * N + 3)
+    inp[3 * N:3 * N + 3] = lam
+    inp[3 * N + 3:6 * N + 3] = w.ravel()
+    inp[6 * N + 3:] = W.ravel()
+    par = np.array([H])
+    out = np.empty(kern.nouts)
+    n3 = 3 * N
+    Lam = _rotate(lam, (-H) * (a @ (w + W @ lam)))
+    for _ in range(NEWTON_ITERATIONS):
+        inp[:n3] = Lam.ravel()
+        kern(inp, pars=par, outputs=out)
+        step = lapack.dgesv(_block1(seg, H, out[2 * n3:].reshape(N, 3, 3)), out[:n3])[2]
+        Lam = Lam - step.reshape(-1, 3)
+        if not np.abs(step).max() > tol:
+            break
+    else:
+        return None
+    inp[:n3] = Lam.ravel()
+    kern(inp, pars=par, outputs=out)
+    F = out[n3:2 * n3].reshape(N, 3)
+    J = out[2 * n3:].reshape(N, 3, 3).copy()
+    tail = H * np.abs(seg.Vi[-2:] @ F).max() / seg.Lnorm
+    if not (np.isfinite(tail) and np.isfinite(Lam).all()):
+        return None
+    lu, piv, info = lapack.dgetrf(_block1(seg, H, J))
+    if info != 0:
+        return None
+    return lam + H * (seg.b @ F), Lam, J, (lu, piv), tail
+
+
+def _momentum_kernel_copy(N):
+    """This thread's copy of :func:`_momentum_kernel`."""
+    mine = getattr(_LOCAL, "kernels", None)
+    if mine is None:
+        mine = _LOCAL.kernels = {}
+    own = mine.get(N)
+    if own is None:
+        with _LOCK:
+            base = _momentum_kernel(N)
+        own = mine[N] = copy.copy(base)
+    return own
+
+
+def _momentum(seg, starts, widths, d):
+    """The body-frame momentum :math:`\\lambda = R(q)^\\top L` panel after panel
+    (:func:`_momentum_panel`), halving a panel whose Newton iteration fails or whose momentum is
+    not resolved. Returns the (possibly refined) ``starts, widths, d`` and ``Lam`` (P, N, 3),
+    ``J`` (P, N, 3, 3) and the LU factors of each panel's ``S`` (3N, 3N)."""
+    lam = np.einsum("a,iab,b->i", seg.x0[:4], seg.Q, seg.x0[:4])
+    queue = [(starts[k], widths[k], _take(d, k)) for k in range(widths.size)][::-1]
+    out = []
+    while queue:
+        a0, H, dk = queue.pop()
+        r = _momentum_panel(seg, lam, H, dk)
+        if r is None or r[4] > SOLUTION_TAIL_TOL:
+            h = H / 2.0
+            if h < MIN_PANEL or len(out) + len(queue) + 2 > MAX_PANELS:
+                raise IntegrationError(f"the input is too large to integrate: more than {MAX_PANELS} panels on "
+                                       f"one segment")
+            dd = seg.data(np.array([a0, a0 + h]), np.array([h, h]))
+            queue += [(a0 + h, h, _take(dd, 1)), (a0, h, _take(dd, 0))]
+            continue
+        lam = r[0]
+        out.append((a0, H, dk) + r[1:4])
+    st = np.array([o[0] for o in out])
+    wd = np.array([o[1] for o in out])
+    dd = {k: np.stack([o[2][k] for o in out]) for k in out[0][2]}
+    return st, wd, dd, np.stack([o[3] for o in out]), np.stack([o[4] for o in out]), [o[5] for o in out]
+
+
+def _attitude(seg, widths, Om):
+    """The attitude on every panel at once, given :math:`\\Omega` at the nodes (P, N, 3): the linear
+    collocation equations of each panel solved from the identity, the panels chained by quaternion
+    products, and the panels' maps of perturbations (module docstring).
+
+    Returns
+    -------
+    q1 : (4,); Y : (P, N, 4) stage values; Phi : (P, 4, 4); Z : (P, N, 4, 4); tails : (P,) of
+    :math:`H q'`.
+    """
+    P, N = widths.size, seg.N
+    Fq = _right(Om)  # (P, N, 4, 4): F_j = Fq_j Y_j
+    S = _blocks(seg, widths, Fq)
+    rhs = np.zeros((P, 4 * N, 5))
+    rhs[:, 0::4, 0] = 1.0
+    rhs[:, :, 1:] = (seg.b[:, None, None] * np.swapaxes(Fq, -1, -2)).reshape(P, 4 * N, 4)
+    Yl = np.empty((P, 4 * N))
+    Xs = np.empty((P, 4 * N, 4))  # M^T (module docstring)
+    for k in range(P):
+        lu, piv, info = lapack.dgetrf(S[k])
+        if info != 0:
+            raise IntegrationError("a panel's collocation equations are singular (the input is too large)")
+        Yl[k] = lapack.dgetrs(lu, piv, rhs[k, :, 0])[0]
+        Xs[k] = _lu_solve(lu, piv, rhs[k, :, 1:], 1)
+    Yl = Yl.reshape(P, N, 4)
+    Fl = (Fq @ Yl[..., None])[..., 0]
+    Pk = widths[:, None] * (seg.b @ Fl)
+    Pk[:, 0] += 1.0
+    ys = np.empty((P + 1, 4))
+    ys[0] = seg.x0[:4]
+    for k in range(P):
+        ys[k + 1] = _qmul(ys[k], Pk[k])
+    Y = (_left(ys[:-1])[:, None] @ Yl[..., None])[..., 0]
+    Mb = np.swapaxes(Xs.reshape(P, N, 4, 4), -1, -2)  # M_i, (P, N, 4, 4)
+    Phi = np.eye(4) + widths[:, None, None] * Mb.sum(axis=1)
+    Z = seg.b[None, :, None, None] * np.eye(4) + widths[:, None, None, None] * (
+        seg.a.T @ Mb.reshape(P, N, 16)).reshape(P, N, 4, 4)
+    tails = seg.tails((Fq @ Y[..., None])[..., 0], widths)
+    return ys, Y, Phi, Z, tails
+
+
+def _cut(seg, starts, widths, d, points):
+    """The layout cut at ``points`` (normalised times): every panel holding points strictly inside
+    is replaced by its pieces between them (node data evaluated anew). Points within 1e-12 of a
+    boundary are taken as that boundary."""
+    keep, new_st, new_wd = [], [], []
+    for k in range(widths.size):
+        a0, b0 = starts[k], starts[k] + widths[k]
+        inside = points[(points > a0 + 1e-12) & (points < b0 - 1e-12)]
+        if inside.size == 0:
+            keep.append(k)
+            continue
+        edges = np.concatenate([[a0], inside, [b0]])
+        new_st.append(edges[:-1])
+        new_wd.append(np.diff(edges))
+    if not new_st:
+        return starts, widths, d
+    st, wd = np.concatenate(new_st), np.concatenate(new_wd)
+    if widths.size - len(keep) + st.size > MAX_PANELS:
+        raise IntegrationError(f"the input is too large to integrate: more than {MAX_PANELS} panels on one segment")
+    keep = np.array(keep, dtype=int)
+    dn = seg.data(st, wd)
+    all_st = np.concatenate([starts[keep], st])
+    order = np.argsort(all_st, kind="stable")
+    dd = _cat([_take(d, keep), dn])
+    return all_st[order], np.concatenate([widths[keep], wd])[order], _take(dd, order)
+
+
+def _solve(seg, points=None):
+    """Layout and solution, splitting panels until the attitude is resolved too, and cut at
+    ``points`` when given (:func:`_cut`). Returns ``(ys, widths, data, Omega, Y, Phi, Z,
+    momentum)``: ``ys`` (P + 1, 4) the attitude at the panels' boundaries, ``momentum`` is
+    ``(Lam, J, LU)`` or ``None`` at :math:`L = 0`."""
+    starts, widths, d = _layout(seg)
+    if points is not None:
+        starts, widths, d = _cut(seg, starts, widths, d, points)
+    while True:
+        mom = None
+        if seg.drift:
+            starts, widths, d, *mom = _momentum(seg, starts, widths, d)
+            Om = d["w"] + (d["W"] @ mom[0][..., None])[..., 0]
+        else:
+            Om = d["w"]
+        ys, Y, Phi, Z, tq = _attitude(seg, widths, Om)
+        bad = tq > SOLUTION_TAIL_TOL
+        if not bad.any():
+            return ys, widths, d, Om, Y, Phi, Z, mom
+        ok = ~bad
+        st, wd = _split(starts, widths, d, bad, seg, int(ok.sum()))
+        starts, widths, d = _layout(seg, st, wd, [(starts[ok], widths[ok], _take(d, ok))])
+
+
+def endpoint(body, basis, x0, T, c, *, jacobian: bool = True):
+    """The endpoint map of a spatial body on one segment and its Jacobian in the coefficients
+    (module docstring), as :func:`acroplan.core.backend.endpoint` returns them.
+
+    Parameters
+    ----------
+    body : SpatialBody
+    basis : InputBasis
+    x0 : array_like, shape (4 + m,)
+    T : float
+    c : array_like, shape (m, basis.n) or (m * basis.n,)
+    jacobian : bool
+        Compute the Jacobian (else ``None``).
+
+    Returns
+    -------
+    xT : numpy.ndarray, shape (4 + m,)
+    J : numpy.ndarray, shape (4 + m, m * basis.n), or None
+    """
+    seg = _Segment(body, basis, x0, T, c)
+    ys, widths, d, Om, Y, Phi, Z, mom = _solve(seg)
+    q1 = ys[-1]
+    m, n, Tn = seg.m, seg.n, seg.T
+    B1 = basis.integral([1.0])[0]
+    xT = np.concatenate([q1, seg.x0[4:] + Tn * (seg.c @ B1)])
+    if not np.isfinite(xT).all():
+        raise IntegrationError("integration gave a non-finite state")
+    if not jacobian:
+        return xT, None
+    P, N = widths.size, seg.N
+    suf = np.empty((P, 4, 4))
+    acc = np.eye(4)
+    for k in range(P - 1, -1, -1):
+        suf[k] = acc
+        acc = acc @ Phi[k]
+    # g_j = dq(1)/dOmega_j = (Phi_K ... Phi_{k+1}) H Z_j Xi(Y_j) / 2, (P, N, 4, 3)
+    g = ((widths[:, None, None, None] * (suf[:, None] @ Z)) @ _xi(Y))
+    if mom is not None:
+        g = g + _momentum_adjoint(seg, widths, d, g, *mom)
+    PN = P * N
+    g = g.reshape(PN, 4, 3)
+    dOm_du = (-Tn) * d["cA"].reshape(PN, 3, m)
+    dOm_ds = -np.swapaxes((d["X"].reshape(PN, m, 3, 3) @ Om.reshape(PN, 1, 3, 1))[..., 0]
+                          + Tn * d["y"].reshape(PN, m, 3), 1, 2)  # (PN, 3, m)
+    Gu = (g @ dOm_du).reshape(PN, 4 * m)
+    Gs = (g @ dOm_ds).reshape(PN, 4 * m)
+    Jq = Gu.T @ d["Bm"].reshape(PN, n) + Tn * (Gs.T @ d["Bi"].reshape(PN, n))
+    J = np.zeros((4 + m, m * n))
+    J[:4] = Jq.reshape(4, m * n)
+    for l in range(m):  # noqa: E741
+        J[4 + l, l * n:(l + 1) * n] = Tn * B1
+    return xT, J
+
+
+def sample(body, basis, x0, T, c, s) -> np.ndarray:
+    """States at normalised times ``s`` (sorted, in [0, 1]) on one segment, as
+    :func:`acroplan.core.backend.sample` returns them: the collocation's panels cut at ``s``, so
+    that every sample is a panel's end, where the collocation is as exact as at the segment's end
+    (order :math:`2N`); the joints from their polynomials.
+
+    Returns
+    -------
+    numpy.ndarray, shape (4 + m, len(s))
+    """
+    s = np.asarray(s, dtype=float).reshape(-1)
+    seg = _Segment(body, basis, x0, T, c)
+    ys, widths, d = _solve(seg, points=np.unique(np.clip(s, 0.0, 1.0)))[:3]
+    bounds = np.concatenate([[0.0], np.cumsum(widths)])
+    bounds[-1] = 1.0
+    idx = np.clip(np.searchsorted(bounds, s - 1e-12), 0, bounds.size - 1)
+    out = np.empty((4 + seg.m, s.size))
+    out[:4] = ys[idx].T
+    out[4:] = seg.x0[4:, None] + seg.T * (seg.c @ basis.integral(s).T)
+    out[4:, s == 0.0] = seg.x0[4:, None]  # the integrals vanish there (the basis series leaves ~1e-17)
+    if not np.isfinite(out).all():
+        raise IntegrationError("integration gave a non-finite state")
+    return out
+
+
+def _momentum_adjoint(seg, widths, d, g, Lam, J, LU):
+    """:math:`\\kappa_j`, what the momentum's dependence on :math:`\\Omega_j` adds to
+    :math:`\\partial q(1)/\\partial \\Omega_j` (module docstring), shape (P, N, 4, 3)."""
+    P, N = widths.size, seg.N
+    Gk = g @ d["W"]  # g_j W_j, (P, N, 4, 3)
+    rhs = np.concatenate([np.swapaxes(Gk, -1, -2).reshape(P, 3 * N, 4),
+                          ((widths[:, None] * seg.b[None, :])[:, :, None, None]
+                           * np.swapaxes(J, -1, -2)).reshape(P, 3 * N, 3)], axis=2)
+    R = np.stack([_lu_solve(lu, piv, rhs[k], 1) for k, (lu, piv) in enumerate(LU)]).reshape(P, N, 3, 7)
+    R1, R2 = np.swapaxes(R[..., :4], -1, -2), np.swapaxes(R[..., 4:], -1, -2)  # (P, N, 4, 3), (P, N, 3, 3)
+    mu = np.zeros((P + 1, 4, 3))
+    for k in range(P - 1, 0, -1):
+        rho = R1[k] + mu[k + 1] @ R2[k]
+        mu[k] = mu[k + 1] + rho.sum(axis=0)
+    rho = R1 + mu[1:, None] @ R2  # (P, N, 4, 3)
+    kappa = widths[:, None, None, None] * ((seg.a.T @ rho.reshape(P, N, 12)).reshape(P, N, 4, 3)
+                                           + seg.b[None, :, None, None] * mu[1:, None])
+    return kappa @ _skew(Lam)

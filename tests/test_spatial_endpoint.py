@@ -1,0 +1,164 @@
+"""The endpoint map of spatial bodies by Gauss collocation (acroplan.families.spatial.collocation).
+
+Checked against an independent tight integration (heyoka's Taylor integrator of the model's own
+fields in extended precision, ``long double`` at tolerance 1e-19, the whole state, no collocation),
+its Jacobian against central finite differences and against the Taylor integrator's variational
+equations, and its bookkeeping (panels, unit quaternion, determinism, threads, wild inputs).
+"""
+
+import concurrent.futures
+import math
+
+import numpy as np
+import pytest
+
+from acroplan.core import backend
+from acroplan.core.basis import Legendre
+from acroplan.families.spatial import SpatialBody, collocation
+from acroplan.families.spatial import rotations as rot
+from acroplan.families.spatial.examples import falling_cat_turn
+from acroplan.families.spatial.zoo import random_segment
+
+def tight_endpoint(body, basis, x0, T, c):
+    """x(T) by heyoka's Taylor integrator of the model's fields (f + G u) in long double, tol 1e-19."""
+    return backend.reference_endpoint(body, basis, x0, T, c)
+
+
+def state_error(y, ref):
+    return max(rot.angle_between(y[:4] / np.linalg.norm(y[:4]), ref[:4] / np.linalg.norm(ref[:4])),
+               float(np.abs(y[4:] - ref[4:]).max()))
+
+
+def cat_case(n):
+    """The bundled cat from its start, with a loop of the size its plans make."""
+    cat, kw = falling_cat_turn()
+    x0 = np.array([kw[k][0] for k in cat.state_names])
+    rng = np.random.default_rng(22)
+    c = np.zeros((3, n))
+    c[:, :6] = rng.normal(scale=[4.0, 6.0, 3.0, 2.0, 1.0, 0.5], size=(3, 6))
+    c[:, 6:] = rng.normal(scale=0.3, size=(3, n - 6))
+    return cat, x0, 0.5, c
+
+
+def random_case(seed, links, momentum, n, tree=False, scale=1.0):
+    rng = np.random.default_rng(seed)
+    p = random_segment(rng, links, momentum=momentum, tree=tree)
+    c = np.zeros((p.body.n_inputs, n))
+    c[:, :6] = scale * p.coefficients
+    c[:, 6:] = 0.3 * rng.normal(size=(p.body.n_inputs, n - 6))
+    return p.body, p.x0, p.T, c
+
+
+CASES = {
+    "cat n=6": lambda: cat_case(6),
+    "cat n=14": lambda: cat_case(14),
+    "3 links L=0 n=10": lambda: random_case(1, 3, False, 10, scale=2.0),
+    "4 links L!=0 n=10": lambda: random_case(2, 4, True, 10, scale=2.0),
+    "5 links L!=0 n=6": lambda: random_case(3, 5, True, 6),
+    "5-link tree L=0 n=14": lambda: random_case(4, 5, False, 14, tree=True),
+}
+
+
+@pytest.mark.parametrize("name", list(CASES))
+def test_endpoint_meets_a_tight_integration(name):
+    body, x0, T, c = CASES[name]()
+    basis = Legendre(c.shape[1])
+    y, J = collocation.endpoint(body, basis, x0, T, c)
+    assert state_error(y, tight_endpoint(body, basis, x0, T, c)) <= 1e-12
+    assert abs(np.linalg.norm(y[:4]) - 1.0) <= 1e-14  # Gauss collocation keeps |q|
+    # the core's back end uses the family's map; the Taylor integrator agrees
+    y2, J2 = backend.endpoint(body, basis, x0, T, c)
+    assert np.array_equal(y, y2) and np.array_equal(J, J2)
+    yt, Jt = backend.taylor_endpoint(body, basis, x0, T, c)
+    assert state_error(y, yt) <= 1e-12
+    A, B = body.tangent_jacobian(yt, Jt), body.tangent_jacobian(y, J)
+    assert np.abs(A - B).max() <= 1e-10 * np.abs(A).max()
+
+
+@pytest.mark.parametrize("name", ["cat n=6", "4 links L!=0 n=10"])
+def test_jacobian_against_finite_differences(name):
+    body, x0, T, c = CASES[name]()
+    basis = Legendre(c.shape[1])
+    y, J = collocation.endpoint(body, basis, x0, T, c)
+    Jt = body.tangent_jacobian(y, J)
+    h = 1e-6
+    flat = c.ravel()
+    fd = np.empty_like(Jt)
+    for k in range(flat.size):
+        e = np.zeros_like(flat)
+        e[k] = h
+        yp, _ = collocation.endpoint(body, basis, x0, T, (flat + e).reshape(c.shape), jacobian=False)
+        ym, _ = collocation.endpoint(body, basis, x0, T, (flat - e).reshape(c.shape), jacobian=False)
+        fd[:, k] = (body.diff(y, yp) - body.diff(y, ym)) / (2 * h)
+    assert np.abs(fd - Jt).max() <= 1e-6 * max(1.0, np.abs(Jt).max())
+
+
+def test_panels_and_determinism():
+    body, x0, T, c = CASES["cat n=6"]()
+    basis = Legendre(6)
+    seg = collocation._Segment(body, basis, x0, T, c)
+    widths = collocation._solve(seg)[1]
+    assert math.isclose(widths.sum(), 1.0, rel_tol=0, abs_tol=1e-15)
+    assert 2 <= widths.size <= 16  # the cat's 0.5 s turn: about 100 Gauss nodes
+    y1, J1 = collocation.endpoint(body, basis, x0, T, c)
+    y2, J2 = collocation.endpoint(body, basis, x0, T, c)
+    assert np.array_equal(y1, y2) and np.array_equal(J1, J2)
+
+
+def test_threads_give_the_same_numbers():
+    body, x0, T, c = CASES["4 links L!=0 n=10"]()
+    basis = Legendre(10)
+    y, J = collocation.endpoint(body, basis, x0, T, c)
+    with concurrent.futures.ThreadPoolExecutor(4) as ex:
+        outs = list(ex.map(lambda _: collocation.endpoint(body, basis, x0, T, c), range(8)))
+    assert all(np.array_equal(o[0], y) and np.array_equal(o[1], J) for o in outs)
+
+
+def test_wild_input_raises_an_integration_error():
+    body, x0, T, c = CASES["cat n=6"]()
+    with pytest.raises(backend.IntegrationError, match="too large to integrate"):
+        collocation.endpoint(body, Legendre(6), x0, T, 1e6 * c)
+
+
+def test_momentum_and_joint_rows():
+    """The joint rows are exact (polynomials), and with L != 0 the body-frame momentum R(q)^T L
+    the collocation carries matches the attitude it returns."""
+    body, x0, T, c = CASES["4 links L!=0 n=10"]()
+    basis = Legendre(10)
+    y, J = collocation.endpoint(body, basis, x0, T, c)
+    B1 = basis.integral([1.0])[0]
+    assert np.allclose(y[4:], x0[4:] + T * (c @ B1), rtol=0, atol=1e-14)
+    m, n = c.shape
+    for j in range(m):
+        row = np.zeros(m * n)
+        row[j * n:(j + 1) * n] = T * B1
+        assert np.array_equal(J[4 + j], row)
+    seg = collocation._Segment(body, basis, x0, T, c)
+    sol = collocation._solve(seg)
+    Lam = sol[7][0]
+    Y = sol[4]
+    R = np.array([[rot.to_matrix(q / np.linalg.norm(q)) for q in panel] for panel in Y])
+    assert np.abs(np.einsum("pnji,j->pni", R, np.array(body.L)) - Lam).max() <= 1e-10 * np.linalg.norm(body.L)
+
+
+def test_a_body_without_momentum_uses_the_linear_solve():
+    body, x0, T, c = CASES["4 links L!=0 n=10"]()
+    still = SpatialBody(body.links)
+    basis = Legendre(10)
+    y, _ = collocation.endpoint(still, basis, x0, T, c)
+    assert state_error(y, tight_endpoint(still, basis, x0, T, c)) <= 1e-12
+
+
+@pytest.mark.parametrize("name", ["cat n=14", "4 links L!=0 n=10"])
+def test_samples_meet_the_taylor_integrator(name):
+    """Dense states: the collocation cut at the samples, each a panel's end, against the Taylor
+    integrator's dense output."""
+    body, x0, T, c = CASES[name]()
+    basis = Legendre(c.shape[1])
+    s = np.concatenate([[0.0], np.sort(np.random.default_rng(5).uniform(0, 1, 40)), [1.0]])
+    X = backend.sample(body, basis, x0, T, c, s)
+    Xt = backend.taylor_sample(body, basis, x0, T, c, s)
+    assert X.shape == Xt.shape == (body.n_states, s.size)
+    assert max(state_error(X[:, k], Xt[:, k]) for k in range(s.size)) <= 1e-12
+    assert np.allclose(X[:, -1], collocation.endpoint(body, basis, x0, T, c, jacobian=False)[0], rtol=0, atol=1e-13)
+    assert np.array_equal(X[:, 0], x0)
