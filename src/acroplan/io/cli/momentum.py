@@ -109,25 +109,7 @@ def least_momentum_cmd(problem, example, out, force, quiet, as_json, somersaults
         most = least_momentum(acro, **turn, limits=limits, end="most")
         table = None
         if S is not None or F is not None:
-            from ...planning import MAX_DURATION, MIN_DURATION
-            from ...core.validate import MAX_ANGLE
-
-            turned = abs(turn["thetaT"] - turn["theta0"])
-            if S is None and turned == 0.0:
-                raise InvalidInputError("--somersaults", "is needed: the file's turn is zero",
-                                        "give for example --somersaults 1.5,2.5,3.5")
-            S = S if S is not None else [turned / (2.0 * math.pi)]
-            F = F if F is not None else [T]
-            for n in S:
-                if 2.0 * math.pi * n > MAX_ANGLE:
-                    raise InvalidInputError("--somersaults", f"{n:g} somersaults turn beyond {MAX_ANGLE:g} rad, more "
-                                            "than the arithmetic carries", "give fewer somersaults")
-            for t in F:
-                if not MIN_DURATION <= t <= MAX_DURATION:
-                    raise InvalidInputError("--flight-times", f"{t:g} s is outside [{MIN_DURATION:g}, "
-                                            f"{MAX_DURATION:g}]", "rescale the units of time")
-            table = somersault_table(acro, somersaults=S, flight_times=F, phi0=turn["phi0"], phiT=turn["phiT"],
-                                     limits=limits, backward=turn["thetaT"] > turn["theta0"])
+            table = _table(somersault_table, acro, turn, limits, S, F)
         file_P0 = float(acro.P0)
         doc = {
             "command": "least-momentum",
@@ -173,11 +155,36 @@ def least_momentum_cmd(problem, example, out, force, quiet, as_json, somersaults
     report({**doc, "out": None if out is None else str(out)}, as_json, quiet, lines,
             EXIT_SUCCESS if least.success else EXIT_INFEASIBLE)
 
+def _table(somersault_table, acro, turn: dict, limits, S, F):
+    """The coach's table: the least |P0| for each number of somersaults ``S`` (default the file's
+    turn) in each flight time ``F`` (default the file's)."""
+    from ...core.validate import MAX_ANGLE
+    from ...planning import MAX_DURATION, MIN_DURATION
+
+    turned = abs(turn["thetaT"] - turn["theta0"])
+    if S is None and turned == 0.0:
+        raise InvalidInputError("--somersaults", "is needed: the file's turn is zero",
+                                "give for example --somersaults 1.5,2.5,3.5")
+    S = S if S is not None else [turned / (2.0 * math.pi)]
+    F = F if F is not None else [turn["T"]]
+    for n in S:
+        if 2.0 * math.pi * n > MAX_ANGLE:
+            raise InvalidInputError("--somersaults", f"{n:g} somersaults turn beyond {MAX_ANGLE:g} rad, more "
+                                    "than the arithmetic carries", "give fewer somersaults")
+    for t in F:
+        if not MIN_DURATION <= t <= MAX_DURATION:
+            raise InvalidInputError("--flight-times", f"{t:g} s is outside [{MIN_DURATION:g}, {MAX_DURATION:g}]",
+                                    "rescale the units of time")
+    return somersault_table(acro, somersaults=S, flight_times=F, phi0=turn["phi0"], phiT=turn["phiT"],
+                            limits=limits, backward=turn["thetaT"] > turn["theta0"])
+
+
 def _two_link_limits(limits, delta: float) -> dict:
     """The limits in the file's angles (the acrobot's less the joint offset ``delta``)."""
     lo, hi = limits.bounds("phi")
     return {"joint_min": lo - delta if math.isfinite(lo) else None,
             "joint_max": hi - delta if math.isfinite(hi) else None, "u_max": limits.input_bound("u")}
+
 
 def _write_momentum_table(table, folder: Path) -> None:
     import csv
