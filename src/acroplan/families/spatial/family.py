@@ -21,6 +21,12 @@ def _draw(folder, solution, gif, strobe_path, mp4, *, speed, fps, load):
     return n
 
 
+def _check_request(req):
+    from .requests import check_request
+
+    check_request(req)
+
+
 def _animate(result, path, **kw):
     from .drawing import animate
 
@@ -47,4 +53,5 @@ FAMILY = Family(
     draw=_draw,
     animate=_animate,
     describe=lambda body: f"a spatial body of {body.n_links} links",
+    check_request=_check_request,
 )
