@@ -151,7 +151,7 @@ def read_measurements(path, names) -> tuple[dict, float | None]:
             raise InvalidInputError(field, f"yeadon cannot read {label!r}: line {i} gives {key} again (line "
                                     f"{where[key]} gave it)", "give each measurement once")
         if _NUMBER.fullmatch(value) is None:
-            raise InvalidInputError(field, f"yeadon cannot read {label!r}: line {i} ({key}) is not a number", fix)
+            raise InvalidInputError(field, f"yeadon cannot read {label!r}: line {i} ({key}) is not a finite number", fix)
         v = float(value)
         if not (math.isfinite(v) and v > 0):
             raise InvalidInputError(field, f"yeadon cannot read {label!r}: line {i} ({key}) must be a finite number "

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 from ...core.family import Example, Family
+from ..tree.compile_cost import compile_seconds
 from . import problem
 from .model import SpatialBody
 
@@ -54,4 +55,5 @@ FAMILY = Family(
     animate=_animate,
     describe=lambda body: f"a spatial body of {body.n_links} links",
     check_request=_check_request,
+    compile_seconds=lambda body, n: compile_seconds("spatial", body, n),
 )

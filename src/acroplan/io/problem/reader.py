@@ -38,6 +38,9 @@ def read_allowed(data: dict, base=None, allowed=()) -> tuple:
     if "allow" not in files:
         raise InvalidInputError("files.allow", "is missing", "write allow = [\"../shared\"] (the folders outside the "
                                 "problem file's folder that its files may be read from), or drop [files]")
+    if not isinstance(files["allow"], list):
+        raise InvalidInputError("files.allow", f"must be a list of folders in quotes, got {short(files['allow'])}",
+                                "write for example allow = [\"../shared\"]")
     return extra + allowed_folders("files.allow", files["allow"], base)
 
 
