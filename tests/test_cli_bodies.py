@@ -468,8 +468,8 @@ def test_the_body_files_in_the_docs_are_valid(tmp_path):
     root = pathlib.Path(__file__).parents[1]
     text = (root / "docs" / "problem-files.md").read_text(encoding="utf-8")
     blocks = [b for b in re.findall(r"```toml\n(.*?)```", text, re.S) if "[body]" in b or "[simulate]" in b]
-    assert len(blocks) == 3
-    full, urdf, sim = blocks
+    assert len(blocks) == 5
+    full, urdf, sim, outside, allowed = blocks
     prob = parse_problem(tomllib.loads(full))
     assert prob.system.links.joint_names == ("q1", "q2") and prob.limits.input_bound("u_q1") == 2.0
     (tmp_path / "diver.urdf").write_text(bundled.files("diver-somersault")["diver.urdf"])
@@ -477,6 +477,15 @@ def test_the_body_files_in_the_docs_are_valid(tmp_path):
     body = bundled.text("space-robot-arm-loop").split("[simulate]")[0]
     s = parse_simulation(tomllib.loads(body + sim))
     assert s.motion == {"u_shoulder": "spline", "u_elbow": "coefficients"} and len(s.inputs) == 4
+    # the files section (issue #25): plans/ reads the URDF of robots/ only when allowed
+    (tmp_path / "plans").mkdir()
+    (tmp_path / "robots").mkdir()
+    (tmp_path / "robots" / "diver.urdf").write_text(bundled.files("diver-somersault")["diver.urdf"])
+    with pytest.raises(acroplan.InvalidInputError, match="body.urdf: '../robots/diver.urdf' is outside the problem "
+                       "file's folder"):
+        parse_problem(tomllib.loads(outside), base=tmp_path / "plans")
+    assert parse_problem(tomllib.loads(outside), base=tmp_path / "plans", allowed=[tmp_path / "robots"]).system.n_links \
+        == parse_problem(tomllib.loads(allowed), base=tmp_path / "plans").system.n_links == 4
 
 
 def test_batch_of_body_files_reads_urdfs_beside_them(tmp_path):

@@ -424,7 +424,7 @@ PLANAR_URDF = """<?xml version="1.0"?>
   </link>
   <link name="upper-arm">
     <inertial><origin xyz="0.5 0 0"/><mass value="1"/>
-      <inertia ixx="0.1" ixy="0" ixz="0" iyy="0.2" iyz="0" izz="0.05"/></inertial>
+      <inertia ixx="0.03" ixy="0" ixz="0" iyy="0.04" iyz="0" izz="0.05"/></inertial>
   </link>
   <link name="hand">
     <inertial><origin xyz="0.1 0 0"/><mass value="0.5"/>
@@ -519,12 +519,23 @@ def test_urdf_errors(tmp_path):
         read_link_table(tmp_path / "missing.urdf")
     bad = tmp_path / "bad.urdf"
     bad.write_text("<robot name='x'><link name='a'/>")
-    with pytest.raises(InvalidInputError, match="urdf: Pinocchio could not read"):
+    with pytest.raises(InvalidInputError, match=r"urdf: bad\.urdf is not well-formed XML \(no element found at line 1"):
+        read_link_table(bad)
+    # what urdfdom prints is captured and becomes the message (issue #25: its lines came before acroplan's)
+    bad.write_text("<robot name='x'><link name='a'/><joint name='j' type='revolute'><parent link='a'/>"
+                   "<child link='b'/><axis xyz='0 0 1'/></joint></robot>")
+    with pytest.raises(InvalidInputError, match=r"urdf: Pinocchio could not read bad\.urdf: Joint \[j\] is of type "
+                       "REVOLUTE but it does not specify limits"):
         read_link_table(bad)
     massless = tmp_path / "massless.urdf"
     massless.write_text(PLANAR_URDF.replace('<mass value="1"/>', '<mass value="0"/>').replace(
-        'izz="0.05"', 'izz="0"'))
+        '<inertia ixx="0.03" ixy="0" ixz="0" iyy="0.04" iyz="0" izz="0.05"/>',
+        '<inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"/>'))
     with pytest.raises(InvalidInputError, match="urdf link 'upper-arm': has no mass"):
+        read_link_table(massless)
+    # issue #25: a massless link with an inertia is no body (it was read with the inertia dropped)
+    massless.write_text(PLANAR_URDF.replace('<mass value="1"/>', '<mass value="0"/>'))
+    with pytest.raises(InvalidInputError, match="urdf link 'upper-arm': has mass 0 and an inertia that is not zero"):
         read_link_table(massless)
 
 

@@ -14,6 +14,7 @@ from acroplan.core import backend
 from acroplan.core.basis import Legendre
 from acroplan.core.strategies import Strategy
 from acroplan.families.acrobot.verify import flat_output_errors
+from acroplan.planning import PlanRequest
 
 PI = np.pi
 
@@ -102,6 +103,8 @@ def test_every_plan_has_a_wall_clock_budget(pike_robot, monkeypatch):
 
     calls = []
     real = backend.endpoint
+    # compiled first: a compilation is waited for in real time (issue #25: the waiting has its own test)
+    acroplan.warm_up(pike_robot, sizes=(6,))
     monkeypatch.setattr(backend, "endpoint", lambda *a, **k: (calls.append(1), real(*a, **k))[1])
     for limit in (0.2, 1.0):
         clock = VirtualClock(1e-3)
@@ -250,3 +253,183 @@ def test_absurd_inputs_stop_the_integrator_quickly_with_a_reason():
     # an input of 1,000 rad/s still integrates (about 4,000 steps) to the same end as before
     xT, _ = backend.endpoint(robot, basis, np.array([0.0, -3.0]), 1.5, np.array([[1e3, 0, 0, 0, 0, 0]]))
     assert abs(xT[1] - (-3.0 + 1.5e3)) < 1e-9
+
+
+# ------------------------------------------------------------------------------------------
+# issue #25: every run bounded (compilation inside the budget), the spatial planner's boundary
+def test_issue_25_a_compilation_is_waited_for_within_the_budget(monkeypatch):
+    """Compiling the integrator was outside the budget (a 12-link planar chain with --time-limit 20
+    still ran at 150 s): heyoka's compile cannot be interrupted, so it runs in a thread of its own
+    and the plan waits for it until its deadline. Counted, not timed: the plan returns while the
+    compilation it started is still blocked; the compilation then finishes in the background, once,
+    and the next plan uses it."""
+    import threading
+
+    from acroplan.families.small.unicycle import Unicycle
+
+    class SlowUnicycle(Unicycle):
+        @property
+        def structure_key(self):
+            return ("issue-25-slow-unicycle",)
+
+    release, started = threading.Event(), []
+    real_build = backend._build
+
+    def blocked_build(system, basis_cls, n):
+        started.append(n)
+        release.wait(60)
+        return real_build(system, basis_cls, n)
+
+    monkeypatch.setattr(backend, "_build", blocked_build)
+    kw = dict(times=[0, 1], x=[0, 1], y=[0, 0.5], psi=[0, 0], conditions="free", method="deform", n_coefficients=6)
+    before = backend.compiled_count()
+    res = acroplan.plan(SlowUnicycle(), time_limit=0.2, **kw)
+    assert res.status == "not_converged" and "time budget of 0.2 s" in res.message, res.message
+    assert started == [6] and not release.is_set() and backend.compiled_count() == before
+    release.set()
+    res = acroplan.plan(SlowUnicycle(), time_limit=60, **kw)  # waits for the one compilation under way
+    assert res.success, res.message
+    assert started == [6] and backend.compiled_count() == before + 1
+
+
+def test_issue_25_a_failed_compilation_reaches_every_caller(monkeypatch):
+    from acroplan.families.small.unicycle import Unicycle
+
+    class BrokenUnicycle(Unicycle):
+        @property
+        def structure_key(self):
+            return ("issue-25-broken-unicycle",)
+
+    def broken(system, basis_cls, n):
+        raise MemoryError("no memory for the compilation")
+
+    monkeypatch.setattr(backend, "_build", broken)
+    with pytest.raises(MemoryError, match="no memory"):
+        backend.compile_for(BrokenUnicycle(), Legendre, 6)
+    assert not backend._PENDING
+
+
+def _chain(n):
+    from acroplan.families.planar.links import Link
+    from acroplan.families.planar.model import PlanarBody
+
+    links = [Link("l0", None, 1.0, 0.1)] + [Link(f"l{i}", f"l{i - 1}", 1.0, 0.1, com=(0.5, 0.0), joint=(1.0, 0.0))
+                                             for i in range(1, n)]
+    return PlanarBody(links, P0=0.0)
+
+
+def test_issue_25_a_body_whose_compilation_exceeds_the_limit_is_refused_up_front(monkeypatch):
+    """A 12-link planar chain with a 20 s limit was compiled for minutes: the families state a lower
+    bound of a first compilation (measured growth, benchmarks/RESULTS.md), and a plan whose limit is
+    below it is refused before any work, naming time_limit and the growth."""
+    monkeypatch.setattr(backend, "_marker", lambda key: None)  # as on a machine that never compiled it
+    body = _chain(12)
+    kw = {name: [0.0, 0.1] for name in body.state_names}
+    before = backend.compiled_count()
+    with pytest.raises(acroplan.InvalidInputError, match=r"time_limit: is 20 s, and compiling the integrator of a "
+                       r"planar body of 12 links with 6 coefficients takes at least \d+ s on a first run \(.*links"):
+        acroplan.plan(body, times=[0, 1], conditions="free", time_limit=20, **kw)
+    assert backend.compiled_count() == before and not backend._PENDING
+    est = backend.compile_estimate(body, Legendre, 6)
+    assert est is not None and est.seconds > 20
+    # small bodies are never refused; without a limit nothing is refused
+    assert backend.compile_estimate(_chain(3), Legendre, 6) is None or \
+        backend.compile_estimate(_chain(3), Legendre, 6).seconds < 5
+    PlanRequest.build(body, times=[0, 1], conditions="free", time_limit=None, **kw)
+
+
+def test_issue_25_an_integrator_compiled_before_is_not_refused(monkeypatch, tmp_path):
+    marker = tmp_path / "compiled"
+    marker.write_text("")
+    monkeypatch.setattr(backend, "_marker", lambda key: marker)
+    assert backend.compile_estimate(_chain(12), Legendre, 6) is None
+
+
+def test_issue_25_budgets_nest_the_earlier_deadline_holds(monkeypatch):
+    from acroplan.core import budget
+
+    clock = VirtualClock(0.0)
+    monkeypatch.setattr(budget, "_clock", clock)
+    with budget.budget(1.0):
+        with budget.budget(100.0):
+            assert budget.remaining() == pytest.approx(1.0)
+        with budget.budget(0.5):
+            assert budget.remaining() == pytest.approx(0.5)
+        with budget.budget(None):
+            assert budget.remaining() == pytest.approx(1.0)
+    assert budget.remaining() is None
+
+
+def test_issue_25_the_effort_summary_is_inside_the_command_lines_budget(tmp_path, monkeypatch):
+    """The effort summary was computed after the plan, outside its time limit. Counted on a virtual
+    clock: an effort summary that never ends is stopped by the budget, the run ends not_converged
+    (exit 4) with the plan's diagnostics in solution.json."""
+    import json
+
+    from click.testing import CliRunner
+
+    from acroplan.core import budget
+    from acroplan.core.result import PlanResult
+    from acroplan.io.cli import main
+
+    calls = []
+
+    def forever(self):
+        calls.append(1)
+        while True:
+            budget.check()
+
+    monkeypatch.setattr(PlanResult, "effort", forever)
+    monkeypatch.setattr(budget, "_clock", VirtualClock(1e-3))
+    import texts  # the physical acrobot: it has torques, so solution.json has an effort summary
+
+    (tmp_path / "p.toml").write_text(texts.problem(conditions="free"))
+    out = tmp_path / "out"
+    res = CliRunner().invoke(main, ["plan", str(tmp_path / "p.toml"), "--out", str(out), "--time-limit", "5",
+                                    "--no-plots"])
+    assert res.exit_code == 4, (res.output, res.exception)
+    assert "before the effort summary was done" in res.output and calls == [1]
+    doc = json.loads((out / "solution.json").read_text())
+    assert doc["status"] == "not_converged" and doc["segments"] and doc["effort"] is None
+
+
+def test_issue_25_spatial_n_coefficients_one_short_of_a_loop_is_refused():
+    """n_coefficients = 3 with objective = "energy" (or tau_max) on a spatial body was a ValueError in
+    the loop guesses (families/spatial/guess.py): refused at the boundary now, naming the field."""
+    from acroplan.families.spatial.examples import astronaut_yaw, falling_cat_turn
+
+    cat, kw = falling_cat_turn()
+    free = {k: v for k, v in kw.items() if k not in ("start_rate", "end_rate")}
+    for extra in (dict(objective="energy"), dict(tau_max=50.0), {}):
+        with pytest.raises(acroplan.InvalidInputError, match=r"n_coefficients: 3 coefficients leave the spatial "
+                           r"planner's shape loops one coefficient short on segment 0.*give n_coefficients = 4"):
+            acroplan.plan(cat, **{**free, **extra, "n_coefficients": 3})
+    astronaut, kw = astronaut_yaw()
+    for n, segment in ((4, 0), (5, 3)):  # the first segment has one end condition, the last two
+        with pytest.raises(acroplan.InvalidInputError, match=f"n_coefficients: {n} coefficients .* on segment "
+                           f"{segment}"):
+            PlanRequest.build(astronaut, **{**kw, "objective": "energy", "n_coefficients": n})
+    for n in (3, 6):  # the base motion alone, or room for the loops: not refused
+        PlanRequest.build(astronaut, **{**kw, "objective": "energy", "n_coefficients": n})
+    PlanRequest.build(cat, **{**free, "n_coefficients": 3, "method": "deform"})  # no loops there
+
+
+@pytest.mark.parametrize("L", [10.0, 1e3, 1e4, 1e6])
+def test_issue_25_a_spatial_momentum_too_fast_for_the_guesses_is_refused(L):
+    """angular_momentum of 1e3 to 1e6 (10 for the cat) was a LinAlgError: the loop guesses integrate
+    the attitude in a fixed number of Runge-Kutta steps, which diverge when the body turns by itself
+    faster than they follow (the cat at L = 10 turns 510 rad in 0.5 s); refused naming the times
+    and the longest segment that would do."""
+    import dataclasses
+
+    from acroplan.families.spatial.examples import falling_cat_turn
+    from acroplan.families.spatial.requests import MAX_FREE_TURN
+
+    cat, kw = falling_cat_turn()
+    fast = dataclasses.replace(cat, L=(L, 0.0, 0.0))
+    with pytest.raises(acroplan.InvalidInputError, match=r"times: segment 0 lasts 0.5 s, and the angular momentum "
+                       r"L = .* turns the body by itself at .* rad/s, .* rad in that segment: .* at most 96 rad"):
+        acroplan.plan(fast, **kw)
+    assert MAX_FREE_TURN == 96
+    PlanRequest.build(fast, **{**kw, "method": "deform"})  # path deformation alone is not refused
+    PlanRequest.build(dataclasses.replace(cat, L=(1.0, 0.0, 0.0)), **kw)  # 54 rad: planned (it succeeds)

@@ -633,3 +633,454 @@ def test_batch_json_gives_every_problem(tmp_path):
     doc = json.loads(res.output)
     assert [p["name"] for p in doc["problems"]] == ["a", "b"]
     assert [p["status"] for p in doc["problems"]] == ["success", "infeasible"]
+
+
+# ------------------------------------------------------------------------------------------
+# issue #25: hostile bodies, files confined, no exit 1 for bad input
+pin = pytest.importorskip("pinocchio")
+
+import acroplan  # noqa: E402
+from acroplan.families.planar import three_rods, to_urdf as planar_urdf  # noqa: E402
+from acroplan.families.spatial.urdf import to_urdf as spatial_urdf  # noqa: E402
+from acroplan.families.spatial.zoo import falling_cat  # noqa: E402
+
+#: the falling cat's plan (docs/spatial.md) with its body given by a URDF beside the file
+CAT_PLAN = """
+[plan]
+times = [0.0, 0.5]
+attitude = [[0.0, 0.984807753012208, 0.0, 0.17364817766693036],
+            [0.984807753012208, 0.0, 0.17364817766693036, 0.0]]
+bend = ["40*(pi/180)", "40*(pi/180)"]
+side = [0.0, 0.0]
+twist = [0.0, 0.0]
+conditions = "free"
+"""
+CAT_URDF = spatial_urdf(falling_cat())
+SPATIAL_FILE = '[body]\nurdf = "body.urdf"\nangular_momentum = [0.0, 0.0, 0.0]\n' + CAT_PLAN
+RODS_URDF = planar_urdf(three_rods())
+PLANAR_FILE = ('[body]\nurdf = "body.urdf"\nangular_momentum = 0.0\n[plan]\ntimes = [0.0, 3.0]\ntheta = [0.0, 0.4]\n'
+               'q1 = [1.0, 1.0]\nq2 = [1.0, 1.0]\nconditions = "free"\n')
+
+
+def chain_urdf(n: int, fixed: bool = False) -> str:
+    """A URDF chain of ``n`` links (revolute joints about z, or fixed joints after the first two)."""
+    inertial = ('<inertial><mass value="1"/><inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.2"/>'
+                '</inertial>')
+    links = [f'<link name="l{i}">{inertial}</link>' for i in range(n)]
+    joints = [f'<joint name="j{i}" type="{"fixed" if fixed and i > 2 else "continuous"}"><parent link="l{i - 1}"/>'
+              f'<child link="l{i}"/><origin xyz="1 0 0"/><axis xyz="0 0 1"/></joint>' for i in range(1, n)]
+    return '<?xml version="1.0"?>\n<robot name="chain">\n' + "\n".join(links + joints) + "\n</robot>\n"
+
+
+def one_line_error(res, *words):
+    """The run exited 2 with one line naming every word."""
+    assert res.exit_code == 2, (res.output, res.exception)
+    assert res.output.startswith("acroplan: error: ") and len(res.output.strip().splitlines()) == 1, res.output
+    for w in words:
+        assert w in res.output, res.output
+
+
+@pytest.mark.parametrize("links, fixed, words", [
+    (3831, False, "3830 moving joints (3831 moving links), more than 16 links"),
+    (20000, True, "20000 links and 19999 joints, more than 1000"),
+    (17, False, "16 moving joints (17 moving links), more than 16 links"),
+])
+def test_issue_25_a_long_chain_urdf_is_refused_before_pinocchio_reads_it(tmp_path, capfd, links, fixed, words):
+    """A 3,831-link chain (1.4 MB) killed the process with SIGSEGV and no message: Pinocchio's URDF
+    reader overflowed the stack before the 16-link check ran (planar, spatial and the API readers).
+    A chain of fixed links overflows it too. Both are counted by a streaming pass first."""
+    from acroplan.families.planar.urdf import read_link_table as planar_table
+    from acroplan.families.spatial.urdf import read_urdf as spatial_body
+
+    (tmp_path / "body.urdf").write_text(chain_urdf(links, fixed))
+    for text in (PLANAR_FILE, SPATIAL_FILE):
+        res = run(["plan", write(tmp_path, text), "--out", tmp_path / "out", "--no-plots"])
+        one_line_error(res, "body.urdf: body.urdf has", words)
+    for read in (planar_table, spatial_body):
+        with pytest.raises(acroplan.InvalidInputError, match=re.escape(f"urdf: body.urdf has {words}")):
+            read(tmp_path / "body.urdf")
+    assert capfd.readouterr().err == ""  # nothing printed by Pinocchio or urdfdom
+    assert not (tmp_path / "out").exists()
+
+
+
+@pytest.mark.parametrize("value, words", [
+    ("nan", "has mass = nan, not a finite number"),
+    ("inf", "has mass = inf, not a finite number"),
+    ("heavy", "has a mass that is not a number"),
+    ("1e300", "has mass 1e+300: masses beyond 1e+100"),
+    ("1e-300", "has mass 1e-300: masses below 1e-150"),
+    ("-2", "has mass -2 < 0"),
+    ("0", "has mass 0 and an inertia that is not zero"),
+])
+def test_issue_25_a_urdf_mass_that_is_no_mass_is_refused_naming_the_link(tmp_path, capfd, value, words):
+    """<mass value="nan"> (also inf, heavy) in a spatial URDF became a massless link and the plan
+    succeeded; mass 0 with an inertia had its inertia zeroed; 1e300 was an OverflowError (planar) or
+    a LinAlgError (spatial), 1e-300 accepted: exit 2 now, naming the link, for both families."""
+    from acroplan.families.spatial.urdf import read_urdf
+
+    cat = CAT_URDF.replace('<mass value="2"/>', f'<mass value="{value}"/>', 1)
+    rods = RODS_URDF.replace('<mass value="1"/>', f'<mass value="{value}"/>', 1)
+    assert cat != CAT_URDF and rods != RODS_URDF
+    for urdf, text, link in ((cat, SPATIAL_FILE, "front"), (rods, PLANAR_FILE, "rod1")):
+        (tmp_path / "body.urdf").write_text(urdf)
+        res = run(["plan", write(tmp_path, text), "--out", tmp_path / "out", "--no-plots"])
+        one_line_error(res, f"body.urdf: body.urdf: urdf link '{link}' {words}")
+    (tmp_path / "body.urdf").write_text(cat)
+    with pytest.raises(acroplan.InvalidInputError, match=re.escape(f"urdf link 'front': {words}")):
+        read_urdf(tmp_path / "body.urdf")
+    assert capfd.readouterr().err == ""
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("old, new, words", [
+    ('ixx="0.0036"', 'ixx="nan"', "urdf link 'front' has inertia ixx = nan"),
+    ('ixx="0.0036"', 'ixx="-0.0036"', "urdf link 'front' has an inertia with a negative principal moment"),
+    ('ixx="0.0036"', 'ixx="1"', "urdf link 'front' has an inertia with principal moments [0.0122167, 0.0122167, 1.0] "
+     "that break I1 + I2 >= I3"),
+    ('xyz="0.125 0 0"', 'xyz="nan 0 0"', "urdf link 'front' has centre of mass (inertial origin xyz)[0] = nan"),
+    ('xyz="0.125 0 0"', 'xyz="1e300 0 0"', "urdf link 'front' has centre of mass (inertial origin xyz)[0] = 1e+300"),
+    ('<axis xyz="0 0 1"/>', '<axis xyz="0 0 0"/>', "urdf joint 'side' has the axis 0 0 0"),
+    ('<robot name="spatial_body">', '<!DOCTYPE robot [<!ENTITY a "aaaa">]>\n<robot name="spatial_body">',
+     "body.urdf declares XML entities"),
+    ('<robot name="spatial_body">', '<robot name="spatial_body">' + "<a>" * 100 + "</a>" * 100,
+     "body.urdf nests XML elements more than 64 deep"),
+    ("</robot>", "", "body.urdf is not well-formed XML (no element found"),
+    ('<limit lower="-1.0471975511965976"', '<limit lower="-1.0471975511965976x"', "urdf joint 'bend' has a limit "
+     "lower that is not a number"),
+])
+def test_issue_25_every_number_of_a_spatial_urdf_is_checked(tmp_path, capfd, old, new, words):
+    text = CAT_URDF.replace(old, new, 1)
+    assert text != CAT_URDF
+    (tmp_path / "body.urdf").write_text(text)
+    res = run(["plan", write(tmp_path, SPATIAL_FILE), "--out", tmp_path / "out", "--no-plots"])
+    one_line_error(res, "body.urdf: ", words)
+    assert capfd.readouterr().err == ""
+
+
+def test_issue_25_urdfdom_lines_become_acroplans_one_line(tmp_path, capfd):
+    """urdfdom's own lines were printed to stderr before acroplan's message, and only they said what
+    was wrong: they are captured (the C-level stderr) and become the message."""
+    (tmp_path / "body.urdf").write_text(RODS_URDF.replace('type="continuous"', 'type="revolute"', 1))
+    res = run(["plan", write(tmp_path, PLANAR_FILE), "--out", tmp_path / "out", "--no-plots"])
+    one_line_error(res, "body.urdf: Pinocchio could not read body.urdf: Joint [q1] is of type REVOLUTE but it does "
+                   "not specify limits")
+    assert capfd.readouterr().err == ""
+
+
+@pytest.mark.parametrize("value, words", [
+    ('"' + "x" * 5000 + '"', "body.urdf: is a path of 5000 characters, more than 1024"),
+    ('"a\\u0000b.urdf"', "body.urdf: holds a control character"),
+    ('"sub"', "body.urdf: 'sub' is not a regular file"),
+])
+def test_issue_25_urdf_paths_the_system_cannot_open_are_exit_2(tmp_path, value, words):
+    """urdf = "x" * 5000 was an OSError (File name too long): exit 1."""
+    (tmp_path / "sub").mkdir()
+    text = PLANAR_FILE.replace('"body.urdf"', value)
+    res = run(["plan", write(tmp_path, text), "--out", tmp_path / "out", "--no-plots"])
+    one_line_error(res, words)
+
+
+def _outside_cases(tmp_path):
+    """(the value of body.urdf, whether the file exists) for paths leading out of the folder."""
+    work, other = tmp_path / "work", tmp_path / "other"
+    work.mkdir()
+    other.mkdir()
+    (other / "body.urdf").write_text(RODS_URDF)
+    (work / "link.urdf").symlink_to(other / "body.urdf")
+    (work / "dangling.urdf").symlink_to(other / "missing.urdf")
+    return work, other, [("../other/body.urdf", True), ("../other/missing.urdf", False),
+                         (str(other / "body.urdf"), True), (str(other / "missing.urdf"), False),
+                         ("link.urdf", True), ("dangling.urdf", False), ("/etc/passwd", True),
+                         ("/proc/self/environ", True)]
+
+
+def test_issue_25_files_outside_the_problem_folder_are_refused_alike_whether_they_exist(tmp_path):
+    """body.urdf and body.yeadon read absolute paths, .. and symbolic links out of the folder
+    (/etc/passwd, /proc/self/environ opened), and the messages told whether a path existed."""
+    work, other, cases = _outside_cases(tmp_path)
+    seen = set()
+    for value, _ in cases:
+        for key, text in (("urdf", PLANAR_FILE.replace('"body.urdf"', json.dumps(value))),
+                          ("yeadon", '[body]\nyeadon = ' + json.dumps(value) + '\nangular_momentum = 60.0\n'
+                                     '[plan]\ntimes = [0, 1]\ntheta = [0, 1]\nphi = [-3, -3]\n')):
+            res = run(["plan", write(work, text), "--out", work / "out", "--no-plots"])
+            one_line_error(res, f"body.{key}: ", "is outside the problem file's folder", "--allow-outside",
+                           "[files] allow")
+            seen.add(res.output.replace(value, "PATH"))
+    assert len(seen) == 2  # one message per key, whatever the path and whether it exists
+    assert not (work / "out").exists()
+
+
+def test_issue_25_allow_outside_and_the_files_table_let_a_folder_be_read(tmp_path):
+    work, other, _ = _outside_cases(tmp_path)
+    two = chain_urdf(2)  # a two-link body is an acrobot: reach is exact and quick
+    (other / "two.urdf").write_text(two)
+    text = ('[body]\nurdf = "../other/two.urdf"\nangular_momentum = 1.0\n[plan]\ntimes = [0, 1]\ntheta = [0, 0.1]\n'
+            'j1 = [0.5, 0.6]\n')
+    p = write(work, text)
+    one_line_error(run(["reach", p, "--out", work / "r"]), "is outside the problem file's folder")
+    res = run(["reach", p, "--out", work / "r1", "--allow-outside", other])
+    assert res.exit_code in (0, 3), res.output
+    res = run(["reach", p, "--out", work / "r2", "--allow-outside", other / "two.urdf"])  # a file may be allowed
+    assert res.exit_code in (0, 3), res.output
+    res = run(["reach", write(work, '[files]\nallow = ["../other"]\n' + text, "q.toml"), "--out", work / "r3"])
+    assert res.exit_code in (0, 3), res.output
+    # a symbolic link inside the folder to a file inside it is read; the [files] table is checked
+    (work / "two.urdf").write_text(two)
+    (work / "alias.urdf").symlink_to(work / "two.urdf")
+    res = run(["reach", write(work, text.replace("../other/two.urdf", "alias.urdf"), "a.toml"), "--out", work / "r4"])
+    assert res.exit_code in (0, 3), res.output
+    one_line_error(run(["reach", write(work, '[files]\nallow = "../other"\n' + text, "b.toml"), "--out", work / "r5"]),
+                   "files.allow: must be a list of folders")
+    one_line_error(run(["reach", write(work, '[files]\nalow = ["../other"]\n' + text, "c.toml"), "--out", work / "r6"]),
+                   "files.alow: is not a known key", "did you mean 'allow'?")
+
+
+def test_issue_25_a_foreign_file_named_as_measurements_is_never_quoted(tmp_path):
+    """A yeadon path to a config file printed its api_token line in the error message."""
+    (tmp_path / "config.txt").write_text("# my settings\napi_token: SECRET-123\nuser = root\n")
+    text = ('[body]\nyeadon = "config.txt"\nangular_momentum = 60.0\n'
+            '[plan]\ntimes = [0, 1]\ntheta = [0, 1]\nphi = [-3, -3]\n')
+    res = run(["plan", write(tmp_path, text), "--out", tmp_path / "out"])
+    one_line_error(res, "body.yeadon: yeadon cannot read 'config.txt': line 2 names no measurement of yeadon's")
+    assert "SECRET" not in res.output and "api_token" not in res.output and "root" not in res.output
+
+
+def _yeadon_with(tmp_path, extra: str = "", drop: str | None = None) -> Path:
+    from acroplan.families.human.yeadon_body import sample_measurements
+
+    lines = Path(sample_measurements("male1")).read_text().splitlines()
+    if drop is not None:
+        lines = [ln for ln in lines if not ln.startswith(drop)]
+    (tmp_path / "me.txt").write_text("\n".join(lines) + "\n" + extra)
+    return write(tmp_path, '[body]\nyeadon = "me.txt"\nangular_momentum = 60.0\n[plan]\ntimes = [0, 1]\n'
+                           'theta = [0, 1]\nphi = [-3, -3]\n')
+
+
+@pytest.mark.parametrize("extra, drop, words", [
+    ("totalmass: nan\n", None, "(totalmass) is not a finite number"),
+    ("totalmass: .nan\n", None, "(totalmass) is not a finite number"),
+    ("totalmass: 0\n", None, "(totalmass) must be a finite number > 0, got 0"),
+    ("totalmass: -70\n", None, "(totalmass) must be a finite number > 0, got -70"),
+    ("totalmass: 1e9\n", None, "totalmass is 1e+09 kg, outside [1e-06, 1e+06] kg"),
+    ("Ls1L: 5.0\n", None, "gives Ls1L again"),
+    ("", "Ls1L", "1 of yeadon's 95 measurements are missing (the first: Ls1L)"),
+    ("", "measurementconversionfactor", "measurementconversionfactor is missing"),
+    ("a: [1, 2]\n", None, "is not 'name: number'"),
+])
+def test_issue_25_yeadon_measurements_are_checked(tmp_path, extra, drop, words):
+    """A yeadon totalmass of NaN, 0 or negative was ignored (yeadon scales only by a mass > 0)."""
+    pytest.importorskip("yeadon")
+    res = run(["plan", _yeadon_with(tmp_path, extra, drop), "--out", tmp_path / "out"])
+    one_line_error(res, "body.yeadon: ", words)
+
+
+def test_issue_25_a_large_measurement_file_is_refused_before_it_is_read(tmp_path, monkeypatch):
+    """An 8.9 MB measurement file took 79 s and 1.25 GB to be refused (yeadon's YAML reader): a
+    measurement file is a few kB, so one over 100 kB is refused by its size, and one under it is
+    read by a line reader that never builds more than one dict of numbers."""
+    pytest.importorskip("yeadon")
+    import builtins
+
+    p = _yeadon_with(tmp_path, "# " + "x" * 8_900_000 + "\n")
+    opened = []
+    real_open = builtins.open
+    monkeypatch.setattr(builtins, "open", lambda f, *a, **k: (opened.append(str(f)), real_open(f, *a, **k))[1])
+    res = run(["plan", p, "--out", tmp_path / "out"])
+    monkeypatch.undo()
+    one_line_error(res, "body.yeadon: me.txt is larger than 100 kB")
+    assert not any(f.endswith("me.txt") for f in opened)  # refused by its size, never opened
+    # under the size limit: 2,000 lines at most, read once
+    p = _yeadon_with(tmp_path, "# a comment\n" * 3000)
+    one_line_error(run(["plan", p, "--out", tmp_path / "out"]), "lines, more than 2000")
+
+
+def test_issue_25_matplotlib_writes_nothing_under_home_on_a_first_run(tmp_path):
+    """matplotlib's cache was written under the home folder on a first run: the command line points
+    MPLCONFIGDIR at acroplan-matplotlib-<uid> in the temporary folder when it is not set."""
+    home, tmp = tmp_path / "home", tmp_path / "tmp"
+    home.mkdir()
+    tmp.mkdir()
+    env = {k: v for k, v in ENV.items() if not k.startswith(("MPL", "XDG_"))}
+    env.update(HOME=str(home), TMPDIR=str(tmp))
+    p = subprocess.run([sys.executable, "-m", "acroplan", "plan", "--example", "pike-dive", "--out",
+                        str(tmp_path / "out"), "--quiet"], env=env, capture_output=True, text=True, timeout=600)
+    assert p.returncode == 0, p.stderr
+    assert not any("matplotlib" in str(f.relative_to(home)) for f in home.rglob("*"))  # heyoka: ~/.cache/heyoka
+    mine = tmp / f"acroplan-matplotlib-{os.getuid()}"
+    assert mine.is_dir() and (mine.stat().st_mode & 0o777) == 0o700 and any(mine.iterdir())
+
+
+# ------------------------------------------------------------------------------------------
+# issue #25: a bounded fuzz of every body kind through the command line (mutated URDFs, link
+# tables, yeadon measurement files); benchmarks/fuzz.py runs the same generators for thousands
+#: values written into a URDF attribute
+URDF_VALUES = st.sampled_from(["nan", "inf", "-inf", "heavy", "", " ", "1e300", "1e-300", "-1", "0", "1e400",
+                               "0 0", "1 2 3 4", "0x10", "1_000", "+.5", "-0.0", "1e-160", "2", "0.5", "nan 0 0",
+                               "0 0 0", "0 0 1", "1 0 0", "1e100 0 0", "&amp;", "revolute", "fixed", "prismatic"])
+URDF_ATTRIBUTE = re.compile(r'(\w+)="([^"]*)"')
+
+
+@st.composite
+def urdf_texts(draw, base: str) -> str:
+    """``base`` with a few attribute values replaced and elements dropped, doubled or cut."""
+    text = base
+    for _ in range(draw(st.integers(min_value=1, max_value=3))):
+        kind = draw(st.sampled_from(["value", "value", "value", "drop", "double", "cut", "nest", "entity"]))
+        spots = list(URDF_ATTRIBUTE.finditer(text))
+        lines = text.splitlines(keepends=True)
+        if kind == "value" and spots:
+            m = spots[draw(st.integers(min_value=0, max_value=len(spots) - 1))]
+            value = draw(st.one_of(URDF_VALUES, st.text(alphabet="0123456789.eE-+ naif", max_size=12)))
+            text = text[:m.start(2)] + value + text[m.end(2):]
+        elif kind == "drop" and len(lines) > 2:
+            i = draw(st.integers(min_value=1, max_value=len(lines) - 2))
+            text = "".join(lines[:i] + lines[i + 1:])
+        elif kind == "double" and len(lines) > 2:
+            i = draw(st.integers(min_value=1, max_value=len(lines) - 2))
+            text = "".join(lines[:i + 1] + lines[i:])
+        elif kind == "cut":
+            text = text[:draw(st.integers(min_value=0, max_value=len(text)))]
+        elif kind == "nest":
+            n = draw(st.integers(min_value=1, max_value=200))
+            text = text.replace("</robot>", "<a>" * n + "</a>" * n + "</robot>")
+        elif kind == "entity":
+            text = text.replace("<robot", '<!DOCTYPE robot [<!ENTITY e "x">]>\n<robot', 1)
+    return text
+
+
+def _table_text(doc) -> str:
+    """A problem file of ``doc`` (tables, and ``[[body.link]]`` arrays of tables)."""
+    out = []
+    for table, keys in doc.items():
+        arrays = {k: v for k, v in keys.items() if isinstance(v, list) and v and all(isinstance(x, dict) for x in v)}
+        out.append(f"[{table}]\n" + "".join(f"{json.dumps(k)} = {toml_value(v)}\n" for k, v in keys.items()
+                                            if k not in arrays))
+        for k, items in arrays.items():
+            for item in items:
+                out.append(f"[[{table}.{k}]]\n" + "".join(f"{json.dumps(a)} = {toml_value(b)}\n" for a, b in item.items()))
+    return "".join(out)
+
+
+PLANAR_TABLE = {
+    "body": {"angular_momentum": 0.0, "link": [
+        {"name": "rod1", "mass": 1.0, "inertia": "1/12", "com": [0.5, 0.0]},
+        {"name": "rod2", "parent": "rod1", "joint": [1.0, 0.0], "joint_name": "q1", "mass": 1.0, "inertia": "1/12",
+         "com": [0.5, 0.0], "velocity": 2.0},
+        {"name": "rod3", "parent": "rod2", "joint": [1.0, 0.0], "joint_name": "q2", "mass": 1.0, "inertia": "1/12",
+         "com": [0.5, 0.0], "velocity": 2.0}]},
+    "plan": {"times": [0.0, 3.0], "theta": [0.0, 0.4], "q1": [1.0, 1.0], "q2": [1.0, 1.0], "conditions": "free"},
+}
+SPATIAL_TABLE = {
+    "body": {"angular_momentum": [0.0, 0.0, 0.0], "link": [
+        {"name": "front", "mass": 2.0, "inertia": [0.0036, 0.0122, 0.0122], "com": [0.125, 0.0, 0.0]},
+        {"name": "waist", "parent": "front", "joint_name": "bend", "axis": [0.0, -1.0, 0.0], "mass": 0.0,
+         "inertia": [0.0, 0.0, 0.0], "lower": -1.0, "upper": 1.7},
+        {"name": "rear", "parent": "waist", "joint_name": "twist", "axis": [1.0, 0.0, 0.0], "mass": 2.0,
+         "inertia": [0.0036, 0.0122, 0.0122], "com": [-0.125, 0.0, 0.0]}]},
+    "plan": {"times": [0.0, 0.5], "attitude": [[1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0]], "bend": [0.7, 0.7],
+             "twist": [0.0, 0.0], "conditions": "free"},
+}
+TABLE_VALUE = st.one_of(SPECIAL, MAGNITUDE, SENSIBLE, VALUE,
+                        st.lists(st.one_of(SENSIBLE, MAGNITUDE, SPECIAL), min_size=0, max_size=4),
+                        st.lists(st.lists(st.one_of(SENSIBLE, MAGNITUDE), min_size=3, max_size=3), min_size=3,
+                                 max_size=3))
+
+
+@st.composite
+def link_table_texts(draw, base: dict) -> str:
+    doc = json.loads(json.dumps(base))
+    links = doc["body"]["link"]
+    for _ in range(draw(st.integers(min_value=1, max_value=3))):
+        what = draw(st.sampled_from(["link", "link", "link", "momentum", "drop", "double"]))
+        if what == "momentum":
+            doc["body"]["angular_momentum"] = draw(TABLE_VALUE)
+            continue
+        if not links:
+            break
+        i = draw(st.integers(min_value=0, max_value=len(links) - 1))
+        if what == "drop":
+            links.pop(i)
+        elif what == "double":
+            links.append(dict(links[i]))
+        else:
+            key = draw(st.sampled_from(sorted(set(links[i]) | {"mass", "inertia", "com", "joint", "axis", "rotation",
+                                                            "lower", "upper", "velocity", "parent", "other"})))
+            links[i][key] = draw(TABLE_VALUE)
+    return _table_text(doc)
+
+
+YEADON_VALUES = st.sampled_from(["nan", ".nan", "inf", ".inf", "-1", "0", "1e9", "1e-9", "heavy", "", "[1, 2]",
+                                 "{a: 1}", "&a", "*a", "1e300", "0.01", "5", "'5'", "5 # note", "!!float 5"])
+
+
+@st.composite
+def yeadon_texts(draw) -> str:
+    from acroplan.families.human.yeadon_body import sample_measurements
+
+    lines = Path(sample_measurements("male1")).read_text().splitlines()
+    for _ in range(draw(st.integers(min_value=1, max_value=4))):
+        what = draw(st.sampled_from(["value", "value", "drop", "double", "garbage", "totalmass"]))
+        i = draw(st.integers(min_value=0, max_value=len(lines) - 1))
+        if what == "value" and ":" in lines[i] and not lines[i].startswith("#"):
+            lines[i] = lines[i].split(":")[0] + ": " + draw(YEADON_VALUES)
+        elif what == "drop":
+            lines.pop(i)
+        elif what == "double":
+            lines.insert(i, lines[i])
+        elif what == "garbage":
+            lines.insert(i, draw(st.text(max_size=40)).replace("\r", "").replace("\n", ""))
+        else:
+            lines.append("totalmass: " + draw(YEADON_VALUES))
+    return "\n".join(lines) + "\n"
+
+
+YEADON_PROBLEM = ('[body]\nyeadon = "body.txt"\nangular_momentum = 60.0\nposition = "pike"\n[plan]\ntimes = [0, 1.5]\n'
+                  'theta = ["-0.5*pi", "-0.5*pi + 2*pi"]\nphi = ["-pi", "-pi"]\n')
+BODY_KINDS = ("planar-urdf", "spatial-urdf", "planar-table", "spatial-table", "yeadon")
+
+
+@st.composite
+def body_files(draw) -> tuple[str, dict]:
+    """``(kind, {file name: text})``: a problem file ``p.toml`` and the file its body names."""
+    kind = draw(st.sampled_from(BODY_KINDS))
+    if kind == "planar-urdf":
+        return kind, {"p.toml": PLANAR_FILE, "body.urdf": draw(urdf_texts(RODS_URDF))}
+    if kind == "spatial-urdf":
+        return kind, {"p.toml": SPATIAL_FILE, "body.urdf": draw(urdf_texts(CAT_URDF))}
+    if kind == "planar-table":
+        return kind, {"p.toml": draw(link_table_texts(PLANAR_TABLE))}
+    if kind == "spatial-table":
+        return kind, {"p.toml": draw(link_table_texts(SPATIAL_TABLE))}
+    return kind, {"p.toml": YEADON_PROBLEM, "body.txt": draw(yeadon_texts())}
+
+
+def check_body_run(res, folder: Path, codes=(0, 2, 3, 4)) -> None:
+    """What every run of a fuzzed body file must do: a known exit code, an exit 2 of one line that
+    names a field, JSON without NaN, nothing written outside OUT."""
+    assert res.exit_code in codes, (res.exit_code, res.output[-2000:], res.exception)
+    if res.exit_code == 2:
+        assert re.match(r"acroplan: error: \S.*?: \S", res.stderr), res.stderr
+        assert len(res.stderr.strip().splitlines()) == 1, res.stderr
+    for f in (folder / "out").rglob("*.json") if (folder / "out").exists() else ():
+        strict_json(f)
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=list(HealthCheck), derandomize=True)
+@given(body_files())
+@example(("planar-urdf", {"p.toml": PLANAR_FILE, "body.urdf": chain_urdf(3831)}))
+@example(("spatial-urdf", {"p.toml": SPATIAL_FILE, "body.urdf": CAT_URDF.replace('value="2"', 'value="nan"', 1)}))
+def test_issue_25_fuzz_every_body_kind_through_the_cli(case):
+    """Mutated URDFs (planar and spatial), link tables (planar and spatial) and yeadon measurement
+    files through ``acroplan reach`` (which reads the body as ``plan`` does, and plans nothing)."""
+    if case[0] == "yeadon":
+        pytest.importorskip("yeadon")
+    _, files = case
+    with tempfile.TemporaryDirectory() as d:
+        d = Path(d)
+        for name, text in files.items():
+            (d / name).write_text(text, encoding="utf-8")
+        res = CliRunner().invoke(main, ["reach", str(d / "p.toml"), "--out", str(d / "out"), "--json"])
+        check_body_run(res, d, codes=(0, 2, 3))
+        assert sorted(p.name for p in d.iterdir()) in (sorted(files), sorted([*files, "out"]))

@@ -28,6 +28,7 @@ from .core import backend
 from .core.basis import InputBasis, make_basis
 from .core.conditions import CONDITIONS, Conditions, check_conditions
 from .core.errors import InvalidInputError
+from .core.family import family_of
 from .core.keywords import PLAN_KEYWORDS
 from .core.limits import Limits
 from .core.optimal import OBJECTIVES, EnergyOptimal, tau_vector, objective_strategy
@@ -280,10 +281,32 @@ class PlanRequest:
                 v = np.array([np.radians(x) if system.rate_inputs.get(n) in system.angle_states else x
                               for n, x in zip(system.input_names, v)])
             rates[field] = v
-        return cls(system=system, times=t, waypoints=X, free=free, conditions=conditions, strategy=strategy, basis=b,
-                   sizes=sizes, limits=limits, verify=verify, tol=float(tol), max_evaluations=max_evaluations,
-                   time_limit=None if time_limit is None else float(time_limit), start_rate=rates.get("start_rate"),
-                   end_rate=rates.get("end_rate"), degrees=degrees, objective=objective, torque_limits=torque_limits)
+        req = cls(system=system, times=t, waypoints=X, free=free, conditions=conditions, strategy=strategy, basis=b,
+                  sizes=sizes, limits=limits, verify=verify, tol=float(tol), max_evaluations=max_evaluations,
+                  time_limit=None if time_limit is None else float(time_limit), start_rate=rates.get("start_rate"),
+                  end_rate=rates.get("end_rate"), degrees=degrees, objective=objective, torque_limits=torque_limits)
+        fam = family_of(system)
+        if fam is not None and fam.check_request is not None:
+            fam.check_request(req)  # what the family's planners cannot take, refused at the boundary
+        _check_compile_time(req)
+        return req
+
+
+def _check_compile_time(req: PlanRequest) -> None:
+    """Refuse a plan whose first compilation would take longer than its time limit
+    (:func:`acroplan.core.backend.compile_estimate`: a lower bound from the family's measured
+    growth, none when that integrator was compiled before on this machine)."""
+    if req.time_limit is None:
+        return
+    n = req.sizes[0] if req.sizes else req.basis.n
+    est = backend.compile_estimate(req.system, type(req.basis), n)
+    if est is None or est.seconds <= req.time_limit:
+        return
+    raise InvalidInputError("time_limit", f"is {req.time_limit:g} s, and compiling the integrator of {est.what} with "
+                            f"{n} coefficients takes at least {est.seconds:.3g} s on a first run ({est.growth}; "
+                            "benchmarks/RESULTS.md), which the time limit covers",
+                            f"give time_limit = {math.ceil(est.seconds / 0.8):g} or more, or fewer links (the "
+                            "compiled integrator is then kept on disk: a second run compiles in seconds)")
 
 
 def _optimal_strategy(system, method, objective, tau_max):
@@ -567,7 +590,11 @@ def _check_torque_limits(result: PlanResult, req) -> PlanResult:
     refined between grid points) exceeds its limit by more than 1e-9 (relative)."""
     if not req.torque_limits or not result.success:
         return result
-    effort = result.effort()
+    try:
+        effort = result.effort()
+    except BudgetExceeded as e:
+        return dataclasses.replace(result, status=Status.NOT_CONVERGED, message=f"not converged: every waypoint was "
+                                   f"reached, but {e} before the peak torques were checked against tau_max")
     over = [(j, effort[j].peak_torque, top) for j, top in req.torque_limits.items()
             if effort[j].peak_torque > top * (1.0 + 1e-9)]
     if not over:

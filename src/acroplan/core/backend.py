@@ -35,8 +35,10 @@ on-disk cache, ``~/.cache/heyoka`` by default), so workers of any executor work 
 from __future__ import annotations
 
 import copy
+import hashlib
 import threading
-from typing import Hashable
+from pathlib import Path
+from typing import Hashable, NamedTuple
 
 import heyoka as hy
 import numpy as np
@@ -46,7 +48,7 @@ from .basis import InputBasis
 from .system import ControlAffineSystem
 
 __all__ = ["IntegrationError", "endpoint", "taylor_endpoint", "reference_endpoint", "sample", "taylor_sample",
-           "compile_for", "compiled_count"]
+           "compile_for", "compiled_count", "compile_estimate", "CompileEstimate"]
 
 #: Taylor integrator tolerance: machine precision for double.
 TOL = 1e-15
@@ -108,18 +110,115 @@ def _key(system: ControlAffineSystem, basis_cls: type[InputBasis], n: int) -> tu
     return (system.structure_key, basis_cls, int(n))
 
 
+class _Build:
+    """One compilation under way (in its own thread), which any number of callers wait for."""
+
+    def __init__(self):
+        self.done = threading.Event()
+        self.error: BaseException | None = None
+
+
+_PENDING: dict[tuple, _Build] = {}
+
+
+def _run_build(job: _Build, key, system, basis_cls, n) -> None:
+    try:
+        ta = _build(system, basis_cls, n)
+        with _BUILD_LOCK:
+            _TEMPLATES[key] = ta
+        _mark_compiled(key)
+    except BaseException as e:  # noqa: BLE001 - handed to the callers waiting for it
+        job.error = e
+    finally:
+        with _BUILD_LOCK:
+            _PENDING.pop(key, None)
+        job.done.set()
+
+
 def compile_for(system: ControlAffineSystem, basis_cls: type[InputBasis], n: int):
     """The compiled template for (structure of ``system``, basis family, size ``n``): built on first
-    use in this process, then reused."""
+    use in this process, then reused.
+
+    The compilation (sympy fields, heyoka's decomposition and LLVM, which nothing can interrupt) runs
+    in a thread of its own while the caller waits within its time budget
+    (:func:`acroplan.core.budget.wait`): a plan whose budget is spent while it compiles ends with
+    :class:`~acroplan.core.budget.BudgetExceeded` at its deadline; the compilation goes on in the
+    background and its integrator is kept for the next plan. One compilation per key, however many
+    threads ask."""
     key = _key(system, basis_cls, n)
     ta = _TEMPLATES.get(key)
-    if ta is None:
-        with _BUILD_LOCK:  # one compilation per key, even when threads ask at once
-            ta = _TEMPLATES.get(key)
-            if ta is None:
-                ta = _build(system, basis_cls, n)
-                _TEMPLATES[key] = ta
-    return ta
+    if ta is not None:
+        return ta
+    with _BUILD_LOCK:
+        ta = _TEMPLATES.get(key)
+        if ta is not None:
+            return ta
+        job = _PENDING.get(key)
+        if job is None:
+            job = _PENDING[key] = _Build()
+            threading.Thread(target=_run_build, args=(job, key, system, basis_cls, n), daemon=True,
+                             name=f"acroplan-compile-{n}").start()
+    budget.wait(job.done)
+    if job.error is not None:
+        raise job.error
+    return _TEMPLATES[key]
+
+
+class CompileEstimate(NamedTuple):
+    """A lower bound of a first compilation's seconds (:func:`compile_estimate`)."""
+
+    seconds: float
+    what: str  # the body, for messages ("a planar body of 12 links")
+    growth: str  # the measured growth it comes from, for messages
+
+
+def _marker(key) -> Path | None:
+    """The file that says ``key`` was compiled on this machine (in heyoka's on-disk cache folder)."""
+    try:
+        if not hy.llvm_state.get_diskcache_enabled():
+            return None
+        folder = Path(hy.llvm_state.get_diskcache_path()) / "acroplan-compiled"
+    except Exception:  # noqa: BLE001 - no disk cache: no marker
+        return None
+    structure, basis_cls, n = key
+    text = f"{structure!r}|{basis_cls.__module__}.{basis_cls.__qualname__}|{n}|heyoka {hy.__version__}"
+    return folder / hashlib.sha256(text.encode()).hexdigest()[:32]
+
+
+def _mark_compiled(key) -> None:
+    path = _marker(key)
+    if path is None:
+        return
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.touch()
+    except OSError:  # a read-only cache: the estimate stays the first run's
+        pass
+
+
+def compile_estimate(system: ControlAffineSystem, basis_cls: type[InputBasis], n: int) -> CompileEstimate | None:
+    """A lower bound of the seconds compiling the integrator of ``system`` with ``n`` coefficients
+    takes, from its family's measured growth (:attr:`Family.compile_seconds
+    <acroplan.core.family.Family.compile_seconds>`); ``None`` when it is compiled in this process,
+    under way, compiled before on this machine (heyoka keeps it on disk: seconds), or when the
+    family gives no estimate."""
+    key = _key(system, basis_cls, n)
+    if key in _TEMPLATES or key in _PENDING:
+        return None
+    from .family import family_of
+
+    fam = family_of(system)
+    if fam is None or fam.compile_seconds is None:
+        return None
+    est = fam.compile_seconds(system, int(n))
+    if est is None:
+        return None
+    marker = _marker(key)
+    if marker is not None and marker.exists():
+        return None
+    seconds, growth = est
+    what = fam.describe(system) if fam.describe is not None else type(system).__name__
+    return CompileEstimate(float(seconds), what, growth)
 
 
 def compiled_count() -> int:

@@ -2,7 +2,8 @@
 
 :func:`acroplan.plan` opens a budget (``time_limit`` seconds) around its work; the solvers call
 :func:`check` at every endpoint evaluation and the checking integrator at every right-hand side
-call (every 256th), so a plan that would run too long ends, between two evaluations, with
+call (every 256th), and a compilation is waited for until the deadline (:func:`wait`), so a plan
+that would run too long ends, between two evaluations or at its deadline while it compiles, with
 :class:`BudgetExceeded`, which the front door turns into ``not_converged`` with the diagnostics
 gathered so far. The budget is a context variable: each thread (and each worker process) has its
 own, and code run outside a plan has none.
@@ -14,7 +15,7 @@ import contextlib
 import contextvars
 import time
 
-__all__ = ["BudgetExceeded", "budget", "check", "remaining"]
+__all__ = ["BudgetExceeded", "budget", "check", "remaining", "wait"]
 
 #: The clock of every budget (monotonic seconds). A module attribute, so that tests can replace it
 #: with a virtual clock and assert on counts of checks instead of wall-clock times.
@@ -34,8 +35,14 @@ class BudgetExceeded(RuntimeError):
 
 @contextlib.contextmanager
 def budget(seconds: float | None):
-    """Run the body with a deadline ``seconds`` from now (``None``: no deadline)."""
-    token = _DEADLINE.set(None if seconds is None else (_clock() + float(seconds), float(seconds)))
+    """Run the body with a deadline ``seconds`` from now (``None``: no deadline of its own). Budgets
+    nest: inside another budget the earlier deadline holds (the command line opens one around a
+    plan and its effort summary, and the plan opens its own)."""
+    outer = _DEADLINE.get()
+    inner = None if seconds is None else (_clock() + float(seconds), float(seconds))
+    if outer is not None and (inner is None or outer[0] < inner[0]):
+        inner = outer
+    token = _DEADLINE.set(inner)
     try:
         yield
     finally:
@@ -46,6 +53,20 @@ def check() -> None:
     """Raise :class:`BudgetExceeded` when the current budget is spent."""
     d = _DEADLINE.get()
     if d is not None and _clock() > d[0]:
+        raise BudgetExceeded(d[1])
+
+
+def wait(event) -> None:
+    """Wait for ``event`` (a :class:`threading.Event`) within the current budget: raise
+    :class:`BudgetExceeded` at the deadline if it is not set by then (no budget: wait for it)."""
+    d = _DEADLINE.get()
+    if d is None:
+        event.wait()
+        return
+    if event.is_set():
+        return
+    left = d[0] - _clock()
+    if left <= 0 or not event.wait(left):
         raise BudgetExceeded(d[1])
 
 

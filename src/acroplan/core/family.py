@@ -61,6 +61,15 @@ missing hook means the family does not offer that job, and the layer asking says
     gives no torques (the acrobot given by its lumped parameters).
 11. ``describe(system) -> str`` (optional): one line saying what the body is, for the command
     line's summaries.
+12. ``check_request(request)`` (optional): refuse, with an
+    :class:`~acroplan.core.errors.InvalidInputError` naming the field, a valid
+    :class:`~acroplan.planning.PlanRequest` that the family's planners cannot take (called at the
+    end of :meth:`PlanRequest.build <acroplan.planning.PlanRequest.build>`: the boundary).
+13. ``compile_seconds(system, n) -> (float, str) or None`` (optional): a lower bound of the seconds
+    a first compilation of the system's integrator with ``n`` coefficients per input takes, and the
+    measured growth it comes from in words (``benchmarks/RESULTS.md``); a plan whose time limit it
+    exceeds is refused up front, unless that integrator was compiled before on this machine
+    (:func:`acroplan.core.backend.compile_estimate`).
 
 Worked examples: ``acroplan/families/small/family.py`` (the unicycle and the chained form: a
 name, the classes, nothing else) and ``acroplan/families/planar/family.py`` (link tables and URDF,
@@ -98,12 +107,24 @@ class Example:
 
 @dataclasses.dataclass(frozen=True)
 class ReadContext:
-    """What a family's reader knows of the file: its folder (relative paths are read from it),
-    whether ``options.degrees`` is set, and the folders outside it that the user allowed."""
+    """What a family's reader knows of the file: its folder (relative paths are read from it;
+    ``None``: the current folder), whether ``options.degrees`` is set, and the folders outside it
+    that the user allowed (absolute and resolved: ``--allow-outside``, ``[files] allow``). A family
+    opens the files a table names through :meth:`file`, never directly."""
 
     base: Path | None = None
     degrees: bool = False
     allowed: tuple[Path, ...] = ()
+
+    def file(self, field: str, value, *, example: str, what: str, most_bytes: int | None = None) -> Path:
+        """The file ``value`` names, confined to :attr:`base` and :attr:`allowed`
+        (:func:`acroplan.core.files.confined_file`: a path leading out is refused, naming ``field``
+        and the options that allow it)."""
+        from .files import confined_file
+        from .validate import MAX_FILE_BYTES
+
+        return confined_file(field, value, self.base, self.allowed, example=example, what=what,
+                             most_bytes=MAX_FILE_BYTES if most_bytes is None else most_bytes)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -133,6 +154,8 @@ class Family:
     cli_verify: str | None = None
     torque_hint: tuple[str, str] | None = None
     describe: Callable[[Any], str] | None = None
+    check_request: Callable[[Any], None] | None = None
+    compile_seconds: Callable[[Any, int], tuple[float, str] | None] | None = None
 
     def owns(self, system) -> bool:
         """Whether ``system`` (an instance) is of this family."""

@@ -24,7 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from . import backend
+from . import backend, budget
 from .basis import InputBasis
 from .errors import InvalidInputError
 from .status import STATUSES, Status
@@ -705,6 +705,7 @@ class PlanResult:
             P = int(min(4096, max(8, math.ceil(seg.max_abs_u * T))))
 
             def motion(tt, seg=seg):
+                budget.check()  # a plan's effort summary is inside its time budget (the command line's)
                 return self._segment_torques(model, seg, np.atleast_1d(np.asarray(tt, dtype=float)), inputs)
 
             # one evaluation: the Gauss nodes of every panel and the panel edges, in time order

@@ -180,6 +180,11 @@ class ControlAffineSystem(abc.ABC):
                 out = _SYMBOLIC.setdefault(key, (f, G))
         return out
 
+    @property
+    def symbolic_ready(self) -> bool:
+        """Whether :meth:`symbolic` is already built for this structure (in this process)."""
+        return self.structure_key in _SYMBOLIC
+
     def _numeric(self):
         key = self.structure_key
         fn = _NUMERIC.get(key)

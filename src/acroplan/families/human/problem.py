@@ -9,17 +9,15 @@ link table.
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 from ...core.errors import InvalidInputError
-from ...core.validate import (BODY_VALUES, MAX_ANGLE, MAX_BODY, MAX_FILE_BYTES, check_keys, choice_field, number,
-                              short, vector3)
+from ...core.validate import BODY_VALUES, MAX_ANGLE, MAX_BODY, check_keys, choice_field, number, short, vector3
 from ..acrobot.problem import read_limits as acrobot_limits
 from ..planar.model import PlanarBody
 from ..tree.problem import apply_limits
 from .deleva import from_height_mass
 from .limits import POSITIONS, human_limits, position
-from .yeadon_body import SAMPLES, from_yeadon, sample_measurements
+from .yeadon_body import MAX_MEASUREMENT_BYTES, SAMPLES, from_yeadon, sample_measurements
 
 __all__ = ["reads", "read", "HUMAN_KEYS", "SPLITS"]
 
@@ -59,7 +57,7 @@ def read(table: str, data: dict, limits: dict | None, context):
                                 "vector [Lx, Ly, Lz], which makes the body spatial",
                                 "give model = \"3d\" for the 3-D human, or angular_momentum a number for the "
                                 "planar human")
-    system, defaults = _human_body(data, given, limits, base=context.base, degrees=context.degrees)
+    system, defaults = _human_body(data, given, limits, context=context)
     if defaults or not isinstance(system, PlanarBody):
         return system, acrobot_limits(limits, defaults, degrees=context.degrees)
     return system, {}
@@ -68,27 +66,19 @@ def read(table: str, data: dict, limits: dict | None, context):
 _INSTALL_HUMAN = 'pip install "acroplan[human]"'
 
 
-def yeadon_path(value, base) -> str:
+def yeadon_path(value, context) -> str:
     """The measurement file ``body.yeadon`` names: a bundled sample by name, or a path relative to the
-    problem file's folder."""
+    problem file's folder and confined to it and the folders the user allowed (``context``, a
+    :class:`~acroplan.core.family.ReadContext`)."""
     if not isinstance(value, str) or not value.strip():
         raise InvalidInputError("body.yeadon", "must be a measurement file or a bundled sample's name in quotes, "
                                 f"got {short(value)}", "write for example yeadon = \"male1\" (bundled: "
                                 f"{sorted(SAMPLES)}) or yeadon = \"measurements.txt\"")
     if value in SAMPLES:
         return sample_measurements(value)
-    path = Path(value)
-    if not path.is_absolute() and base is not None:
-        path = Path(base) / path
-    if not path.is_file():
-        raise InvalidInputError("body.yeadon", f"no such file: {short(str(path), 200)}",
-                                "give a yeadon measurement file (95 measurements in yeadon's format; a relative path "
-                                "is read from the problem file's folder) or a bundled sample's name "
-                                f"({sorted(SAMPLES)})")
-    if path.stat().st_size > MAX_FILE_BYTES:
-        raise InvalidInputError("body.yeadon", f"{path.name} is larger than {MAX_FILE_BYTES // 1_000_000} MB",
-                                "give a yeadon measurement file (95 measurements, a few kB)")
-    return str(path)
+    return str(context.file("body.yeadon", value, example="yeadon = \"measurements.txt\"",
+                            what="a yeadon measurement file (95 measurements in yeadon's format, a few kB) or a "
+                            f"bundled sample's name ({sorted(SAMPLES)})", most_bytes=MAX_MEASUREMENT_BYTES))
 
 
 #: the human family's argument names as the file names them
@@ -106,7 +96,7 @@ def human_error(e: InvalidInputError, source: str) -> InvalidInputError:
     return InvalidInputError(source, f"makes {e.field} {e.problem}", e.fix)
 
 
-def _human_body(data: dict, given: list, limits: dict | None, *, base, degrees: bool):
+def _human_body(data: dict, given: list, limits: dict | None, *, context):
     """A human body from ``[body]`` (``yeadon`` or ``height``/``mass``; module docstring), and the
     default limits of an acrobot (split at the hips) in radians."""
     other = [k for k in ("urdf", "link") if k in data]
@@ -152,7 +142,7 @@ def _human_body(data: dict, given: list, limits: dict | None, *, base, degrees: 
     source = "body.yeadon" if "yeadon" in data else "body.height"
     try:
         if "yeadon" in data:
-            path = yeadon_path(data["yeadon"], base)
+            path = yeadon_path(data["yeadon"], context)
             try:
                 body = from_yeadon(path, knee_flexion=kappa)
             except ImportError:
@@ -188,7 +178,7 @@ def _human_body(data: dict, given: list, limits: dict | None, *, base, degrees: 
         planar = body.three_part(angular_momentum=P0, limits=lim)
     except InvalidInputError as e:  # pragma: no cover - a human body's parts are physical
         raise human_error(e, source) from None
-    table = apply_limits(planar.links, {} if limits is None else limits, degrees)
+    table = apply_limits(planar.links, {} if limits is None else limits, context.degrees)
     return (planar if table is planar.links else PlanarBody(table, P0=P0)), {}
 
 
@@ -224,7 +214,7 @@ def _spatial_human(data: dict, limits, context):
     posture = choice_field("body.posture", data.get("posture", "straight"), tuple(POSTURES), "straight")
     try:
         if "yeadon" in data:
-            path = yeadon_path(data["yeadon"], context.base)
+            path = yeadon_path(data["yeadon"], context)
             body = spatial_from_yeadon(path, joints=joints, posture=posture, angular_momentum=L)
         else:
             for key in ("height", "mass"):

@@ -36,9 +36,11 @@ J1 (at :math:`(0, 0)`), and a part hanging along :math:`-X` is turned by :math:`
 from __future__ import annotations
 
 import contextlib
+import difflib
 import io
 import math
 import os
+import re
 import warnings
 from importlib import resources
 
@@ -47,7 +49,8 @@ import numpy as np
 from ...core.errors import InvalidInputError, finite_number
 from .body import Part, SagittalBody
 
-__all__ = ["from_yeadon", "load_human", "sample_measurements", "SAMPLES", "TRUNK", "ARMS", "LEGS"]
+__all__ = ["from_yeadon", "load_human", "read_measurements", "sample_measurements", "SAMPLES", "TRUNK", "ARMS",
+           "LEGS", "MAX_MEASUREMENT_BYTES", "MAX_MEASUREMENT_LINES", "MEASUREMENT_RANGE", "TOTALMASS_RANGE"]
 
 #: The bundled measurement files, by name (``data/README.md``: source, licence, citation).
 SAMPLES = {"male1": "yeadon_male1.txt"}
@@ -75,13 +78,121 @@ def sample_measurements(name: str = "male1") -> str:
     return str(resources.files(__package__).joinpath("data", SAMPLES[name]))
 
 
+#: The largest measurement file read: yeadon's template with its comments is 4.6 kB; a file ten
+#: times larger than any of its kind is refused before it is read (a YAML reader took 79 s and
+#: 1.25 GB on an 8.9 MB file).
+MAX_MEASUREMENT_BYTES = 100_000
+#: The most lines a measurement file may have (the template has 221, 96 of them values).
+MAX_MEASUREMENT_LINES = 2_000
+#: The range of a measurement in metres (after ``measurementconversionfactor``): far beyond any
+#: human, within what the model's volumes and inertias (fifth powers) carry.
+MEASUREMENT_RANGE = (1e-6, 1e3)
+#: The range of ``totalmass`` (kg).
+TOTALMASS_RANGE = (1e-6, 1e6)
+
+_NUMBER = re.compile(r"[-+]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][-+]?[0-9]+)?")
+_LINE = re.compile(r"([A-Za-z][A-Za-z0-9_]*)[ \t]*:[ \t]*([^#\s]+)[ \t]*(?:#.*)?")
+
+
+def read_measurements(path, names) -> tuple[dict, float | None]:
+    """Yeadon's measurements from a measurement file, read and checked in bounded time and memory,
+    never by a general YAML reader: at most :data:`MAX_MEASUREMENT_BYTES` bytes and
+    :data:`MAX_MEASUREMENT_LINES` lines, each line blank, a ``#`` comment, or ``name: number``
+    (``names``: yeadon's 95 measurements, ``measurementconversionfactor``, optional ``totalmass``).
+    Every value must be finite and > 0, each name given once, every measurement given, and the
+    measurements in metres within :data:`MEASUREMENT_RANGE`, ``totalmass`` within
+    :data:`TOTALMASS_RANGE`. Messages give line numbers and yeadon's names, never a line of the file.
+
+    Returns
+    -------
+    (dict, float or None)
+        The measurements in metres by name, and ``totalmass`` (kg) when the file gives it.
+
+    Raises
+    ------
+    InvalidInputError
+        Naming ``measurements``.
+    """
+    fix = "give the 95 measurements in yeadon's format (its misc/meastemplate.txt): one 'name: number' per line"
+    field = "measurements"
+    label = os.path.basename(os.fspath(path))
+    try:
+        with open(path, "rb") as f:
+            raw = f.read(MAX_MEASUREMENT_BYTES + 1)
+    except OSError as e:
+        raise InvalidInputError(field, f"cannot read {label!r} ({type(e).__name__})", fix) from None
+    if len(raw) > MAX_MEASUREMENT_BYTES:
+        raise InvalidInputError(field, f"{label!r} is larger than {MAX_MEASUREMENT_BYTES // 1000} kB: not a yeadon "
+                                "measurement file (a few kB)", fix)
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError:
+        raise InvalidInputError(field, f"yeadon cannot read {label!r}: it is not UTF-8 text", fix) from None
+    lines = text.splitlines()
+    if len(lines) > MAX_MEASUREMENT_LINES:
+        raise InvalidInputError(field, f"{label!r} has {len(lines)} lines, more than {MAX_MEASUREMENT_LINES}: not a "
+                                "yeadon measurement file", fix)
+    known = set(names) | {"measurementconversionfactor", "totalmass"}
+    values: dict[str, float] = {}
+    where: dict[str, int] = {}
+    for i, line in enumerate(lines, 1):
+        stripped = line.strip()
+        if not stripped or stripped.startswith("#"):
+            continue
+        m = _LINE.fullmatch(stripped)
+        if m is None:
+            raise InvalidInputError(field, f"yeadon cannot read {label!r}: line {i} is not 'name: number'", fix)
+        key, value = m.groups()
+        if key not in known:
+            close = difflib.get_close_matches(key, sorted(known), n=1, cutoff=0.8)
+            raise InvalidInputError(field, f"yeadon cannot read {label!r}: line {i} names no measurement of yeadon's"
+                                    + (f" (did you mean {close[0]!r}?)" if close else ""), fix)
+        if key in values:
+            raise InvalidInputError(field, f"yeadon cannot read {label!r}: line {i} gives {key} again (line "
+                                    f"{where[key]} gave it)", "give each measurement once")
+        if _NUMBER.fullmatch(value) is None:
+            raise InvalidInputError(field, f"yeadon cannot read {label!r}: line {i} ({key}) is not a finite number", fix)
+        v = float(value)
+        if not (math.isfinite(v) and v > 0):
+            raise InvalidInputError(field, f"yeadon cannot read {label!r}: line {i} ({key}) must be a finite number "
+                                    f"> 0, got {v:g}", "give every measurement, the conversion factor and totalmass "
+                                    "as positive numbers")
+        values[key], where[key] = v, i
+    missing = [n for n in names if n not in values]
+    if missing or "measurementconversionfactor" not in values:
+        what = (f"{len(missing)} of yeadon's {len(names)} measurements are missing (the first: {missing[0]})"
+                if missing else "measurementconversionfactor is missing (1 for metres, 0.01 for cm, 0.001 for mm)")
+        raise InvalidInputError(field, f"yeadon cannot read {label!r}: {what}", fix)
+    factor = values.pop("measurementconversionfactor")
+    total = values.pop("totalmass", None)
+    lo, hi = MEASUREMENT_RANGE
+    out = {}
+    for key in names:
+        v = values[key] * factor
+        if not lo <= v <= hi:
+            raise InvalidInputError(field, f"{label!r} line {where[key]}: {key} is {v:.3g} m, outside [{lo:g}, {hi:g}] "
+                                    "m", "check the measurement and measurementconversionfactor (1 for metres, 0.01 "
+                                    "for cm, 0.001 for mm)")
+        out[key] = v
+    if total is not None and not TOTALMASS_RANGE[0] <= total <= TOTALMASS_RANGE[1]:
+        raise InvalidInputError(field, f"{label!r} line {where['totalmass']}: totalmass is {total:.3g} kg, outside "
+                                f"[{TOTALMASS_RANGE[0]:g}, {TOTALMASS_RANGE[1]:g}] kg",
+                                "give the body's measured mass in kg, or leave totalmass out")
+    return out, total
+
+
 def load_human(measurements=None, *, density_set: str = "Dempster", quiet: bool = True):
     """A ``yeadon.Human`` from a measurement file (or a bundled sample's name, default ``"male1"``).
+
+    The file is read by :func:`read_measurements` (bounded, every value checked), and yeadon builds
+    the human from the checked measurements, scaled to ``totalmass`` when the file gives it (as
+    yeadon does when it reads a file itself).
 
     Parameters
     ----------
     measurements : str or os.PathLike, optional
-        A yeadon measurement file (YAML, 95 measurements), or the name of a bundled sample.
+        A yeadon measurement file (95 measurements, ``name: number`` per line), or the name of a
+        bundled sample.
     density_set : {"Dempster", "Chandler", "Clauser"}
         yeadon's segment densities.
     quiet : bool
@@ -94,7 +205,8 @@ def load_human(measurements=None, *, density_set: str = "Dempster", quiet: bool 
     Raises
     ------
     InvalidInputError
-        The file is missing or yeadon cannot read it (naming ``measurements``).
+        The file is missing, not a measurement file, or yeadon cannot build a human of it (naming
+        ``measurements``).
     ImportError
         yeadon is not installed (``pip install acroplan[human]``).
     """
@@ -104,20 +216,31 @@ def load_human(measurements=None, *, density_set: str = "Dempster", quiet: bool 
     path = os.fspath(measurements)
     if path in SAMPLES:
         path = sample_measurements(path)
-    if not os.path.isfile(path):
-        raise InvalidInputError("measurements", f"no file {path!r}",
+    if not isinstance(path, str) or len(path) > 4096 or "\0" in path or not os.path.isfile(path):
+        shown = path if isinstance(path, str) and len(path) <= 200 else "(a long path)"
+        raise InvalidInputError("measurements", f"no file {shown!r}",
                                 f"give a yeadon measurement file or a bundled sample ({sorted(SAMPLES)})")
     if density_set not in ("Dempster", "Chandler", "Clauser"):
         raise InvalidInputError("density_set", f"must be 'Dempster', 'Chandler' or 'Clauser', got {density_set!r}",
                                 "leave it at 'Dempster' (yeadon's default)")
+    meas, total = read_measurements(path, yeadon.Human.measnames)
+    label = os.path.basename(path)
     try:
-        with warnings.catch_warnings(), contextlib.redirect_stdout(io.StringIO()):
+        with warnings.catch_warnings(), contextlib.redirect_stdout(io.StringIO()), \
+                np.errstate(all="ignore"):
             if quiet:
                 warnings.simplefilter("ignore")
-            return yeadon.Human(path, density_set=density_set)
-    except Exception as e:  # yeadon raises bare Exceptions and ValueErrors for bad files
-        raise InvalidInputError("measurements", f"yeadon cannot read {path!r}: {e}",
-                                "give the 95 measurements in yeadon's format (its misc/meastemplate.txt)") from None
+            human = yeadon.Human(dict(meas), density_set=density_set)
+            if total is not None:
+                human.meas_mass = total
+                human.scale_human_by_mass(total)
+    except Exception as e:  # yeadon raises bare Exceptions and ValueErrors for bad measurements
+        raise InvalidInputError("measurements", f"yeadon cannot build a human of {label!r}: "
+                                f"{str(e)[:200]}", "check the measurements (yeadon's misc/meastemplate.txt)") from None
+    if not (math.isfinite(float(human.mass)) and float(human.mass) > 0):
+        raise InvalidInputError("measurements", f"{label!r} makes a body of mass {float(human.mass)!r}",
+                                "check the measurements and measurementconversionfactor")
+    return human
 
 
 def _configured(human, psi: float = 0.0, sigma: float = 0.0, kappa: float = 0.0):

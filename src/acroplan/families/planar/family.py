@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 from ...core.family import Example, Family
+from ..tree.compile_cost import compile_seconds
 from . import problem
 from .model import PlanarBody
 
@@ -57,4 +58,5 @@ FAMILY = Family(
     draw=_draw,
     animate=_animate,
     describe=lambda body: f"a planar body of {body.n_links} links",
+    compile_seconds=lambda body, n: compile_seconds("planar", body, n),
 )

@@ -37,7 +37,8 @@ from typing import Mapping
 import numpy as np
 
 from ...core.errors import InvalidInputError
-from ..tree.urdf import inertial_xml, joint_limits, joint_xml, limit_overrides, load_model, revolute_motion, table_names
+from ..tree.urdf import (inertial_xml, joint_limits, joint_xml, limit_overrides, load_model, revolute_motion,
+                         table_names, urdf_links)
 from .links import RESERVED_NAMES, Link, LinkTable
 
 __all__ = ["read_link_table", "read_urdf", "to_urdf"]
@@ -67,8 +68,11 @@ def read_link_table(path, *, limits: bool = True, overrides: Mapping[str, Mappin
     Raises
     ------
     InvalidInputError
-        Pinocchio missing, the file missing or unreadable, a joint that is not revolute about an
-        axis parallel to z (named), a link without mass or inertia (named), an unknown override.
+        Pinocchio missing, the file missing, unreadable, too large or with more than
+        :data:`~acroplan.core.validate.MAX_LINKS` moving links (counted before Pinocchio reads it),
+        a joint that is not revolute about an axis parallel to z (named), a link without mass or
+        inertia, or whose mass, centre of mass or inertia is not finite, out of range or no rigid
+        body's (named), an unknown override.
     """
     pin, model, data = load_model(path, "planar")
     link_names, joint_names = set(), set()
@@ -123,7 +127,7 @@ def read_link_table(path, *, limits: bool = True, overrides: Mapping[str, Mappin
         lo, up, vel = joint_limits(model, jid, over, limits, sign)
         links.append(Link(tname_link, table_of[parent], float(mass), izz, com=rel_com, joint=joint,
                           joint_name=tname, lower=lo, upper=up, velocity=vel))
-    return LinkTable(links)
+    return urdf_links(LinkTable, links, [r[2] for r in rows])
 
 
 def read_urdf(path, P0: float | None = None, *, angular_momentum: float | None = None, limits: bool = True,

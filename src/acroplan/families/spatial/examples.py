@@ -55,7 +55,7 @@ def falling_cat_turn() -> tuple[SpatialBody, dict]:
     Ct = cat_frame(cat, shape).T
     up = rot.from_matrix(Ct)
     down = rot.from_matrix(rot.to_matrix(rot.exp([math.pi, 0.0, 0.0])) @ Ct)
-    kw = dict(times=[0.0, 0.5], conditions="free", start_rate=0.0, end_rate=0.0,
+    kw = dict(times=[0.0, 0.5], conditions="free", start_rate=0.0, end_rate=0.0, time_limit=300.0,
               bend=[shape[0]] * 2, side=[0.0, 0.0], twist=[0.0, 0.0], **rot.attitude_states([down, up]))
     return cat, kw
 

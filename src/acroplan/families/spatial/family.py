@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 from ...core.family import Example, Family
+from ..tree.compile_cost import compile_seconds
 from . import problem
 from .model import SpatialBody
 
@@ -19,6 +20,12 @@ def _draw(folder, solution, gif, strobe_path, mp4, *, speed, fps, load):
     n = animate(result, gif, speed=speed, fps=fps)
     save_strobe(result, strobe_path, poses=6)
     return n
+
+
+def _check_request(req):
+    from .requests import check_request
+
+    check_request(req)
 
 
 def _animate(result, path, **kw):
@@ -47,4 +54,6 @@ FAMILY = Family(
     draw=_draw,
     animate=_animate,
     describe=lambda body: f"a spatial body of {body.n_links} links",
+    check_request=_check_request,
+    compile_seconds=lambda body, n: compile_seconds("spatial", body, n),
 )

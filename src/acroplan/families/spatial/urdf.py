@@ -26,7 +26,8 @@ from typing import Mapping
 
 import numpy as np
 
-from ..tree.urdf import inertial_xml, joint_limits, joint_xml, limit_overrides, load_model, revolute_motion, table_names
+from ..tree.urdf import (inertial_xml, joint_limits, joint_xml, limit_overrides, load_model, revolute_motion,
+                         table_names, urdf_links)
 from .links import RESERVED_NAMES, SpatialLink, SpatialLinkTable
 
 __all__ = ["read_link_table", "read_urdf", "to_urdf"]
@@ -51,7 +52,10 @@ def read_link_table(path, *, limits: bool = True, overrides: Mapping[str, Mappin
     Raises
     ------
     InvalidInputError
-        Pinocchio missing, the file missing or unreadable, a joint that is not revolute (named), an
+        Pinocchio missing, the file missing, unreadable, too large or with more than
+        :data:`~acroplan.core.validate.MAX_LINKS` moving links (counted before Pinocchio reads it),
+        a joint that is not revolute (named), a mass, centre of mass or inertia that is not finite,
+        out of range or no rigid body's (the link named; a massless link must have no inertia), an
         unknown override.
     """
     pin, model, data = load_model(path, "freeflyer")
@@ -70,8 +74,6 @@ def read_link_table(path, *, limits: bool = True, overrides: Mapping[str, Mappin
     for jid, tlink, lname, jname, tname, axis in rows:
         Y = model.inertias[jid]
         mass, com, inertia = float(Y.mass), np.asarray(Y.lever, dtype=float), np.asarray(Y.inertia, dtype=float)
-        if mass == 0.0:
-            inertia = np.zeros((3, 3))
         if jid == 1:
             links.append(SpatialLink(tlink, None, mass, inertia, com=tuple(com)))
             continue
@@ -82,7 +84,7 @@ def read_link_table(path, *, limits: bool = True, overrides: Mapping[str, Mappin
         links.append(SpatialLink(tlink, names[model.parents[jid]], mass, inertia, com=tuple(com),
                                  joint=tuple(np.asarray(P.translation, dtype=float)), axis=tuple(Rf @ axis),
                                  rotation=rotation, joint_name=tname, lower=lo, upper=up, velocity=vel))
-    return SpatialLinkTable(links)
+    return urdf_links(SpatialLinkTable, links, [r[2] for r in rows])
 
 
 def read_urdf(path, L=None, *, angular_momentum=None, limits: bool = True, overrides=None):

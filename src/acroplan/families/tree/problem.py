@@ -8,8 +8,7 @@ import math
 from pathlib import Path
 
 from ...core.errors import InvalidInputError
-from ...core.validate import (MAX_ANGLE, MAX_BODY, MAX_FILE_BYTES, MAX_LINKS, check_keys, name_field,
-                              number, short)
+from ...core.validate import MAX_ANGLE, MAX_BODY, MAX_LINKS, check_keys, name_field, number, short
 
 __all__ = ["renamed", "link_records", "urdf_table", "apply_limits", "read_tree_body"]
 
@@ -43,31 +42,23 @@ def link_records(tables, allowed, joint_keys: str):
         yield f, d, {k: name_field(f"{f}.{k}", d[k]) for k in ("name", "parent", "joint_name") if k in d}
 
 
-def urdf_table(value, base, read_link_table, what: str):
-    """The link table of the URDF file ``value`` (relative to ``base``), read by the family's
-    ``read_link_table`` (through Pinocchio); ``what`` names the kind of body in messages
-    (``"planar"``, ``"spatial"``)."""
-    if not isinstance(value, str) or not value.strip():
-        raise InvalidInputError("body.urdf", f"must be the path of a URDF file in quotes, got {short(value)}",
-                                "write for example urdf = \"diver.urdf\"")
-    path = Path(value)
-    if not path.is_absolute() and base is not None:
-        path = Path(base) / path
-    if not path.is_file():
-        raise InvalidInputError("body.urdf", f"no such file: {short(str(path), 200)}",
-                                "give the path of a .urdf file (a relative path is read from the problem file's "
-                                "folder)")
-    if path.stat().st_size > MAX_FILE_BYTES:
-        raise InvalidInputError("body.urdf", f"{path.name} is larger than {MAX_FILE_BYTES // 1_000_000} MB",
-                                f"give the URDF of a {what} body")
+def urdf_table(value, context, read_link_table, what: str):
+    """The link table of the URDF file ``value`` (relative to the problem file's folder, and confined
+    to it and the folders the user allowed: ``context``, a :class:`~acroplan.core.family.ReadContext`),
+    read by the family's ``read_link_table`` (through Pinocchio); ``what`` names the kind of body in
+    messages (``"planar"``, ``"spatial"``)."""
+    path = context.file("body.urdf", value, example="urdf = \"diver.urdf\"", what=f"the .urdf file of a {what} body")
+    name = Path(value).name
     try:
         table = read_link_table(path)
     except InvalidInputError as e:
-        what = e.problem if e.field == "urdf" else f"{e.field} {e.problem}"
-        raise InvalidInputError("body.urdf", f"{path.name}: {what}", e.fix) from None
-    if len(table) > MAX_LINKS:
-        raise InvalidInputError("body.urdf", f"{path.name} has {len(table)} moving links, more than {MAX_LINKS}: "
-                                "the compiled integrator of such a body takes hours to build",
+        problem = e.problem if e.field == "urdf" else f"{e.field} {e.problem}"
+        if not problem.startswith(name):
+            problem = f"{name if len(name) <= 100 else name[:97] + chr(46) * 3}: {problem}"
+        raise InvalidInputError("body.urdf", problem, e.fix) from None
+    if len(table) > MAX_LINKS:  # pragma: no cover - read_link_table counts the links before Pinocchio reads them
+        raise InvalidInputError("body.urdf", f"{name} has {len(table)} moving links, more than "
+                                f"{MAX_LINKS}: the compiled integrator of such a body takes hours to build",
                                 f"give at most {MAX_LINKS} links (join links that move together with fixed joints)")
     return table
 
@@ -131,7 +122,7 @@ def read_tree_body(data: dict, limits, context, *, kind: str, read_link_table, t
     moment = momentum(data)
     where = "body.urdf" if "urdf" in data else "body.link"
     if "urdf" in data:
-        table = urdf_table(data["urdf"], context.base, read_link_table, kind)
+        table = urdf_table(data["urdf"], context, read_link_table, kind)
     else:
         try:
             table = table_of_links(data["link"])

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import keyword
 import math
+import os
 import pathlib
 import re
 from typing import Mapping
@@ -14,9 +15,12 @@ from xml.sax.saxutils import quoteattr
 import numpy as np
 
 from ...core.errors import InvalidInputError
+from ...core.files import MAX_PATH_CHARS
+from ...core.validate import MAX_LINKS, short
 from .pin import require_pinocchio
+from .urdfscan import captured_stderr, scan_urdf
 
-__all__ = ["identifier", "limit", "frame_link_name", "load_model", "revolute_motion", "table_names",
+__all__ = ["identifier", "limit", "frame_link_name", "load_model", "urdf_links", "revolute_motion", "table_names",
            "limit_overrides", "joint_limits", "inertial_xml", "joint_xml", "LIMIT_KEYS"]
 
 #: the joint limits a URDF gives and an override may replace
@@ -61,24 +65,76 @@ def load_model(path, root: str):
     """Pinocchio's model of the URDF ``path`` with the root joint ``root`` (``"planar"`` or
     ``"freeflyer"``), its data at the neutral configuration after forward kinematics.
 
+    The file is checked first, in one streaming pass (:func:`~acroplan.families.tree.urdfscan.scan_urdf`:
+    its size, its links and moving joints counted, every number of the links' inertias and of the
+    joints checked), so that Pinocchio never sees a file that would crash it or that it would read
+    into another body; what urdfdom prints while Pinocchio reads it is captured, and an error it
+    reports refuses the file with urdfdom's own words.
+
     Returns
     -------
     (pinocchio, model, data)
     """
     pin = require_pinocchio()
-    p = pathlib.Path(path)
-    if not p.is_file():
-        raise InvalidInputError("urdf", f"no such file: {str(p)!r}", "give the path of a .urdf file")
-    joint = pin.JointModelPlanar() if root == "planar" else pin.JointModelFreeFlyer()
+    if not isinstance(path, (str, os.PathLike)):
+        raise InvalidInputError("urdf", f"must be the path of a .urdf file, got {type(path).__name__}",
+                                "give the path of a .urdf file")
+    text = os.fspath(path)
+    if not text or len(text) > MAX_PATH_CHARS or "\0" in text:
+        raise InvalidInputError("urdf", "is not a usable path (empty, a NUL byte, or more than "
+                                f"{MAX_PATH_CHARS} characters)", "give the path of a .urdf file")
+    p = pathlib.Path(text)
     try:
-        model = pin.buildModelFromUrdf(str(p), joint)
+        is_file = p.is_file()
+    except OSError as e:  # a name too long for the file system, ...
+        raise InvalidInputError("urdf", f"cannot be read ({type(e).__name__})", "give the path of a .urdf file") \
+            from None
+    if not is_file:
+        raise InvalidInputError("urdf", f"no such file: {short(str(p), 200)}", "give the path of a .urdf file")
+    scan_urdf(p)
+    joint = pin.JointModelPlanar() if root == "planar" else pin.JointModelFreeFlyer()
+    printed: list[str] = []
+    try:
+        with captured_stderr(printed):
+            model = pin.buildModelFromUrdf(str(p), joint)
     except Exception as e:  # Pinocchio raises ValueError or RuntimeError on a bad file
-        raise InvalidInputError("urdf", f"Pinocchio could not read {p.name}: {e}", "check the URDF") from None
+        said = _urdfdom_error(printed) or short(str(e), 300)
+        raise InvalidInputError("urdf", f"Pinocchio could not read {p.name}: {said}", "check the URDF") from None
+    said = _urdfdom_error(printed)
+    if said:  # urdfdom read the file by leaving something out (a link's inertia, ...): another body
+        raise InvalidInputError("urdf", f"Pinocchio's URDF reader reported an error in {p.name}: {said}",
+                                "check the URDF") from None
     if model.njoints < 3:
         raise InvalidInputError("urdf", f"{p.name} has no moving joint", "give a URDF with revolute joints")
+    if model.njoints - 1 > MAX_LINKS:  # pragma: no cover - the scan counted the moving joints
+        raise InvalidInputError("urdf", f"{p.name} has {model.njoints - 1} moving links, more than {MAX_LINKS}",
+                                f"give at most {MAX_LINKS} links")
     data = model.createData()
     pin.forwardKinematics(model, data, pin.neutral(model))
     return pin, model, data
+
+
+def _urdfdom_error(lines: list[str]) -> str:
+    """The first error urdfdom printed (``Error:   ...``), without its source location; "" when none."""
+    for line in lines:
+        if line.lower().startswith("error"):
+            text = line.split(":", 1)[1].strip() if ":" in line else line
+            return text if len(text) <= 200 else text[:197] + "..."
+    return ""
+
+
+def urdf_links(table_type, links, urdf_names):
+    """``table_type(links)`` (a family's link table) with an error about ``links[i]`` naming the URDF
+    link ``urdf_names[i]`` instead (``urdf link 'arm'``)."""
+    try:
+        return table_type(links)
+    except InvalidInputError as e:
+        m = re.match(r"links\[(\d+)\](\.(\w+))?(.*)$", e.field)
+        if m is None or int(m.group(1)) >= len(urdf_names):
+            raise
+        what = (m.group(3) or "") + m.group(4)
+        problem = f"{what} {e.problem}" if what else e.problem
+        raise InvalidInputError(f"urdf link {urdf_names[int(m.group(1))]!r}", problem, e.fix) from None
 
 
 def revolute_motion(model, data, jid: int, what: str, multi_fix: str, tol: float = 1e-9) -> np.ndarray:

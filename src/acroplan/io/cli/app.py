@@ -32,8 +32,40 @@ def main(debug):
     Exit codes: 0 success, 2 invalid input, 3 infeasible (with proof), 4 not converged.
     """
 
+def matplotlib_home() -> str:
+    """Point matplotlib's configuration and cache folder (``MPLCONFIGDIR``) at a folder acroplan owns
+    when the user has not set one, so that a first run writes nothing under the home folder:
+    ``acroplan-matplotlib-<uid>`` in the system's temporary folder, created private (mode 0700)
+    and used only when it is a real folder of this user that nobody else can write (else a fresh
+    private folder, removed at exit). Returns the folder matplotlib uses."""
+    import os
+
+    if os.environ.get("MPLCONFIGDIR"):
+        return os.environ["MPLCONFIGDIR"]
+    import stat
+    import tempfile
+
+    uid = os.getuid() if hasattr(os, "getuid") else 0
+    path = os.path.join(tempfile.gettempdir(), f"acroplan-matplotlib-{uid}")
+    try:
+        os.makedirs(path, mode=0o700, exist_ok=True)
+        st = os.lstat(path)
+        ok = stat.S_ISDIR(st.st_mode) and st.st_uid == uid and not st.st_mode & 0o022
+    except OSError:
+        ok = False
+    if not ok:  # taken by someone else, or not a folder: a private one of this run
+        import atexit
+        import shutil
+
+        path = tempfile.mkdtemp(prefix="acroplan-matplotlib-")
+        atexit.register(shutil.rmtree, path, True)
+    os.environ["MPLCONFIGDIR"] = path
+    return path
+
+
 def run():
     """Console entry point: one readable line for an unexpected error, unless --debug."""
+    matplotlib_home()  # before matplotlib is imported
     import matplotlib
 
     matplotlib.use("Agg")  # the command line draws to files; library code never chooses a backend

@@ -198,31 +198,88 @@ def option_overrides(objective, tau_max) -> dict:
 
 def override_error(e: InvalidInputError, overrides: dict) -> InvalidInputError:
     """``e`` naming the command line's option when it is about a value the option gave."""
-    for key, flag in (("tau_max", "--tau-max"), ("objective", "--objective")):
+    for key, flag in (("tau_max", "--tau-max"), ("objective", "--objective"), ("time_limit", "--time-limit")):
         head = f"options.{key}"
-        if key in overrides and (e.field == head or e.field.startswith(head + ".")):
-            rest = e.field[len(head) + 1:]
+        if key in overrides and (e.field in (head, key) or e.field.startswith(head + ".")):
+            rest = e.field[len(head) + 1:] if e.field.startswith(head) else ""
             fix = e.fix.replace(f"leave {head} out", f"leave {flag} out").replace(
-                f"write {key} = ", f"give {flag} ")
+                f"write {key} = ", f"give {flag} ").replace(f"give {key} = ", f"give {flag} ")
             return InvalidInputError(f"{flag} {rest}".strip(), e.problem, fix)
     return e
 
-def load_problem_arg(problem, example, overrides: dict | None = None):
+
+#: The command line's option that lets problem files read files outside their folder.
+allow_outside_option = click.option(
+    "--allow-outside", "allow_outside", multiple=True, metavar="PATH",
+    type=click.Path(path_type=Path, file_okay=True, dir_okay=True),
+    help="Let the problem file read files (a URDF, a yeadon file) in PATH, a folder or a file outside its own "
+         "folder (repeatable). Without it, only files inside the problem file's folder are read.")
+
+
+def allowed_paths(allow_outside) -> tuple:
+    """The resolved paths of ``--allow-outside`` (relative to the current folder)."""
+    from ...core.files import allowed_folders
+
+    return allowed_folders("--allow-outside", [str(p) for p in allow_outside or ()], None)
+
+
+def load_problem_arg(problem, example, overrides: dict | None = None, allowed=()):
     """The problem of a PROBLEM argument or ``--example NAME`` (exactly one), with ``overrides``
-    (:func:`option_overrides`) written over its ``[options]``."""
+    (:func:`option_overrides`, ``--time-limit``) written over its ``[options]``; the files it names
+    are read from its folder or the paths ``allowed`` (``--allow-outside``, resolved)."""
     from .. import examples as _examples
     from ..problem import load_problem
     if (problem is None) == (example is None):
         raise InvalidInputError("PROBLEM", "give either a problem file or --example NAME, not both or neither",
                                 "for example: --example pike-dive")
     if not overrides:
-        return _examples.load(example) if example is not None else load_problem(problem)
+        return _examples.load(example) if example is not None else load_problem(problem, allowed=allowed)
     from ..problem import load_toml, parse_problem, with_options
 
     try:
         if example is not None:
             return _examples.load(example, options=overrides)
         return parse_problem(with_options(load_toml(problem), overrides), name=Path(problem).stem,
-                             base=Path(problem).parent)
+                             base=Path(problem).parent, allowed=allowed)
     except InvalidInputError as e:
         raise override_error(e, overrides) from None
+
+
+def documented(result):
+    """``(result, solution document)``: :func:`solution_doc` within the current time budget. A budget
+    spent on the effort summary makes the result ``not_converged``, with the plan's diagnostics."""
+    import dataclasses
+
+    from ...core.budget import BudgetExceeded
+    from ...core.result import Status
+
+    try:
+        return result, solution_doc(result)
+    except BudgetExceeded as e:
+        result = dataclasses.replace(result, status=Status.NOT_CONVERGED, message=f"not converged: every segment was "
+                                     f"planned and verified, but {e} before the effort summary was done (the plan: "
+                                     f"{result.message})")
+    return result, solution_doc(result)
+
+
+def time_limit_of(prob) -> float | None:
+    """The time limit of a problem's plan (its ``time_limit`` option, else plan()'s default)."""
+    from ...planning import TIME_LIMIT
+
+    return prob.options.get("time_limit", TIME_LIMIT)
+
+
+def solve_in_budget(prob, **kwargs):
+    """Plan ``prob`` and make its ``solution.json`` document within its time limit
+    (:func:`time_limit_of`): compiling, the plan, its verification and its effort summary
+    (:func:`documented`).
+
+    Returns
+    -------
+    (PlanResult, dict)
+        The result and its solution document (:func:`solution_doc`).
+    """
+    from ...core.budget import budget
+
+    with budget(time_limit_of(prob)):
+        return documented(prob.solve(**kwargs))

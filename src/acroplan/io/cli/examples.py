@@ -71,7 +71,8 @@ conditions = "free"            # "free" (u continuous) or "spline" (the text's s
 @click.option("--force", is_flag=True, help="Overwrite an existing file.")
 def init_cmd(name, example, force):
     """Write a commented starter problem file NAME.toml (or a copy of a bundled example, with the
-    files it names: the diver's URDF beside it).
+    files it names: the diver's URDF beside it). NAME may name a folder that does not exist yet
+    (robots/dive): it is made.
 
     \b
     Examples:
@@ -92,8 +93,12 @@ def init_cmd(name, example, force):
         if (path.parent / fname).exists() and not force:
             fail(f"{path.parent / fname}: exists (the example's {fname}, which {path.name} names); choose another "
                   "folder or add --force")
-    for fname, body in extra.items():
-        (path.parent / fname).write_text(body, encoding="utf-8")
-    path.write_text(text, encoding="utf-8")
+    try:  # a folder that does not exist yet is made (acroplan init robots/dive)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        for fname, body in extra.items():
+            (path.parent / fname).write_text(body, encoding="utf-8")
+        path.write_text(text, encoding="utf-8")
+    except OSError as e:
+        fail(f"{path}: cannot be written ({e.strerror or type(e).__name__}); choose another name or folder")
     also = "".join(f" and {path.parent / f}" for f in extra)
     click.echo(f"wrote {path}{also}; run: acroplan {cmd} {path} --out {path.stem}-out")

@@ -10,7 +10,7 @@ import click
 from ...core.errors import EXIT_INFEASIBLE, EXIT_SUCCESS, InvalidInputError
 from ..output import OutputFolder
 from .app import main
-from .common import check_outputs, common, fail, formats, load_problem_arg, one_line, report, save, write_json
+from .common import allow_outside_option, allowed_paths, check_outputs, common, fail, formats, load_problem_arg, one_line, report, save, write_json
 
 
 def _numbers_option(flag: str, text: str | None, example: str, most: int = 200) -> list[float] | None:
@@ -58,7 +58,8 @@ def _limits_text(limits, joint: str = "phi", delta: float = 0.0, digits: int = 9
               "in seconds (default with --somersaults: the file's).")
 @click.option("--no-plots", is_flag=True, help="Skip the figure.")
 @click.option("--format", "fmt", default="png", show_default=True, help="Figure formats: png, pdf or png,pdf.")
-def least_momentum_cmd(problem, example, out, force, quiet, as_json, somersaults, flight_times, no_plots, fmt):
+@allow_outside_option
+def least_momentum_cmd(problem, example, out, force, quiet, as_json, somersaults, flight_times, no_plots, fmt, allow_outside):
     """The exact least (and largest) angular momentum P0 for PROBLEM's turn, two-link body only.
 
     \b
@@ -93,7 +94,7 @@ def least_momentum_cmd(problem, example, out, force, quiet, as_json, somersaults
     from ...core.family import family_of
 
     try:
-        prob = load_problem_arg(problem, example)
+        prob = load_problem_arg(problem, example, None, allowed_paths(allow_outside))
         S = _numbers_option("--somersaults", somersaults, "1.5,2.5,3.5")
         F = _numbers_option("--flight-times", flight_times, "1.4,1.5,1.6")
         fmts = check_outputs(out, force, fmt, "momentum-out", [problem]) if out is not None else formats(fmt)

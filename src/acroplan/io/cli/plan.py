@@ -10,9 +10,9 @@ from ...core.errors import EXIT_INVALID, EXIT_SUCCESS, InvalidInputError
 from ..output import OutputFolder, check_entry_name
 from .animate import write_animation
 from .app import main
-from .common import (EXIT_BY_STATUS, check_outputs, common, fail, load_problem_arg, override_error,
-                     one_line, option_overrides, progress, report, save, solution_doc, verify_method,
-                     write_json)
+from .common import (EXIT_BY_STATUS, allow_outside_option, allowed_paths, check_outputs, common, documented, fail,
+                     load_problem_arg, one_line, option_overrides, override_error, progress, report, save,
+                     solve_in_budget, time_limit_of, verify_method, write_json)
 
 
 @main.command("plan")
@@ -23,15 +23,17 @@ from .common import (EXIT_BY_STATUS, check_outputs, common, fail, load_problem_a
 @click.option("--format", "fmt", default="png", show_default=True, help="Figure formats: png, pdf or png,pdf.")
 @click.option("--animate", "do_animate", is_flag=True, help="Also write motion.gif and strobe.png.")
 @click.option("--time-limit", type=click.FloatRange(min=0, min_open=True), default=None,
-              help="Wall-clock budget of each plan in seconds (default: the file's [options] time_limit, else 60).")
+              help="Wall-clock budget of each plan in seconds, compiling the integrator, the plan, its check and "
+                   "its effort summary included (default: the file's [options] time_limit, else 60).")
 @click.option("--objective", type=click.Choice(["energy", "torque"]), default=None,
               help="An optimal plan: least integral of u^2 (energy) or of tau^2 (torque; needs the physical "
                    "body). Overrides the file's [options] objective.")
 @click.option("--tau-max", "tau_max", multiple=True, metavar="VALUE",
               help="Torque limit |tau| <= VALUE: a number for every joint, or JOINT=VALUE (repeatable; joints "
                    "not named have none). Overrides the file's [options] tau_max; implies an optimal plan.")
+@allow_outside_option
 def plan_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do_animate, time_limit, objective,
-             tau_max):
+             tau_max, allow_outside):
     """Plan a motion through the waypoints of PROBLEM (a TOML file) and write the results.
 
     \b
@@ -82,27 +84,27 @@ def plan_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do_ani
     """
     try:
         overrides = option_overrides(objective, tau_max)
+        if time_limit is not None:  # validated with the file's options (a compile longer than it is refused)
+            overrides["time_limit"] = float(time_limit)
+        allowed = allowed_paths(allow_outside)
     except InvalidInputError as e:
         fail(str(e))
     if problem is not None and example is None and _is_batch(problem):
-        return _plan_batch(problem, out, force, quiet, as_json, no_plots, fmt, overrides)
+        return _plan_batch(problem, out, force, quiet, as_json, no_plots, fmt, overrides, allowed)
     try:
-        prob = load_problem_arg(problem, example, overrides)
-        if time_limit is not None:
-            import dataclasses
-
-            prob = dataclasses.replace(prob, options={**prob.options, "time_limit": time_limit})
+        prob = load_problem_arg(problem, example, overrides, allowed)
         fmts = check_outputs(out, force, fmt, "plan-out", [problem])
         with OutputFolder(out, force) as folder:
             update, close = progress(len(prob.times) - 1, "segments")
             try:
                 # the command line re-simulates with DOP853 (verify="ode"): 10 ms do not matter here;
-                # a planar body is checked by Pinocchio (its independent check)
-                result = prob.solve(verify=verify_method(prob.system), progress=update)
+                # a planar body is checked by Pinocchio (its independent check); the effort summary
+                # is made within the time limit too
+                result, doc = solve_in_budget(prob, verify=verify_method(prob.system), progress=update)
             finally:
                 close()
             with folder.write() as tmp:
-                write_json(tmp / "solution.json", solution_doc(result))
+                write_json(tmp / "solution.json", doc)
                 if result.success:
                     _write_plan_files(result, tmp, fmts, no_plots)
                     if do_animate:
@@ -169,7 +171,7 @@ def _is_batch(path: Path) -> bool:
 
 EXIT_BY_BATCH_STATUS = {**EXIT_BY_STATUS, "invalid": EXIT_INVALID}
 
-def _batch_entries(path: Path, overrides: dict | None = None):
+def _batch_entries(path: Path, overrides: dict | None = None, allowed=()):
     """[(name, Problem or None, message or None)] of a folder or a file of many problems.
 
     A folder: every ``*.toml`` file not hidden, named by its stem; a file that cannot be read or
@@ -193,8 +195,8 @@ def _batch_entries(path: Path, overrides: dict | None = None):
                                             " (names differ only in case)", "rename one of the files")
                 seen[name.lower()] = f.name
                 try:
-                    prob = parse_problem(with_options(load_toml(f), overrides), name=f.stem, base=f.parent) \
-                        if overrides else load_problem(f)
+                    prob = parse_problem(with_options(load_toml(f), overrides), name=f.stem, base=f.parent,
+                                         allowed=allowed) if overrides else load_problem(f, allowed=allowed)
                 except InvalidInputError as e:
                     raise override_error(e, overrides) from None
                 entries.append((name, prob, None))
@@ -219,7 +221,8 @@ def _batch_entries(path: Path, overrides: dict | None = None):
                                     " (names must differ, also in case)", "rename the duplicates")
         seen[name.lower()] = i
         try:
-            entries.append((name, parse_problem(with_options(entry, overrides), name=name, base=path.parent), None))
+            entries.append((name, parse_problem(with_options(entry, overrides), name=name, base=path.parent,
+                                                allowed=allowed), None))
         except InvalidInputError as e:
             e = override_error(e, overrides)
             raise InvalidInputError(e.field if e.field.startswith("--") else f"problem[{i}].{e.field}", e.problem,
@@ -230,15 +233,17 @@ def _short_key(key) -> str:
     r = str(key)
     return r if len(r) <= 60 and r.isprintable() else repr(r)[:57] + "..."
 
-def _plan_batch(path, out, force, quiet, as_json, no_plots, fmt, overrides=None):
+def _plan_batch(path, out, force, quiet, as_json, no_plots, fmt, overrides=None, allowed=()):
     import csv
 
     from ...batch import plan_many
+    from ...core.budget import budget
 
     try:
-        entries = _batch_entries(path, overrides)
+        entries = _batch_entries(path, overrides, allowed)
         fmts = check_outputs(out, force, fmt, "results", [path])
         valid = [(n, p) for n, p, _ in entries if p is not None]
+        problems = dict(valid)
         with OutputFolder(out, force) as folder:
             results = {}
             if valid:
@@ -254,10 +259,11 @@ def _plan_batch(path, out, force, quiet, as_json, no_plots, fmt, overrides=None)
                         rows.append({"name": name, "status": "invalid", "message": message, "segments": "",
                                      "evaluations": "", "max_final_error": "", "max_verified_error": ""})
                         continue
-                    r = results[name]
+                    with budget(time_limit_of(problems[name])):  # its effort summary, within its time limit
+                        r, doc = documented(results[name])
                     sub = tmp / name
                     sub.mkdir()
-                    write_json(sub / "solution.json", solution_doc(r))
+                    write_json(sub / "solution.json", doc)
                     if r.success:
                         _write_plan_files(r, sub, fmts, no_plots)
                     d = r.to_dict()["diagnostics"]

@@ -9,7 +9,7 @@ import click
 from ...core.errors import EXIT_INFEASIBLE, EXIT_SUCCESS, InvalidInputError
 from ..output import OutputFolder
 from .app import main
-from .common import check_outputs, common, fail, load_problem_arg, report, save, write_json
+from .common import allow_outside_option, allowed_paths, check_outputs, common, fail, load_problem_arg, report, save, write_json
 
 
 @main.command("reach")
@@ -17,7 +17,8 @@ from .common import check_outputs, common, fail, load_problem_arg, report, save,
 @click.option("--example", metavar="NAME", help="Use a bundled example instead of a PROBLEM file.")
 @common
 @click.option("--format", "fmt", default="png", show_default=True, help="Figure formats: png, pdf or png,pdf.")
-def reach_cmd(problem, example, out, force, quiet, as_json, fmt):
+@allow_outside_option
+def reach_cmd(problem, example, out, force, quiet, as_json, fmt, allow_outside):
     """Write what can be proven about theta(T) for every segment of PROBLEM.
 
     \b
@@ -41,7 +42,7 @@ def reach_cmd(problem, example, out, force, quiet, as_json, fmt):
       acroplan reach --example space-robot-turn --out bound-out
     """
     try:
-        prob = load_problem_arg(problem, example)
+        prob = load_problem_arg(problem, example, None, allowed_paths(allow_outside))
         fmts = check_outputs(out, force, fmt, "reach-out", [problem])
         rows = prob.reach()  # refuses a body it can say nothing about, before the folder is taken
         with OutputFolder(out, force) as folder:

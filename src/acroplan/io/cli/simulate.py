@@ -12,7 +12,8 @@ from ..output import OutputFolder
 from .app import main
 from ..problem import load_simulation
 from .animate import write_animation
-from .common import check_outputs, common, fail, report, save, solution_doc, verify_method, write_json
+from .common import (allow_outside_option, allowed_paths, check_outputs, common, fail, report, save, solution_doc,
+                     verify_method, write_json)
 from .plan import write_csv
 
 
@@ -23,7 +24,8 @@ from .plan import write_csv
 @click.option("--no-plots", is_flag=True, help="Skip the figures.")
 @click.option("--format", "fmt", default="png", show_default=True, help="Figure formats: png, pdf or png,pdf.")
 @click.option("--animate", "do_animate", is_flag=True, help="Also write motion.gif and strobe.png.")
-def simulate_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do_animate):
+@allow_outside_option
+def simulate_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do_animate, allow_outside):
     """The motion that the joint motions of PROBLEM's [simulate] table produce.
 
     \b
@@ -48,7 +50,8 @@ def simulate_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do
         if (problem is None) == (example is None):
             raise InvalidInputError("PROBLEM", "give either a problem file or --example NAME, not both or neither",
                                     "for example: --example space-robot-arm-loop")
-        sim = _examples.load_simulation(example) if example is not None else load_simulation(problem)
+        sim = _examples.load_simulation(example) if example is not None else \
+            load_simulation(problem, allowed=allowed_paths(allow_outside))
         fmts = check_outputs(out, force, fmt, "sim-out", [problem])
         with OutputFolder(out, force) as folder:
             try:

@@ -126,6 +126,13 @@ Per joint either form; a joint given neither way is refused. The spline's rate i
 segment, so its three Legendre coefficients are exact. For the acrobot the joint is ``phi`` and its
 rate ``u``.
 
+Files a problem file names (a URDF, a measurement file) are read from its folder only; a path that
+leads out of it (``..``, an absolute path, a symbolic link) is refused unless a ``[files]`` table
+allows its folder (or the command line's ``--allow-outside``, the readers' ``allowed=``)::
+
+    [files]
+    allow = ["../shared"]           # relative to the problem file's folder
+
 Unknown tables and keys are rejected with the nearest known name, so a typo never passes silently;
 every message names the file's field (``body.link[2].mass``, ``plan.shoulder``,
 ``limits.u_shoulder``, ``simulate.u_elbow[1]``) and the fix.

@@ -73,12 +73,14 @@ def with_options(data: dict, options: dict | None) -> dict:
     return {**data, "options": {**opts, **options}}
 
 
-def load_problem(path) -> Problem:
+def load_problem(path, *, allowed=()) -> Problem:
     """Read and validate a problem file (a URDF or a yeadon measurement file it names is read
-    relative to its folder)."""
-    return parse_problem(load_toml(path), name=Path(path).stem, base=Path(path).parent)
+    relative to its folder, and only from inside it or from the folders ``allowed``, relative to the
+    current folder, and its ``[files] allow`` name)."""
+    return parse_problem(load_toml(path), name=Path(path).stem, base=Path(path).parent, allowed=allowed)
 
 
-def load_simulation(path) -> Simulation:
-    """Read and validate a problem file's ``[simulate]`` table (with its ``[robot]`` or ``[body]``)."""
-    return parse_simulation(load_toml(path), name=Path(path).stem, base=Path(path).parent)
+def load_simulation(path, *, allowed=()) -> Simulation:
+    """Read and validate a problem file's ``[simulate]`` table (with its ``[robot]`` or ``[body]``);
+    files it names are confined as by :func:`load_problem`."""
+    return parse_simulation(load_toml(path), name=Path(path).stem, base=Path(path).parent, allowed=allowed)

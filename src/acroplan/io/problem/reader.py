@@ -5,22 +5,43 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from ...core.errors import InvalidInputError
 from ...core.family import ReadContext, families, family_of, reader_for
+from ...core.files import allowed_folders
 from ...core.validate import MAX_ANGLE, MAX_BODY, MAX_TIME, check_keys, number, numbers, short
 from ...core.validate import states as states_field
 from ...planning import PlanRequest
 from .model import Problem, Simulation
 from .options import OPTION_PARSERS
 
-__all__ = ["parse_problem", "parse_simulation", "parse_body", "read_system", "system_table", "TABLES"]
+__all__ = ["parse_problem", "parse_simulation", "parse_body", "read_system", "system_table", "read_allowed",
+           "TABLES"]
 
 #: the tables a problem file may hold
-TABLES = ("robot", "body", "plan", "limits", "options", "simulate")
+TABLES = ("robot", "body", "plan", "limits", "options", "simulate", "files")
+
+
+def read_allowed(data: dict, base=None, allowed=()) -> tuple:
+    """The folders outside the problem file's own that its files may be read from: ``allowed``
+    (the command line's ``--allow-outside``, already resolved) and the file's ``[files] allow``
+    (relative to ``base``, the file's folder)."""
+    extra = tuple(allowed or ())
+    if "files" not in data:
+        return extra
+    files = data["files"]
+    check_keys("files", files, ("allow",))
+    if "allow" not in files:
+        raise InvalidInputError("files.allow", "is missing", "write allow = [\"../shared\"] (the folders outside the "
+                                "problem file's folder that its files may be read from), or drop [files]")
+    if not isinstance(files["allow"], list):
+        raise InvalidInputError("files.allow", f"must be a list of folders in quotes, got {short(files['allow'])}",
+                                "write for example allow = [\"../shared\"]")
+    return extra + allowed_folders("files.allow", files["allow"], base)
 
 
 def system_table(data: dict) -> str:
@@ -39,20 +60,22 @@ def _degrees(data: dict) -> bool:
     return isinstance(opts, dict) and opts.get("degrees") is True
 
 
-def read_system(data: dict, base=None):
+def read_system(data: dict, base=None, allowed=()):
     """The system of a problem file's ``[robot]`` or ``[body]``, read by the family that claims it,
     and the plan() keywords its ``[limits]`` give (``{}`` for a body whose limits are written into
-    its link table).
+    its link table). Files it names are read from ``base`` (the problem file's folder; the current
+    folder when ``None``) or the folders ``allowed`` and ``[files] allow`` name.
 
     Returns
     -------
     (ControlAffineSystem, dict)
     """
     table = system_table(data)
-    return _read_table(table, data[table], data.get("limits", {}), base=base, degrees=_degrees(data))
+    return _read_table(table, data[table], data.get("limits", {}), base=base, degrees=_degrees(data),
+                       allowed=read_allowed(data, base, allowed))
 
 
-def _read_table(table: str, tdata, limits, *, base, degrees: bool):
+def _read_table(table: str, tdata, limits, *, base, degrees: bool, allowed=()):
     if isinstance(tdata, dict):  # a typo in a key of no family gets the nearest key of any family
         known = tuple(dict.fromkeys(k for fam in families() if table in fam.tables for k in fam.table_keys))
         if known:
@@ -60,10 +83,11 @@ def _read_table(table: str, tdata, limits, *, base, degrees: bool):
     fam = reader_for(table, tdata)
     if fam is None:
         raise InvalidInputError(table, "is read by no body family", "see docs/problem-files.md for the tables")
-    return fam.read(table, tdata, limits, ReadContext(base=None if base is None else base, degrees=degrees))
+    return fam.read(table, tdata, limits, ReadContext(base=None if base is None else Path(base), degrees=degrees,
+                                                      allowed=tuple(allowed)))
 
 
-def parse_body(data: dict, limits: dict | None = None, *, base=None, degrees: bool = False):
+def parse_body(data: dict, limits: dict | None = None, *, base=None, degrees: bool = False, allowed=()):
     """The body of a ``[body]`` table, read by the family that claims it (a
     :class:`~acroplan.families.planar.model.PlanarBody` from a URDF or link tables, a spatial body
     when ``angular_momentum`` is a list, a human body from ``yeadon`` or ``height`` and ``mass``).
@@ -76,24 +100,30 @@ def parse_body(data: dict, limits: dict | None = None, *, base=None, degrees: bo
         The file's ``[limits]``, written into a body's link table (``NAME_min``, ``NAME_max``,
         ``u_NAME``, ``u_max``; ``"none"`` drops a limit).
     base : path, optional
-        The problem file's folder (default: the current folder).
+        The problem file's folder (default: the current folder): the files ``data`` names are read
+        from inside it only.
     degrees : bool
         ``limits`` in degrees and degrees per second.
+    allowed : sequence of path
+        Folders outside ``base`` that files may be read from (absolute or relative to the current
+        folder).
 
     Returns
     -------
     ControlAffineSystem
     """
-    return _read_table("body", data, {} if limits is None else limits, base=base, degrees=degrees)[0]
+    return _read_table("body", data, {} if limits is None else limits, base=base, degrees=degrees,
+                       allowed=allowed_folders("allowed", list(allowed), None))[0]
 
 
-def parse_problem(data: dict, name: str = "", base=None) -> Problem:
+def parse_problem(data: dict, name: str = "", base=None, allowed=()) -> Problem:
     """A :class:`Problem` from the parsed TOML document (``[robot]`` or ``[body]``, ``[plan]``,
     optional ``[limits]``, ``[options]``; a ``[simulate]`` table is left to :func:`parse_simulation`).
 
     The system table is read by the family that claims it (:func:`acroplan.core.family.reader_for`);
     ``base`` is the problem file's folder, from which the files a ``[body]`` names are read
-    (default: the current folder).
+    (default: the current folder), and only from there or the folders ``allowed`` (resolved paths,
+    the command line's ``--allow-outside``) and the file's ``[files] allow`` name.
     """
     check_keys("<file>", data, TABLES)
     system_table(data)
@@ -101,7 +131,7 @@ def parse_problem(data: dict, name: str = "", base=None) -> Problem:
         raise InvalidInputError("plan", "table is missing", "add a [plan] table (see docs/problem-files.md)" +
                                 ("; a file with only [simulate] is run by acroplan simulate" if "simulate" in data
                                  else ""))
-    system, limit_options = read_system(data, base)
+    system, limit_options = read_system(data, base, allowed_folders("allowed", list(allowed), None))
     fam = family_of(system)
     hooked = fam.waypoint_states if fam is not None and fam.waypoints is not None else ()
     states = system.state_names
@@ -225,7 +255,7 @@ def _coefficient_rows(field: str, value, K: int) -> list[np.ndarray]:
     return out
 
 
-def parse_simulation(data: dict, name: str = "", base=None) -> Simulation:
+def parse_simulation(data: dict, name: str = "", base=None, allowed=()) -> Simulation:
     """A :class:`Simulation` from the parsed TOML document (``[robot]`` or ``[body]`` and
     ``[simulate]``; the module docstring shows the form). ``[plan]`` and ``[options]`` are not
     read; ``[limits]`` of a body go into its link table (recorded, not imposed on the motion)."""
@@ -237,7 +267,8 @@ def parse_simulation(data: dict, name: str = "", base=None) -> Simulation:
         raise InvalidInputError("simulate", "table is missing", "add a [simulate] table with times, the initial "
                                 "state and each joint's motion (docs/problem-files.md); a file with only [plan] is "
                                 "run by acroplan plan")
-    system, _ = read_system(data, base)  # a body's [limits] are recorded in it, not imposed on the motion
+    # a body's [limits] are recorded in it, not imposed on the motion
+    system, _ = read_system(data, base, allowed_folders("allowed", list(allowed), None))
     sim = data["simulate"]
     states, inputs = tuple(system.state_names), tuple(system.input_names)
     input_of = {s: u for u, s in system.rate_inputs.items()}
