@@ -33,6 +33,7 @@ from .basis import InputBasis
 from .conditions import linear_conditions
 from .continuation import solve_segment
 from .errors import InvalidInputError
+from .family import prepare
 from .limits import COMPLIANCE_TOL, Limits, solve_with_limits, violation
 from .result import SegmentResult
 from .status import Status
@@ -155,6 +156,7 @@ def register_strategy(strategy: Strategy, *, replace: bool = False) -> Strategy:
 
 def resolve_strategy(method, system: ControlAffineSystem) -> Strategy:
     """The strategy ``method`` names for ``system`` (a name, ``"auto"``, an instance or a subclass)."""
+    prepare(system)  # the system's family registers its strategies (core.family.Family.setup)
     if isinstance(method, Strategy):
         strategy = method
     elif isinstance(method, type) and issubclass(method, Strategy):

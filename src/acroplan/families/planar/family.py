@@ -3,11 +3,13 @@
 
 from __future__ import annotations
 
-from ...core.family import Example, Family
-from . import problem
-from .model import PlanarBody
+from ...core.family import Example, Family, hook
 
-__all__ = ["FAMILY"]
+__all__ = ["FAMILY", "BODY_KEYS"]
+
+#: the keys of [body] a planar body reads
+BODY_KEYS = ("urdf", "link", "angular_momentum")
+_PROBLEM = f"{__package__}.problem"
 
 
 def _draw(folder, solution, gif, strobe_path, mp4, *, speed, fps, load):
@@ -34,15 +36,16 @@ def _example(name, description, command="plan", companions=()):
 
 FAMILY = Family(
     name="planar",
-    system_types=(PlanarBody,),
+    system_types=(f"{__package__}.model:PlanarBody",),
+    setup=(f"{__package__}.registry",),  # the optimal strategies' starts
     priority=0,
     tables=("body",),
-    reads=problem.reads,
+    reads=hook(f"{_PROBLEM}:reads"),
     limits_in_body=True,
-    read=problem.read,
-    table_keys=problem.BODY_KEYS,
-    reach=problem.reach_report,
-    two_link=problem.two_link,
+    read=hook(f"{_PROBLEM}:read"),
+    table_keys=BODY_KEYS,
+    reach=hook(f"{_PROBLEM}:reach_report"),
+    two_link=hook(f"{_PROBLEM}:two_link"),
     examples={
         "diver-somersault": _example("diver-somersault", "planar body (URDF): a diver with arms turns one somersault "
                                      "in pike with an arm sweep, P0 = 36, 4 segments, spline conditions",

@@ -5,11 +5,11 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import math
+
 import click
-import numpy as np
 
 from ...core.errors import InvalidInputError
-from .app import main
 from .common import fail
 
 
@@ -38,9 +38,9 @@ def write_animation(folder: Path, *, speed: float = 1.0, fps: int = 25) -> int:
     if sol.get("status") != "success" or not (folder / "trajectory.csv").is_file():
         raise InvalidInputError(str(folder), f"holds no successful motion (status {sol.get('status')!r})",
                                 "animate a folder whose plan succeeded")
-    if not (speed > 0 and np.isfinite(speed)):
+    if not (speed > 0 and math.isfinite(speed)):
         raise InvalidInputError("--speed", f"must be a positive number, got {speed}", "give for example 1 or 0.5")
-    fam = next((f for f in families() if f.draw is not None and any(t.__name__ == kind for t in f.system_types)),
+    fam = next((f for f in families() if f.draw is not None and kind in f.type_names()),
                None)
     if fam is None:
         raise InvalidInputError(str(sol_path), f"records a body of type {kind!r}, which no family draws",
@@ -58,7 +58,7 @@ def write_animation(folder: Path, *, speed: float = 1.0, fps: int = 25) -> int:
     return n
 
 
-@main.command("animate")
+@click.command("animate")
 @click.argument("folder", type=click.Path(file_okay=False, path_type=Path))
 @click.option("--speed", type=float, default=1.0, show_default=True, help="Playback speed (1 = real time).")
 @click.option("--fps", type=click.IntRange(1, 100), default=25, show_default=True, help="Frames per second.")

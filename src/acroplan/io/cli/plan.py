@@ -9,13 +9,12 @@ import click
 from ...core.errors import EXIT_INVALID, EXIT_SUCCESS, InvalidInputError
 from ..output import OutputFolder, check_entry_name
 from .animate import write_animation
-from .app import main
 from .common import (EXIT_BY_STATUS, check_outputs, common, fail, load_problem_arg, override_error,
                      one_line, option_overrides, progress, report, save, solution_doc, verify_method,
                      write_json)
 
 
-@main.command("plan")
+@click.command("plan")
 @click.argument("problem", required=False, type=click.Path(path_type=Path))
 @click.option("--example", metavar="NAME", help="Plan a bundled example instead of a PROBLEM file.")
 @common
