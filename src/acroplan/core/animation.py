@@ -19,6 +19,8 @@ from typing import Callable, Sequence
 
 import numpy as np
 
+from .progress import stage
+
 __all__ = ["write_frames", "frame_times"]
 
 
@@ -62,7 +64,8 @@ def write_frames(fig, artists: Sequence, update: Callable[[int], object], n_fram
     mp4_path : path, optional
         Also write an MP4 there when ffmpeg is on the PATH (H.264, from the same frames).
     progress : callable, optional
-        Called with the number of frames done after each frame.
+        Called with the number of frames done after each frame (the frames are also the stage
+        ``"animation frames"`` of :mod:`acroplan.core.progress`).
     full_redraw : bool
         Draw the whole figure for every frame (for figures whose still parts change, such as a 3-D
         view whose axes move with the body); slower.
@@ -81,25 +84,27 @@ def write_frames(fig, artists: Sequence, update: Callable[[int], object], n_fram
         canvas.draw()
         background = canvas.copy_from_bbox(fig.bbox)
     frames, palette = [], None
-    for k in range(n_frames):
-        update(k)
-        if full_redraw:
-            canvas.draw()
-        else:
-            canvas.restore_region(background)
-            for a in artists:
-                if hasattr(a, "do_3d_projection"):
-                    a.do_3d_projection()
-                fig.draw_artist(a)
-        rgb = _rgb(canvas)
-        img = Image.fromarray(rgb)
-        if palette is None:
-            palette = img.quantize(colors=255, method=Image.Quantize.MEDIANCUT, dither=Image.Dither.NONE)
-        frames.append(img.quantize(palette=palette, dither=Image.Dither.NONE))
-        if mp4_path is not None:
-            frames[-1].info["rgb"] = rgb
-        if progress is not None:
-            progress(k + 1)
+    with stage("animation frames", n_frames, unit="frame") as st:
+        for k in range(n_frames):
+            update(k)
+            if full_redraw:
+                canvas.draw()
+            else:
+                canvas.restore_region(background)
+                for a in artists:
+                    if hasattr(a, "do_3d_projection"):
+                        a.do_3d_projection()
+                    fig.draw_artist(a)
+            rgb = _rgb(canvas)
+            img = Image.fromarray(rgb)
+            if palette is None:
+                palette = img.quantize(colors=255, method=Image.Quantize.MEDIANCUT, dither=Image.Dither.NONE)
+            frames.append(img.quantize(palette=palette, dither=Image.Dither.NONE))
+            if mp4_path is not None:
+                frames[-1].info["rgb"] = rgb
+            if progress is not None:
+                progress(k + 1)
+            st.update()
     duration = max(1, int(round(1000 / fps)))
     frames[0].save(str(path), save_all=True, append_images=frames[1:], duration=duration, loop=0,
                    optimize=False, disposal=1)

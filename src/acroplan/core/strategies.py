@@ -34,6 +34,7 @@ from .conditions import linear_conditions
 from .continuation import solve_segment
 from .errors import InvalidInputError
 from .family import prepare
+from .progress import note
 from .limits import COMPLIANCE_TOL, Limits, solve_with_limits, violation
 from .result import SegmentResult
 from .status import Status
@@ -236,7 +237,8 @@ def run_stages(stages: Iterable[Callable[[], IntervalOutcome | None]]) -> Interv
     """Try ``stages`` in order; the first success wins, and the evaluations the failed stages spent
     are charged to its first piece. A stage may return ``None`` (skipped)."""
     spent, reasons, last = 0, [], None
-    for stage in stages:
+    for k, stage in enumerate(stages):
+        note("guesses", k + 1, detail="tried")  # (core.progress: nothing unless shown)
         out = stage()
         if out is None:
             continue

@@ -17,6 +17,7 @@ from scipy.integrate import solve_ivp
 
 
 from . import budget
+from .progress import note
 from .system import ControlAffineSystem
 
 __all__ = ["simulate_segment", "verify_plan", "resolve_verify", "check_name", "RTOL", "ATOL", "VERIFY_TOL", "VERIFY_RTOL", "VERIFY_METHODS"]
@@ -130,6 +131,7 @@ def verify_plan(system: ControlAffineSystem, x0, segments, method: str = "ode"):
                 err = float("inf")
         seg = dataclasses.replace(seg, verified_error=err if np.isfinite(err) else float("inf"))
         checked.append(seg)
+        note("independent check", k + 1, len(segments))  # (core.progress: nothing unless shown)
         scale += max(float(np.max(np.abs(seg.start))), float(np.max(np.abs(seg.target))), 1.0)
         if bad is None:
             allowed = VERIFY_TOL + VERIFY_RTOL * scale

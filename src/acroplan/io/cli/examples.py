@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 
 import click
@@ -27,7 +28,7 @@ def examples_cmd(show):
         except InvalidInputError as e:
             fail(str(e))
         return
-    for line in example_rows(_examples.names(), click.get_text_stream("stdout").isatty()):
+    for line in example_rows(_examples.names(), sys.stdout.isatty()):
         click.echo(line)
 
 

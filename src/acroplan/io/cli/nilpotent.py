@@ -77,14 +77,11 @@ def nilpotent_cmd(problem, example, out, force, quiet, as_json, equations, no_pl
                 infeasible = payload
             else:
                 infeasible = None
-                update, close = progress(1, "solving")
-                try:
+                with progress(quiet) as prog, prog.scope("nilpotentization", unit="solve") as st:
                     result = nil.solve_nilpotent(prob) if method == "nilpotent" else nil.solve_flat_y(prob)
                     counter = nil.counterexample(prob, result.m) if (result.success and method == "nilpotent") \
                         else None
-                    update(1, 1)
-                finally:
-                    close()
+                    st.update()
                 with folder.write() as tmp:
                     doc = {**result.to_dict(), "system": system_to_dict(prob.robot)}
                     if counter is not None:
