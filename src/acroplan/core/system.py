@@ -313,7 +313,9 @@ class ControlAffineSystem(abc.ABC):
         d = self.diff(y0, x1)
         return lambda tau: self.retract(y0, tau * d)
 
-    #: the name of the family's own independent check (:meth:`family_errors`), for messages
+    #: the name of the family's own independent check (:meth:`family_errors`), for messages; empty
+    #: when the family cannot run it here (a body's Pinocchio check without Pinocchio): plans are
+    #: then re-simulated by DOP853 and ``verification`` says ``"ode"``
     family_check: ClassVar[str] = ""
 
     def family_errors(self, x0, segments):

@@ -157,7 +157,9 @@ def resolve_verify(system: ControlAffineSystem, verify) -> str | None:
     """
     from .errors import InvalidInputError
 
-    has_own = type(system).family_errors is not ControlAffineSystem.family_errors
+    # the family's own check, when it has one and can run it here (a body's Pinocchio check without
+    # Pinocchio installed is the DOP853 re-simulation, and is labelled so: "ode")
+    has_own = type(system).family_errors is not ControlAffineSystem.family_errors and bool(system.family_check)
     if verify is True:
         return "family" if has_own else "ode"
     if verify is False:
@@ -165,6 +167,8 @@ def resolve_verify(system: ControlAffineSystem, verify) -> str | None:
     if not isinstance(verify, str) or verify not in VERIFY_METHODS:
         raise InvalidInputError("verify", f"must be True or False, or \"family\" or \"ode\", got {verify!r:.80}",
                                 "give True (the family's own independent check), \"ode\" or False")
+    if verify == "family" and not has_own and type(system).family_errors is not ControlAffineSystem.family_errors:
+        return "ode"  # the family's check falls back on the re-simulation: say so
     if verify == "family" and not has_own:
         raise InvalidInputError("verify", f"\"family\" needs a check of the family's own, which "
                                 f"{type(system).__name__} does not provide", "use True or \"ode\" (the DOP853 "
