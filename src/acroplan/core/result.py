@@ -735,6 +735,44 @@ class PlanResult:
             fn(self, self.sample(per_segment, effort=False), ax=ax)
         return plotting.Figures({which: ax.figure})
 
+    def animate(self, path=None, **kwargs):
+        """The motion as an animation, drawn by the system's family (its ``animate`` hook:
+        :attr:`Family.animate <acroplan.core.family.Family.animate>`): the body to scale in its
+        centre-of-mass frame, the time and states written on each frame.
+
+        Parameters
+        ----------
+        path : str or pathlib.Path, optional
+            The GIF to write. Without it: in a notebook the animation is kept in memory and shown
+            inline (a player with play, pause and a frame slider); elsewhere it is written to
+            ``motion.gif`` in the current folder.
+        **kwargs
+            The family's options: ``speed`` (1 = real time; default: real time, or slower for a
+            motion shorter than 3 s), ``fps`` (default 25), ``max_frames``, ``mp4_path`` (also an MP4
+            when ffmpeg is on the PATH).
+
+        Returns
+        -------
+        acroplan.core.animation.Animation
+            Its ``path`` (``None`` when kept in memory), ``frames`` and ``fps``; shown inline in a
+            notebook.
+
+        Raises
+        ------
+        InvalidInputError
+            The result has no planned segments, or the system's family draws no animation.
+        """
+        from .animation import animate_result
+        from .family import family_of
+
+        if not self.segments:
+            raise InvalidInputError("result", "has no planned segments to animate", "plan a motion first")
+        fam = family_of(self.system)
+        if fam is None or fam.animate is None:
+            raise InvalidInputError("system", f"{type(self.system).__name__} has no drawing (its family offers no "
+                                    "animate hook)", "draw it yourself from result.sample()")
+        return animate_result(self, fam.animate, path, **kwargs)
+
     def to_pandas(self, per_segment: int = 200):
         """A dense sample as a pandas DataFrame: columns ``t``, the states and the inputs, and
         ``tau_<joint>``, ``power_<joint>`` per joint when the system has a torque model

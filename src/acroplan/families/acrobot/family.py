@@ -51,6 +51,12 @@ def _draw(folder, solution, gif, strobe_path, mp4, *, speed, fps, load):
     return n
 
 
+def _animate(result, path, **kw):
+    from .drawing import animate_result
+
+    return animate_result(result, path, **kw)
+
+
 def _least_momentum(*args, **kwargs):
     from .momentum import least_momentum
 
@@ -90,6 +96,7 @@ FAMILY = Family(
                                          "v1, v2 (acroplan nilpotent)", "nilpotent"),
     },
     draw=_draw,
+    animate=_animate,
     # the DOP853 re-simulation: 10 ms do not matter on the command line, and it is the check the
     # text's scheme is judged by
     cli_verify="ode",

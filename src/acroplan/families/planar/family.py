@@ -14,11 +14,13 @@ _PROBLEM = f"{__package__}.problem"
 
 def _draw(folder, solution, gif, strobe_path, mp4, *, speed, fps, load):
     """A planar body's animation and strobe, from the exact result ``solution.json`` records."""
+    from ...core.animation import samples_from_csv
     from .drawing import animate, strobe
 
     result = load()
-    n = animate(result, gif, speed=speed, fps=fps, mp4_path=mp4)
-    fig = strobe(result, poses=9, title=f"{result.system.n_links} links: theta {result.waypoints[0][0]:.3g} -> "
+    samples = samples_from_csv(folder / "trajectory.csv", result.system.state_names)  # (nothing to compile)
+    n = animate(result, gif, speed=speed, fps=fps, mp4_path=mp4, samples=samples)
+    fig = strobe(result, poses=9, samples=samples, title=f"{result.system.n_links} links: theta {result.waypoints[0][0]:.3g} -> "
                  f"{result.waypoints[-1][0]:.3g} rad in {result.times[-1] - result.times[0]:.3g} s")
     fig.savefig(strobe_path, dpi=120)
     return n

@@ -23,11 +23,14 @@ _PROBLEM = f"{__package__}.problem"
 def _draw(folder, solution, gif, strobe_path, mp4, *, speed, fps, load):
     """A spatial body's animation and strobe (the links as shaded equivalent boxes, the root's axes,
     the angular momentum vector), from the exact result ``solution.json`` records."""
+    from ...core.animation import samples_from_csv
     from .drawing import animate, save_strobe
 
     result = load()
-    n = animate(result, gif, speed=speed, fps=fps)
-    save_strobe(result, strobe_path, poses=6)
+    # drawn from the folder's samples: no integrator to compile (seconds for a body in 3-D)
+    samples = samples_from_csv(folder / "trajectory.csv", result.system.state_names)
+    n = animate(result, gif, speed=speed, fps=fps, mp4_path=mp4, samples=samples)
+    save_strobe(result, strobe_path, poses=6, samples=samples)
     return n
 
 
