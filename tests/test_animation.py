@@ -45,7 +45,7 @@ def test_animation_frames_size_and_cap(tmp_path):
 
     t = np.linspace(0, 2, 50)
     g = Geometry(40.0, 20.0, 0.35, 0.45)
-    n = animate(t, 0.5 * t, -np.pi + t, np.ones_like(t), g, tmp_path / "m.gif", fps=10)
+    n = animate(t, 0.5 * t, -np.pi + t, np.ones_like(t), g, tmp_path / "m.gif", fps=10, speed=1.0)
     assert n == 21
     im = Image.open(tmp_path / "m.gif")
     assert im.n_frames == 21 and im.size == (500, 500)  # 5 in at 100 dpi: text legible (issue: "~7 px")
@@ -62,8 +62,11 @@ def test_animate_command(tmp_path, monkeypatch):
     assert run(["plan", "short.toml", "--out", str(out), "--no-plots", "--animate"]).exit_code == 0
     from PIL import Image
 
-    assert Image.open(out / "motion.gif").n_frames == 26  # 1 s in real time at 25 fps, ends included
+    # a motion shorter than 3 s is played slower, so that it lasts 3 s: 1 s at 1/3 speed, 25 fps
+    assert Image.open(out / "motion.gif").n_frames == 76
     assert (out / "strobe.png").exists()
+    res = run(["animate", str(out), "--speed", "1"])
+    assert res.exit_code == 0 and "(26 frames)" in res.output  # real time asked for: 1 s at 25 fps, ends included
     res = run(["animate", str(out), "--speed", "0.25", "--fps", "5"])
     assert res.exit_code == 0 and "(21 frames)" in res.output  # 1 s at quarter speed: 4 s of film at 5 fps
     assert not list(out.glob(".*tmp*"))
@@ -114,3 +117,57 @@ def test_unexpected_errors_are_one_line_unless_debug(tmp_path):
 def test_every_subcommand_has_help_with_an_example(cmd):
     res = run([cmd, "--help"])
     assert res.exit_code == 0 and "Example" in res.output
+
+
+# ------------------------------------------------------------------ result.animate(), every family
+@pytest.fixture(scope="module")
+def three_results():
+    """A plan of each family that draws: the acrobot, a planar body, a spatial body (the cat)."""
+    import acroplan
+
+    out = {"acrobot": acroplan.examples.load("pike-dive-limited").solve(verify=False),
+           "planar": acroplan.examples.load("three-rods-turn").solve(verify=False),
+           "spatial": acroplan.examples.load("falling-cat").solve(verify=False)}
+    assert all(r.success for r in out.values())
+    return out
+
+
+@pytest.mark.parametrize("family", ["acrobot", "planar", "spatial"])
+def test_result_animate_writes_the_file_through_the_family_hook(three_results, family, tmp_path, monkeypatch):
+    from PIL import Image
+
+    from acroplan.core.progress import Progress
+
+    r = three_results[family]
+    prog = Progress(enabled=False, record=True)
+    with prog.active():
+        a = r.animate(tmp_path / "m.gif", max_frames=90)
+    with Image.open(a.path) as im:
+        assert im.n_frames == a.frames and min(im.size) >= 500
+    # one progress update a frame
+    assert [d for s, d, _ in prog.events if s == "animation frames" and d] == list(range(1, a.frames + 1))
+    monkeypatch.chdir(tmp_path)  # no path and no notebook: motion.gif here
+    assert r.animate(max_frames=10).path.name == "motion.gif" and (tmp_path / "motion.gif").exists()
+
+
+def test_a_short_motion_is_played_slower_with_enough_frames(three_results, tmp_path):
+    """The falling cat turns in 0.5 s: its GIF had 14 frames of 384 px; now 3 s at 25 fps."""
+    from PIL import Image
+
+    a = three_results["spatial"].animate(tmp_path / "cat.gif")
+    with Image.open(a.path) as im:
+        assert a.frames == im.n_frames == 76 and im.size == (560, 560)
+    assert three_results["spatial"].animate(tmp_path / "rt.gif", speed=1.0).frames == 14  # real time asked for
+
+
+def test_in_a_notebook_animate_returns_an_inline_player(three_results, monkeypatch):
+    import re
+
+    import acroplan.core.progress as P
+
+    monkeypatch.setattr(P, "in_notebook", lambda: True)
+    a = three_results["planar"].animate(max_frames=12)
+    assert a.path is None and a.frames == 12
+    html = a._repr_html_()
+    assert len(re.findall(r"data:image/png;base64,", html)) == 1 + 12  # the first frame shown, then all 12
+    assert 'type="range"' in html and "play" in html and "pause" in html

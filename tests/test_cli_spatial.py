@@ -210,7 +210,7 @@ def test_simulate_load_back_and_animate(tmp_path):
     from PIL import Image
 
     with Image.open(gif) as im:
-        assert im.n_frames == 5  # 0.5 s at 8 frames per second, both ends
+        assert im.n_frames == 25  # 0.5 s played in 3 s (a short motion is slowed) at 8 frames per second, both ends
 
 
 def test_simulate_attitude_forms_and_errors():

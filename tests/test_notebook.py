@@ -48,10 +48,11 @@ def test_plot_into_an_axes_and_the_backend_is_left_alone(pike_result):
 
     before = matplotlib.get_backend()
     fig, ax = plt.subplots()
-    assert pike_result.plot(ax=ax) is ax and len(ax.lines) >= 2
-    assert pike_result.plot("input", ax=ax) is ax
+    assert pike_result.plot(ax=ax) == {"states": fig} and len(ax.lines) >= 2
+    assert pike_result.plot("input", ax=ax)["input"] is fig
     figs = pike_result.plot()
-    assert set(figs) >= {"input", "states"}
+    assert isinstance(figs, acroplan.core.plotting.Figures) and set(figs) >= {"input", "states"}
+    assert list(pike_result.plot("states")) == ["states"]  # one figure: the same type
     assert matplotlib.get_backend() == before
     plt.close("all")
 

@@ -362,8 +362,9 @@ def test_plan_many_takes_the_same_keywords(body, problem):
 
 def test_effort_figure(body, problem):
     r = acroplan.plan(body, objective="energy", tau_max=18.0, n_coefficients=10, **problem)
-    fig = r.plot("effort", per_segment=60)
-    top, bottom = fig.axes
+    figs = r.plot("effort", per_segment=60)
+    assert list(figs) == ["effort"]
+    top, bottom = figs["effort"].axes
     line = top.get_lines()[0]
     np.testing.assert_allclose(line.get_ydata(), r.torques(line.get_xdata())[0][:, 0], rtol=1e-12)
     np.testing.assert_allclose(bottom.get_lines()[0].get_ydata(), r.torques(line.get_xdata())[1][:, 0],

@@ -27,6 +27,9 @@ import numpy as np
 
 from .core.basis import make_basis
 from .core.errors import InvalidInputError
+from .core.progress import Progress
+from .core.progress import current as current_progress
+from .core.progress import resolve as resolve_progress
 from .core.result import PlanResult, Status
 from .planning import PlanRequest, plan, warm_up
 
@@ -63,8 +66,10 @@ def _failed(kwargs: dict[str, Any], why: str) -> PlanResult:
 def _run(kwargs: dict[str, Any]) -> PlanResult:
     kwargs = dict(kwargs)
     system = kwargs.pop("system")
+    kwargs["progress"] = False  # one problem of many shows nothing (the batch shows "problems")
     try:
-        return plan(system, **kwargs)
+        with Progress(enabled=False).active():  # nor does what it computes (effort, samples)
+            return plan(system, **kwargs)
     except InvalidInputError:
         raise
     except Exception as e:  # one problem's bug must not stop the batch; it is reported, not hidden
@@ -101,8 +106,10 @@ def plan_many(problems: Iterable, *, executor="process", workers: int | None = N
         Number of workers for ``"process"`` and ``"thread"`` (default: the number of cores).
     chunksize : int, optional
         Problems per task (default: about four tasks per worker, at most 64 problems each).
-    progress : callable, optional
-        Called as ``progress(done, total)`` as problems finish (for a progress bar).
+    progress : bool, Progress or callable, optional
+        The stage ``"problems"`` (:mod:`acroplan.core.progress`): ``None`` (default) shown in a
+        notebook and on a terminal, ``True``/``False``, a ``Progress``, or a callable called as
+        ``progress(done, total)`` as problems finish. The problems themselves report nothing.
     **options
         :func:`acroplan.plan` keywords applied to every problem (a problem's own win), for example
         ``objective="energy"`` or ``tau_max=50.0`` for optimal plans of every problem (each
@@ -120,13 +127,25 @@ def plan_many(problems: Iterable, *, executor="process", workers: int | None = N
     """
     jobs = _jobs(problems, options, executor, workers, chunksize)
     n = len(jobs)
+    outer = current_progress()
+    prog = resolve_progress(progress, stage="problems")
+    try:
+        with prog.active(), prog.scope("problems", n, unit="problem") as bar:
+            return _plan_jobs(jobs, executor, workers, chunksize, bar.set)
+    finally:
+        if prog is not outer and not isinstance(progress, Progress):
+            prog.close()
+
+
+def _plan_jobs(jobs, executor, workers, chunksize, progress) -> list[PlanResult]:
+    """Plan validated ``jobs`` on ``executor``, calling ``progress(done)`` as they finish."""
+    n = len(jobs)
     workers = int(workers or os.cpu_count() or 1)
     results: list[PlanResult | None] = [None] * n
     if executor == "serial" or n == 0 or (not isinstance(executor, cf.Executor) and (n <= 1 or workers == 1)):
         for i, kw in enumerate(jobs):
             results[i] = _run(kw)
-            if progress:
-                progress(i + 1, n)
+            progress(i + 1)
         return results  # type: ignore[return-value]
     if executor == "process" and multiprocessing.get_start_method(allow_none=True) in (None, "fork"):
         # forked workers inherit what the parent compiled (an optimisation: workers compile on
@@ -167,7 +186,6 @@ def _on_executor(jobs, chunks, results, executor, workers, progress) -> None:
     """Plan the chunks on the executor into ``results``; a task that fails because its worker died
     or exited is planned again one problem at a time (on a fresh pool when the pool broke), so that
     only the culprit is marked."""
-    n = len(jobs)
     pool, owned = _executor(executor, workers)
     done = [0]
 
@@ -175,8 +193,7 @@ def _on_executor(jobs, chunks, results, executor, workers, progress) -> None:
         for i, res in zip(idx, out):
             results[i] = res
         done[0] += len(idx)
-        if progress:
-            progress(done[0], n)
+        progress(done[0])
 
     def fail(i, e, what="the worker planning this problem failed"):
         record([i], [_failed(jobs[i], f"{what} ({type(e).__name__}: {e})")])

@@ -31,6 +31,8 @@ from .core.errors import InvalidInputError
 from .core.family import family_of
 from .core.keywords import PLAN_KEYWORDS
 from .core.limits import Limits
+from .core import progress as progress_mod
+from .core.family import prepare
 from .core.optimal import OBJECTIVES, EnergyOptimal, tau_vector, objective_strategy
 from .core.result import PlanResult, SegmentResult, Status
 from .core.budget import BudgetExceeded, budget
@@ -449,8 +451,15 @@ def plan(system: ControlAffineSystem, *, times, conditions: str | None = None, m
         needs a torque model. Torque limits need the optimiser, so ``objective`` defaults to
         ``"energy"`` with them. The result's peak torque of each joint (refined between grid points)
         is checked: above :math:`\bar\tau_j(1 + 10^{-9})` the plan is ``not_converged``.
-    progress : callable, optional
-        Called as ``progress(done, total)`` after each waypoint interval (for a progress bar).
+    progress : bool, Progress or callable, optional
+        Progress of the work, one ``tqdm.auto`` line per stage that lasts more than half a second
+        (the waypoint intervals; within one, the strategy's guesses, path deformation, the optimal
+        ladder's basis sizes; the independent check), refreshed at least every quarter second
+        (:mod:`acroplan.core.progress`). ``None`` (default): shown in a notebook and when stderr is
+        a terminal, not when the output goes to a file or a pipe (nor inside :func:`plan_many` and
+        sweeps); ``True``/``False``: shown or not; a :class:`~acroplan.core.progress.Progress`
+        (``Progress(record=True)`` keeps every update); a callable: called as ``progress(done,
+        total)`` after each waypoint interval, nothing shown.
 
     Returns
     -------
@@ -470,6 +479,7 @@ def plan(system: ControlAffineSystem, *, times, conditions: str | None = None, m
     >>> res.status
     'success'
     """
+    prepare(system)  # its family's strategies, torque model and starts (core.family.prepare)
     req = PlanRequest.build(system, times=times, conditions=conditions, method=method, basis=basis,
                             n_coefficients=n_coefficients, limits=limits, u_max=u_max, state_bounds=state_bounds,
                             input_bounds=input_bounds, verify=verify, tol=tol, max_evaluations=max_evaluations,
@@ -480,80 +490,139 @@ def plan(system: ControlAffineSystem, *, times, conditions: str | None = None, m
 
 def solve(req: PlanRequest, *, progress=None) -> PlanResult:
     """Plan a validated :class:`PlanRequest` (what :func:`plan` does after validation), within its
-    time budget."""
-    with budget(req.time_limit):
-        return _solve(req, progress)
+    time budget, reporting to ``progress`` (:func:`acroplan.core.progress.resolve`)."""
+    outer = progress_mod.current()
+    prog = progress_mod.resolve(progress)
+    owned = prog is not outer and not isinstance(progress, progress_mod.Progress)
+    with prog.active(), budget(req.time_limit):
+        try:
+            return _solve(req, prog)
+        finally:
+            if owned:
+                prog.close()
 
 
-def _solve(req: PlanRequest, progress) -> PlanResult:
+def _solve(req: PlanRequest, prog) -> PlanResult:
     system, t, X = req.system, req.times, req.waypoints
     limits = req.limits if req.limits.active else None
     if req.free.any():
         X = _fill_free(system, t, X, req.free, limits)
     common = dict(system=system, times=t, waypoints=X, conditions=req.conditions, basis=req.basis, limits=limits,
                   objective=req.objective, torque_limits=req.torque_limits)
-    K = t.size - 1
-
-    # ---------------------------------------------------------------- exact feasibility, all segments
-    infeasible = []
-    for k in range(K):
-        proof = system.check_segment(X[k], X[k + 1], t[k + 1] - t[k], limits)
-        if proof is not None:
-            infeasible.append({"index": k, "t0": float(t[k]), "t1": float(t[k + 1]), "field": proof.field,
-                               "interval": list(proof.interval) if proof.interval else None,
-                               "reason": proof.reason})
-    if infeasible:
-        msg = "; ".join(f"segment {d['index']} [{d['t0']:g}, {d['t1']:g}]: {d['reason']}" for d in infeasible)
-        angles = [i for i, name in enumerate(system.state_names) if name in system.angle_states]
-        if not req.degrees and angles and np.max(np.abs(X[:, angles])) >= 45:
-            msg += (f" (angles up to {np.max(np.abs(X[:, angles])):.4g} rad: if these are degrees, pass "
-                    "degrees=True, or degrees = true in [options])")
-        return PlanResult(status=Status.INFEASIBLE, message="infeasible: " + msg, infeasible=tuple(infeasible),
-                          **common)
+    refused = _infeasible(req, X, limits, common)
+    if refused is not None:
+        return refused
     conditions = Conditions(req.conditions, system, t, X, limits, req.start_rate, req.end_rate)
     proof = conditions.infeasible()
     if proof:
         return PlanResult(status=Status.INFEASIBLE, message="infeasible: " + proof["reason"], infeasible=(proof,),
                           **common)
-
-    # ---------------------------------------------------------------- plan each waypoint interval
-    segments: list[SegmentResult] = []
-    prev_end_input = None
-    for k in range(K):
-        interval = Interval(system=system, basis=req.basis, sizes=req.sizes, x0=X[k], x1=X[k + 1],
-                            T=float(t[k + 1] - t[k]), ends=conditions.ends(k, prev_end_input), limits=limits,
-                            tol=req.tol, max_evaluations=req.max_evaluations)
-        try:
-            out = req.strategy.solve(interval)
-        except BudgetExceeded as e:
-            out = IntervalOutcome(False, (), str(e))
-        for i, piece in enumerate(out.pieces):
-            t1 = float(t[k + 1]) if i == len(out.pieces) - 1 else piece.t1 + float(t[k])
-            t0 = piece.t0 + float(t[k])
-            if (piece.index, piece.interval, piece.t0, piece.t1) != (len(segments), k, t0, t1):
-                piece = dataclasses.replace(piece, index=len(segments), interval=k, t0=t0, t1=t1)
-            segments.append(piece)
-        if not out.success:
-            msg = (f"not converged: segment {k} [{t[k]:g}, {t[k + 1]:g}] from {_fmt(X[k], system)} to "
-                   f"{_fmt(X[k + 1], system)}: {out.reason}")
-            return PlanResult(status=Status.NOT_CONVERGED, message=msg, segments=tuple(segments), **common)
-        if progress is not None:
-            progress(k + 1, K)
-        if k + 1 < K:  # the input value the next interval starts with (free conditions)
-            last = segments[-1]
-            prev_end_input = last.input([last.t1])[:, 0]
-    segments = tuple(segments)
-    worst_final = max(s.final_error for s in segments)
+    segments, failed = _plan_intervals(req, X, limits, conditions, prog)
+    if failed is not None:
+        return PlanResult(status=Status.NOT_CONVERGED, message=failed, segments=segments, **common)
+    K = t.size - 1
     if not req.verify:
+        worst_final = max(s.final_error for s in segments)
         return _check_torque_limits(PlanResult(
             status=Status.SUCCESS, message=f"success: {K} segment(s), max endpoint error {worst_final:.2e} (not "
             f"independently verified)" + _optimality_note(segments, req), segments=segments, verified=False,
             **common), req)
+    return _verified(req, X, segments, common)
 
-    # ---------------------------------------------------------------- independent check
+
+def _infeasible(req: PlanRequest, X, limits, common) -> PlanResult | None:
+    """The ``infeasible`` result when the system's exact test refuses a segment (every segment's
+    proof in it), else ``None``."""
+    system, t = req.system, req.times
+    infeasible = []
+    for k in range(t.size - 1):
+        proof = system.check_segment(X[k], X[k + 1], t[k + 1] - t[k], limits)
+        if proof is not None:
+            infeasible.append({"index": k, "t0": float(t[k]), "t1": float(t[k + 1]), "field": proof.field,
+                               "interval": list(proof.interval) if proof.interval else None,
+                               "reason": proof.reason})
+    if not infeasible:
+        return None
+    return PlanResult(status=Status.INFEASIBLE, message=infeasible_message(req, X, infeasible),
+                      infeasible=tuple(infeasible), **common)
+
+
+#: How many refused segments a message names (every one is in ``result.infeasible``).
+MESSAGE_SEGMENTS = 3
+
+
+def infeasible_message(req: PlanRequest, X, infeasible: list[dict]) -> str:
+    """The message of an infeasible plan: the first :data:`MESSAGE_SEGMENTS` refused segments with
+    their proofs, how many more there are (all in ``result.infeasible`` and ``solution.json``), and
+    the degrees hint when the angles look like degrees (every waypoint angle within 360 in size,
+    some beyond 2 pi, and whole numbers or halves: what a file in degrees holds)."""
+    system = req.system
+    shown = [f"segment {d['index']} [{d['t0']:g}, {d['t1']:g}]: {d['reason']}" for d in infeasible[:MESSAGE_SEGMENTS]]
+    msg = "infeasible: " + "; ".join(shown)
+    if len(infeasible) > MESSAGE_SEGMENTS:
+        msg += (f"; and {len(infeasible) - MESSAGE_SEGMENTS} more of {req.times.size - 1} segments (every one in "
+                "result.infeasible, solution.json)")
+    angles = [i for i, name in enumerate(system.state_names) if name in system.angle_states]
+    if not req.degrees and angles and _look_like_degrees(X[:, angles]):
+        msg += (f" (angles up to {np.max(np.abs(X[:, angles])):.4g} rad: if these are degrees, pass "
+                "degrees=True, or degrees = true in [options])")
+    return msg
+
+
+def _look_like_degrees(values) -> bool:
+    """Whether waypoint angles look like degrees: beyond 2 pi somewhere, none beyond 360 x 10 in
+    size, and most of them whole or half degrees (radians of a real motion seldom are)."""
+    v = np.abs(np.asarray(values, dtype=float)).ravel()
+    v = v[np.isfinite(v)]
+    if v.size == 0 or v.max() < 2 * np.pi or v.max() > 3600:
+        return False
+    whole = np.abs(2 * v - np.round(2 * v)) < 1e-9
+    return bool(np.mean(whole) >= 0.5)
+
+
+def _plan_intervals(req: PlanRequest, X, limits, conditions, prog):
+    """Plan each waypoint interval by the request's strategy: ``(segments, None)``, or ``(segments
+    so far, message)`` at the first interval that fails. Reports the stage ``"segments"`` (inside
+    an interval, its strategy reports its own stages)."""
+    system, t = req.system, req.times
+    K = t.size - 1
+    segments: list[SegmentResult] = []
+    prev_end_input = None
+    with prog.scope("segments", K, unit="segment") as bar:
+        for k in range(K):
+            interval = Interval(system=system, basis=req.basis, sizes=req.sizes, x0=X[k], x1=X[k + 1],
+                                T=float(t[k + 1] - t[k]), ends=conditions.ends(k, prev_end_input), limits=limits,
+                                tol=req.tol, max_evaluations=req.max_evaluations)
+            try:
+                out = req.strategy.solve(interval)
+            except BudgetExceeded as e:
+                out = IntervalOutcome(False, (), str(e))
+            finally:
+                progress_mod.close_notes(*progress_mod.INNER_STAGES)
+            for i, piece in enumerate(out.pieces):
+                t1 = float(t[k + 1]) if i == len(out.pieces) - 1 else piece.t1 + float(t[k])
+                t0 = piece.t0 + float(t[k])
+                if (piece.index, piece.interval, piece.t0, piece.t1) != (len(segments), k, t0, t1):
+                    piece = dataclasses.replace(piece, index=len(segments), interval=k, t0=t0, t1=t1)
+                segments.append(piece)
+            if not out.success:
+                return tuple(segments), (f"not converged: segment {k} [{t[k]:g}, {t[k + 1]:g}] from "
+                                         f"{_fmt(X[k], system)} to {_fmt(X[k + 1], system)}: {out.reason}")
+            bar.update()
+            if k + 1 < K:  # the input value the next interval starts with (free conditions)
+                last = segments[-1]
+                prev_end_input = last.input([last.t1])[:, 0]
+    return tuple(segments), None
+
+
+def _verified(req: PlanRequest, X, segments, common) -> PlanResult:
+    """The plan checked independently (:func:`~acroplan.core.verify.verify_plan`): ``success``, or
+    ``not_converged`` naming the first segment the check misses."""
+    system, K = req.system, req.times.size - 1
     check = check_name(system, req.verify)
     try:
-        checked, bad, allowed = verify_plan(system, X[0], segments, req.verify)
+        with progress_mod.stage("independent check", len(segments), unit="segment"):
+            checked, bad, allowed = verify_plan(system, X[0], segments, req.verify)
     except BudgetExceeded as e:
         return PlanResult(status=Status.NOT_CONVERGED, message=f"not converged: every segment was planned, but "
                           f"{e} before the independent check ({check}) ended", segments=segments, verified=False,

@@ -29,16 +29,36 @@ Modules
     Symbolic Lie-algebra tools; figures of any plan.
 """
 
-from . import optimal  # noqa: F401  (registers "energy-optimal" and "torque-optimal")
-from .basis import InputBasis, Legendre, Monomial, make_basis
-from .errors import InvalidInputError
-from .limits import Limits
-from .optimal import EnergyOptimal, TorqueOptimal
-from .result import JointEffort, PlanResult, Samples, SegmentResult, Status
-from .strategies import STRATEGIES, Deform, Interval, IntervalOutcome, Strategy, register_strategy
-from .system import ControlAffineSystem, Infeasibility, register_torque_model
+from __future__ import annotations
 
-__all__ = ["ControlAffineSystem", "Deform", "EnergyOptimal", "Infeasibility", "InputBasis", "Interval",
-           "IntervalOutcome", "InvalidInputError", "JointEffort", "Legendre", "Limits", "Monomial", "PlanResult",
-           "STRATEGIES", "Samples", "SegmentResult", "Status", "Strategy", "TorqueOptimal", "make_basis",
-           "register_strategy", "register_torque_model"]
+import importlib
+
+#: The public names, each loaded from its module on first use (PEP 562), so that importing one
+#: module of the core (``acroplan.core.errors``, ``acroplan.core.family``: what the command line
+#: needs to parse its arguments) does not import the numerics (heyoka, sympy, scipy).
+_PUBLIC = {
+    "ControlAffineSystem": "system", "Infeasibility": "system", "register_torque_model": "system",
+    "InputBasis": "basis", "Legendre": "basis", "Monomial": "basis", "make_basis": "basis",
+    "InvalidInputError": "errors", "Limits": "limits",
+    "EnergyOptimal": "optimal", "TorqueOptimal": "optimal",
+    "JointEffort": "result", "PlanResult": "result", "Samples": "result", "SegmentResult": "result", "Status": "result",
+    "STRATEGIES": "strategies", "Deform": "strategies", "Interval": "strategies", "IntervalOutcome": "strategies",
+    "Strategy": "strategies", "register_strategy": "strategies",
+}
+
+__all__ = sorted(_PUBLIC)
+
+
+def __getattr__(name: str):
+    if name not in _PUBLIC:
+        raise AttributeError(f"module 'acroplan.core' has no attribute {name!r}")
+    module = importlib.import_module(f"{__name__}.{_PUBLIC[name]}")
+    if _PUBLIC[name] == "strategies":
+        importlib.import_module(f"{__name__}.optimal")  # registers "energy-optimal" and "torque-optimal"
+    value = getattr(module, name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))

@@ -29,6 +29,7 @@ import numpy as np
 
 from . import backend
 from .basis import InputBasis
+from .progress import note
 from .linalg import damped_step as _damped_step
 from .linalg import norm as _norm
 from .linalg import null_space as _null_space
@@ -275,6 +276,7 @@ def _continue(evaluate, diff, counter, z, y, A, sigma0, x1, path, tol, scale, ma
                                                 max_evaluations, last)
         if ok:
             tau, z, y, A = tau_new, z_new, y_new, A_new
+            note("path deformation", round(100 * tau), 100)  # (core.progress: nothing unless shown)
             history.append((tau, _norm(diff(y, goal)), float(np.linalg.svd(A, compute_uv=False)[-1]),
                             np.array(goal, dtype=float), y.copy()))
             if last:

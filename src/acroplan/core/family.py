@@ -20,8 +20,13 @@ The contract (for implementers)
 A family is a frozen :class:`Family`. Everything but ``name`` and ``system_types`` is optional; a
 missing hook means the family does not offer that job, and the layer asking says so to the user.
 
-1. ``name`` (str): unique; ``system_types`` (tuple of classes): the systems it owns;
-   :func:`family_of` finds a system's family along its class's MRO.
+1. ``name`` (str): unique; ``system_types`` (tuple of classes, or of ``"module:Class"`` strings,
+   which are imported only when needed: :meth:`Family.classes`): the systems it owns;
+   :func:`family_of` finds a system's family along its class's MRO (by name, importing nothing).
+   ``setup`` (tuple of module names): the modules that register what the family's systems need
+   (strategies, torque models, the optimal strategies' starts, sweep hooks); :func:`prepare`
+   imports them before a system of the family is planned (the front doors and the registries'
+   look-ups call it), so neither the family's descriptor nor its package imports them.
 2. ``tables``: the problem-file tables it may read (``"robot"``, ``"body"``), with their keys
    ``table_keys`` (a key no family knows is refused with the nearest known one);
    ``reads(table, data) -> bool``: whether it reads this one (``data`` the table). Families are
@@ -71,6 +76,12 @@ missing hook means the family does not offer that job, and the layer asking says
     exceeds is refused up front, unless that integrator was compiled before on this machine
     (:func:`acroplan.core.backend.compile_estimate`).
 
+A family's descriptor module (``family.py``) should be light: the command line imports every
+registered one to list the bundled examples, and ``acroplan examples`` imports no numerics (a test
+counts the modules). Hooks that need the family's numerics are given as :func:`hook`
+(``hook("package.problem:read")``: the module is imported on the first call), or as functions
+that import inside.
+
 Worked examples: ``acroplan/families/small/family.py`` (the unicycle and the chained form: a
 name, the classes, nothing else) and ``acroplan/families/planar/family.py`` (link tables and URDF,
 the reach bound, drawings, examples).
@@ -85,7 +96,7 @@ from pathlib import Path
 from typing import Any, Callable, Mapping
 
 __all__ = ["Family", "Example", "ReadContext", "register_family", "families", "family_of", "family_named",
-           "reader_for", "ENTRY_POINT_GROUP"]
+           "reader_for", "hook", "prepare", "prepare_all", "system_classes", "ENTRY_POINT_GROUP"]
 
 #: The entry point group a family is registered under.
 ENTRY_POINT_GROUP = "acroplan.families"
@@ -128,6 +139,41 @@ class ReadContext:
 
 
 @dataclasses.dataclass(frozen=True)
+class Hook:
+    """A family's hook by name (``"package.module:function"``): the module is imported on the first
+    call, so a family's descriptor names its numerics without importing them (:func:`hook`)."""
+
+    target: str
+
+    def resolve(self) -> Callable:
+        """The function named."""
+        module, _, attr = self.target.partition(":")
+        return getattr(importlib.import_module(module), attr)
+
+    def __call__(self, *args, **kwargs):
+        return self.resolve()(*args, **kwargs)
+
+
+def hook(target: str) -> Hook:
+    """A hook of a :class:`Family` given by name, ``"package.module:function"``, imported on its first
+    call (:class:`Hook`)."""
+    if ":" not in target:
+        raise ValueError(f"a hook is named 'package.module:function', got {target!r}")
+    return Hook(target)
+
+
+def _type_name(cls: type) -> str:
+    return f"{cls.__module__}:{cls.__qualname__}"
+
+
+def _resolve_type(spec) -> type:
+    if isinstance(spec, type):
+        return spec
+    module, _, attr = spec.partition(":")
+    return getattr(importlib.import_module(module), attr)
+
+
+@dataclasses.dataclass(frozen=True)
 class Family:
     """A body family's contract with the I/O layer and the front doors (module docstring)."""
 
@@ -156,10 +202,26 @@ class Family:
     describe: Callable[[Any], str] | None = None
     check_request: Callable[[Any], None] | None = None
     compile_seconds: Callable[[Any, int], tuple[float, str] | None] | None = None
+    setup: tuple[str, ...] = ()
 
     def owns(self, system) -> bool:
         """Whether ``system`` (an instance) is of this family."""
-        return isinstance(system, self.system_types)
+        return any(self._owns_class(base) for base in type(system).__mro__)
+
+    def _owns_class(self, cls: type) -> bool:
+        """Whether ``cls`` itself is one of :attr:`system_types` (names compared: nothing imported)."""
+        name = _type_name(cls)
+        return any(t is cls if isinstance(t, type) else t == name for t in self.system_types)
+
+    def type_names(self) -> tuple[str, ...]:
+        """The class names of :attr:`system_types` (what a result file's ``system.type`` records),
+        nothing imported."""
+        return tuple(t.__name__ if isinstance(t, type) else t.rpartition(":")[2].rpartition(".")[2]
+                     for t in self.system_types)
+
+    def classes(self) -> tuple[type, ...]:
+        """The classes of :attr:`system_types`, those given by name imported."""
+        return tuple(_resolve_type(t) for t in self.system_types)
 
 
 _FAMILIES: dict[str, Family] = {}
@@ -225,9 +287,51 @@ def family_of(system) -> Family | None:
     cls = system if isinstance(system, type) else type(system)
     for base in cls.__mro__:
         for fam in families():
-            if base in fam.system_types:
+            if fam._owns_class(base):
                 return fam
     return None
+
+
+_PREPARED_FAMILIES: set[str] = set()
+_PREPARED_TYPES: set[type] = set()
+
+
+def _prepare_family(fam: Family) -> None:
+    if fam.name in _PREPARED_FAMILIES:
+        return
+    for module in fam.setup:
+        importlib.import_module(module)
+    _PREPARED_FAMILIES.add(fam.name)
+
+
+def prepare(system) -> None:
+    """Import the :attr:`Family.setup` modules of ``system``'s family (an instance or a class), once:
+    what registers its strategies, torque model, optimal starts and sweep hooks. Called by the
+    front doors and by the registries' look-ups; about a microsecond once done."""
+    cls = system if isinstance(system, type) else type(system)
+    if cls in _PREPARED_TYPES:
+        return
+    fam = family_of(cls)
+    if fam is not None:
+        _prepare_family(fam)
+    _PREPARED_TYPES.add(cls)
+
+
+def prepare_all() -> None:
+    """:func:`prepare` every registered family (what a look-up by name needs: a sweep's derived
+    quantity or factory)."""
+    for fam in families():
+        _prepare_family(fam)
+
+
+def system_classes() -> dict[str, type]:
+    """Every registered family's system classes by class name, imported (what reading a result
+    file's ``system.type`` needs)."""
+    out: dict[str, type] = {}
+    for fam in families():
+        for cls in fam.classes():
+            out.setdefault(cls.__name__, cls)
+    return out
 
 
 def reader_for(table: str, data: Mapping) -> Family | None:

@@ -130,6 +130,7 @@ from .continuation import solve_segment
 from .errors import InvalidInputError
 from .limits import COMPLIANCE_TOL, linear_limits, violation
 from .linalg import null_space
+from .progress import note as progress_note
 from .strategies import AUTO_DEFAULT, Interval, IntervalOutcome, Strategy, make_segment, register_strategy
 from .system import ControlAffineSystem, torque_model_of
 
@@ -1193,6 +1194,7 @@ class EnergyOptimal(Strategy):
         # 2. the ladder of basis sizes
         history, previous, predicted_stop = [(first, value)], value, None
         for n in (n for n in sizes if n > first):
+            progress_note("optimal: basis sizes", sizes.index(n), len(sizes), f"{n} coefficients")  # (core.progress)
             prev = current
             Hc = None if prev.Hc is None else _pad_curvature(prev.Hc, system.n_inputs, prev.prob.n, n)
             c0 = _resize(prev.prob.c(prev.z).reshape(system.n_inputs, -1), n).ravel()

@@ -11,7 +11,49 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["plot_input", "plot_states", "plot_result", "plot_continuation", "plot_effort"]
+__all__ = ["Figures", "plot_input", "plot_states", "plot_result", "plot_continuation", "plot_effort"]
+
+
+class Figures(dict):
+    """Figures by name (``{"input": Figure, "states": Figure, ...}``): what
+    :meth:`PlanResult.plot <acroplan.core.result.PlanResult.plot>` returns, always.
+
+    A ``dict`` of :class:`matplotlib.figure.Figure`; as the last expression of a notebook cell it
+    shows each figure once (and closes it, so the inline backend does not show it again at the end
+    of the cell). :meth:`savefig` writes them all, :meth:`close` closes them.
+    """
+
+    def savefig(self, folder, formats=("png",), *, dpi: int = 120) -> list:
+        """Write each figure as ``folder/NAME.FORMAT`` (``formats``: a name or a sequence, ``"png"``,
+        ``"pdf"``, ``"svg"``); returns the paths written."""
+        from pathlib import Path
+
+        folder = Path(folder)
+        folder.mkdir(parents=True, exist_ok=True)
+        formats = (formats,) if isinstance(formats, str) else tuple(formats)
+        paths = []
+        for name, fig in self.items():
+            for fmt in formats:
+                path = folder / f"{name}.{fmt}"
+                fig.savefig(path, dpi=dpi)
+                paths.append(path)
+        return paths
+
+    def close(self) -> None:
+        """Close every figure (pyplot keeps them until closed)."""
+        plt = pyplot()
+        for fig in self.values():
+            plt.close(fig)
+
+    def _ipython_display_(self):
+        from IPython.display import display
+
+        for fig in self.values():
+            display(fig)
+        self.close()
+
+    def __repr__(self):
+        return f"Figures({', '.join(self)})"
 
 
 def pyplot():
@@ -98,13 +140,42 @@ def plot_states(result, samples=None, *, ax=None):
     return fig
 
 
-def plot_result(result, *, per_segment: int = 200):
-    """The figures of a plan: ``{"input": Fig. 1, "states": Fig. 2, "continuation": diagnostics}``
-    (the last only when a segment was planned by path deformation)."""
-    samples = result.sample(per_segment, effort=False)
-    figs = {"input": plot_input(result, samples), "states": plot_states(result, samples)}
-    if any(s.history for s in result.segments):
-        figs["continuation"] = plot_continuation(result)
+#: The figures :func:`plot_result` can draw, in order.
+FIGURES = ("input", "states", "continuation", "effort")
+
+
+def plot_result(result, which=None, *, per_segment: int = 200, effort: bool = False) -> Figures:
+    """The figures of a plan (a :class:`Figures`): by default ``input`` (Fig. 1), ``states`` (Fig. 2)
+    and ``continuation`` (only when a segment was planned by path deformation), and ``effort``
+    with ``effort=True``; ``which`` (a name or a sequence of names of :data:`FIGURES`) draws those
+    alone. Reports the stage ``"figures"`` (:mod:`acroplan.core.progress`)."""
+    from .progress import stage
+
+    if which is None:
+        names = ["input", "states"] + (["continuation"] if any(s.history for s in result.segments) else [])
+        names += ["effort"] if effort else []
+    else:
+        names = [which] if isinstance(which, str) else list(which)
+    bad = [n for n in names if n not in FIGURES]
+    if bad:
+        raise ValueError(f"which: must be one of {list(FIGURES)}, got {bad[0]!r}")
+    if "effort" in names:
+        result._torque_setup()  # (InvalidInputError when the system gives no torques)
+    figs = Figures()
+    with stage("figures", len(names) + 1, unit="figure") as st:
+        samples = result.sample(per_segment, effort="effort" in names)
+        st.update()
+        try:
+            for name in names:
+                if name == "continuation":
+                    figs[name] = plot_continuation(result)
+                else:
+                    figs[name] = {"input": plot_input, "states": plot_states, "effort": plot_effort}[name](
+                        result, samples)
+                st.update(detail=name)
+        except BaseException:
+            figs.close()
+            raise
     return figs
 
 

@@ -12,21 +12,24 @@ body), a plan also gives its joint torques :math:`\\tau_j(t)` and mechanical pow
 :func:`~acroplan.core.system.joint_inputs`): :meth:`PlanResult.torques`, the columns
 ``tau_<joint>`` and ``power_<joint>`` of :meth:`PlanResult.evaluate` and
 :meth:`PlanResult.to_pandas`, and the summary :meth:`PlanResult.effort` (in
-:meth:`PlanResult.to_dict` as ``effort``). Without a torque model nothing of this appears.
+:meth:`PlanResult.to_dict` as ``effort``; computed in :mod:`acroplan.core.effort`, whose
+:class:`JointEffort` and :data:`EFFORT_RULE` are re-exported here). Without a torque model nothing
+of this appears.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import json
-import math
 from typing import Any
 
 import numpy as np
 
-from . import backend, budget
+from . import backend
 from .basis import InputBasis
+from .effort import EFFORT_RULE, JointEffort, effort_summary
 from .errors import InvalidInputError
+from .progress import stage
 from .status import STATUSES, Status
 from .system import ControlAffineSystem, joint_inputs, model_torques, torque_model_of
 
@@ -341,87 +344,6 @@ def _num(v):
     return v if np.isfinite(v) else None
 
 
-#: How :meth:`PlanResult.effort` integrates and takes maxima (also written in ``to_dict()["effort"]``).
-EFFORT_RULE = ("integrals of tau^2 and tau u: composite 32-point Gauss-Legendre on each segment, on at least 8 "
-               "panels and one per radian of max|u| T (at most 4096); positive work: the same rule on each panel, "
-               "split at the sign changes of tau u (found between the nodes and panel edges, refined by Brent's "
-               "method to 1e-14 s); peaks: the local maxima on those points within 1% of the largest, each refined "
-               "by a bounded scalar search; integral of u^2: exact (the basis Gram matrix)")
-
-
-@dataclasses.dataclass(frozen=True)
-class JointEffort:
-    """The effort of one joint over a plan (:meth:`PlanResult.effort`, rules in :data:`EFFORT_RULE`).
-
-    Attributes
-    ----------
-    joint : str
-        The joint (a torque row of the system's torque model).
-    input : str
-        The input that drives it (its rate).
-    duration : float
-        The planned span :math:`t_K - t_0`.
-    peak_torque : float
-        :math:`\\max_t |\\tau|` (N m with SI parameters).
-    peak_power : float
-        :math:`\\max_t |\\tau u|` (W).
-    positive_work : float
-        :math:`\\int \\max(\\tau u, 0)\\,dt` (J): what a motor that cannot recover energy spends.
-    net_work : float
-        :math:`\\int \\tau u\\,dt` (J), the change of the kinetic energy this joint causes.
-    torque_squared : float
-        :math:`\\int \\tau^2 dt` (N^2 m^2 s).
-    input_squared : float
-        :math:`\\int u^2 dt` of the joint's input, exact.
-    """
-
-    joint: str
-    input: str
-    duration: float
-    peak_torque: float
-    peak_power: float
-    positive_work: float
-    net_work: float
-    torque_squared: float
-    input_squared: float
-
-    def to_dict(self) -> dict:
-        """``{joint: {"input": ..., "peak_torque": ..., ...}}`` in plain JSON types."""
-        d = dataclasses.asdict(self)
-        return {d.pop("joint"): d}
-
-
-def _peak(f, grid, values) -> float:
-    """:math:`\\max |f|` on ``[grid[0], grid[-1]]``: the (at most :data:`PEAK_CANDIDATES`) largest
-    local maxima of ``|values|`` on ``grid`` within 1% of the largest, each refined by zooming: ``f``
-    (vectorised: ``f(xs)`` for an array of times) on 33 points across the two grid intervals around
-    it, then 33 across the two intervals around the best of those, four times (the bracket shrinks
-    16-fold each time, to :math:`16^{-4}` of the grid's spacing: for a smooth :math:`f` the maximum
-    to about :math:`10^{-11}` relative). One call of ``f`` a zoom: a torque model that integrates
-    (a spatial body's attitude) is called a few times, not hundreds."""
-    v = np.abs(values)
-    top = float(v.max())
-    best = top
-    left = np.concatenate([[-np.inf], v[:-1]])
-    right = np.concatenate([v[1:], [-np.inf]])
-    cands = np.flatnonzero((v >= left) & (v >= right) & (v >= 0.99 * top))
-    for i in cands[np.argsort(-v[cands], kind="stable")][:PEAK_CANDIDATES]:
-        a, b = grid[max(i - 1, 0)], grid[min(i + 1, grid.size - 1)]
-        for _ in range(4):
-            if not b > a:
-                break
-            xs = np.linspace(a, b, 33)
-            fx = np.abs(np.asarray(f(xs), dtype=float))
-            k = int(np.argmax(fx))
-            best = max(best, float(fx[k]))
-            a, b = xs[max(k - 1, 0)], xs[min(k + 1, xs.size - 1)]
-    return best
-
-
-#: How many local maxima of a sampled torque or power :func:`_peak` refines.
-PEAK_CANDIDATES = 4
-
-
 @dataclasses.dataclass(frozen=True)
 class PlanResult:
     """Result of :func:`acroplan.plan`.
@@ -563,17 +485,18 @@ class PlanResult:
         which = np.minimum(np.searchsorted(bounds, t, side="left"), len(self.segments) - 1)
         states = np.empty((self.system.n_states, t.size))
         inputs = np.empty((self.system.n_inputs, t.size))
-        for k, seg in enumerate(self.segments):
-            idx = np.nonzero(which == k)[0]
-            if idx.size == 0:
-                continue
-            T = seg.t1 - seg.t0
-            s = (t[idx] - seg.t0) / T
-            uniq, inverse = np.unique(s, return_inverse=True)
-            grid = uniq if uniq[0] == 0.0 else np.concatenate([[0.0], uniq])
-            X = backend.sample(self.system, self.basis_for(seg), seg.start, T, seg.basis_coefficients, grid)
-            states[:, idx] = X[:, grid.size - uniq.size:][:, inverse]
-            inputs[:, idx] = seg.input(t[idx])
+        with stage("sampling", len(self.segments), unit="segment", show=len(self.segments) > 1) as st:
+            for k, seg in enumerate(self.segments):
+                idx = np.nonzero(which == k)[0]
+                if idx.size:
+                    T = seg.t1 - seg.t0
+                    s = (t[idx] - seg.t0) / T
+                    uniq, inverse = np.unique(s, return_inverse=True)
+                    grid = uniq if uniq[0] == 0.0 else np.concatenate([[0.0], uniq])
+                    X = backend.sample(self.system, self.basis_for(seg), seg.start, T, seg.basis_coefficients, grid)
+                    states[:, idx] = X[:, grid.size - uniq.size:][:, inverse]
+                    inputs[:, idx] = seg.input(t[idx])
+                st.update()
         extra = {}
         if effort and self.has_torques:
             model, names, _ = self._torque_setup()
@@ -619,10 +542,12 @@ class PlanResult:
         bounds = np.array([s.t1 for s in self.segments])
         which = np.minimum(np.searchsorted(bounds, t, side="left"), len(self.segments) - 1)
         tau, power = np.empty((len(names), t.size)), np.empty((len(names), t.size))
-        for k, seg in enumerate(self.segments):
-            idx = np.flatnonzero(which == k)
-            if idx.size:
-                tau[:, idx], power[:, idx] = self._segment_torques(model, seg, t[idx], inputs)
+        with stage("torques", len(self.segments), unit="segment", show=len(self.segments) > 1) as st:
+            for k, seg in enumerate(self.segments):
+                idx = np.flatnonzero(which == k)
+                if idx.size:
+                    tau[:, idx], power[:, idx] = self._segment_torques(model, seg, t[idx], inputs)
+                st.update()
         return tau, power
 
     def torques(self, t):
@@ -686,73 +611,7 @@ class PlanResult:
         """
         if self._effort is not None:
             return dict(self._effort)
-        model, names, inputs = self._torque_setup()
-        if not self.segments:
-            raise InvalidInputError("result", "has no planned segments", "plan a motion first")
-        from scipy.optimize import brentq
-
-        p = len(names)
-        xg, wg = np.polynomial.legendre.leggauss(32)
-        xg, wg = (xg + 1.0) / 2.0, wg / 2.0  # on [0, 1]
-        peak_tau, peak_pow = np.zeros(p), np.zeros(p)
-        pos, net, tau2, u2 = np.zeros(p), np.zeros(p), np.zeros(p), np.zeros(p)
-        for seg in self.segments:
-            T = seg.t1 - seg.t0
-            basis = self.basis_for(seg)
-            G = basis.gram()
-            c = np.asarray(seg.basis_coefficients, dtype=float)
-            u2 += T * np.array([c[i] @ G @ c[i] for i in inputs])
-            P = int(min(4096, max(8, math.ceil(seg.max_abs_u * T))))
-
-            def motion(tt, seg=seg):
-                budget.check()  # a plan's effort summary is inside its time budget (the command line's)
-                return self._segment_torques(model, seg, np.atleast_1d(np.asarray(tt, dtype=float)), inputs)
-
-            # one evaluation: the Gauss nodes of every panel and the panel edges, in time order
-            edges = np.linspace(seg.t0, seg.t1, P + 1)
-            h = T / P
-            nodes = edges[:-1, None] + h * xg[None, :]  # (P, 32)
-            grid = np.concatenate([np.column_stack([edges[:-1], nodes]).ravel(), edges[-1:]])
-            tau_g, pow_g = motion(grid)
-            inner = np.ones(grid.size, dtype=bool)
-            inner[::33] = False  # the panel edges
-            tau_q, pow_q = tau_g[:, inner].reshape(p, P, 32), pow_g[:, inner].reshape(p, P, 32)
-            panel_w = h * wg
-            tau2 += np.einsum("jpk,k->j", tau_q**2, panel_w)
-            panel_pow = np.einsum("jpk,k->jp", pow_q, panel_w)  # (p, P): the power's integral per panel
-            net += panel_pow.sum(axis=1)
-            for j in range(p):
-                # positive work: a panel where the power keeps its sign gives max(its integral, 0); a panel
-                # where it changes sign is split at the roots (Brent) and integrated piece by piece
-                change = np.flatnonzero(np.sign(pow_g[j, :-1]) * np.sign(pow_g[j, 1:]) < 0)
-                roots = {}
-                for i in change:
-                    f = (lambda x, j=j: float(motion(x)[1][j, 0]))
-                    fa, fb = f(grid[i]), f(grid[i + 1])
-                    if fa * fb < 0:
-                        r = brentq(f, grid[i], grid[i + 1], xtol=1e-14)
-                    else:  # the power is within rounding of zero at an end (a point evaluation need not
-                        # round as the batch did): that end is the root
-                        r = grid[i] if abs(fa) <= abs(fb) else grid[i + 1]
-                    roots.setdefault(min(int(i // 33), P - 1), []).append(r)
-                for k in range(P):
-                    if k not in roots:
-                        pos[j] += max(float(panel_pow[j, k]), 0.0)
-                        continue
-                    cuts = np.concatenate([[edges[k]], sorted(roots[k]), [edges[k + 1]]])
-                    lens = np.diff(cuts)
-                    keep = lens > 0
-                    ts = (cuts[:-1][keep, None] + lens[keep, None] * xg[None, :]).ravel()
-                    vals = motion(ts)[1][j].reshape(-1, 32) @ wg * lens[keep]
-                    pos[j] += float(np.sum(np.maximum(vals, 0.0)))
-                peak_tau[j] = max(peak_tau[j], _peak(lambda x, j=j: motion(x)[0][j], grid, tau_g[j]))
-                peak_pow[j] = max(peak_pow[j], _peak(lambda x, j=j: motion(x)[1][j], grid, pow_g[j]))
-        duration = float(self.segments[-1].t1 - self.segments[0].t0)
-        out = {name: JointEffort(joint=name, input=self.system.input_names[inputs[j]], duration=duration,
-                                 peak_torque=float(peak_tau[j]), peak_power=float(peak_pow[j]),
-                                 positive_work=float(pos[j]), net_work=float(net[j]),
-                                 torque_squared=float(tau2[j]), input_squared=float(u2[j]))
-               for j, name in enumerate(names)}
+        out = effort_summary(self)
         object.__setattr__(self, "_effort", out)
         return dict(out)
 
@@ -836,38 +695,83 @@ class PlanResult:
         kwargs.setdefault("allow_nan", False)
         return json.dumps(self.to_dict(), **kwargs)
 
-    def plot(self, which: str | None = None, *, ax=None, per_segment: int = 200):
-        """Figures in the text's styles.
+    def plot(self, which=None, *, ax=None, per_segment: int = 200, effort: bool = False):
+        """Figures in the text's styles, as one type: a :class:`~acroplan.core.plotting.Figures`
+        (a dict of matplotlib figures by name, each shown once in a notebook, with ``savefig``).
 
         Parameters
         ----------
-        which : {"input", "states", "continuation", "effort"}, optional
-            One figure; default: all of them as a dict ``{"input": Fig. 1, "states": Fig. 2}``
-            plus ``"continuation"`` diagnostics when path deformation was used. ``"effort"``: the
+        which : {"input", "states", "continuation", "effort"} or sequence of them, optional
+            The figures to draw; default ``"input"`` (Fig. 1), ``"states"`` (Fig. 2) and
+            ``"continuation"`` (diagnostics, when path deformation was used). ``"effort"``: the
             joint torques (upper panel, torque limits dotted) and the mechanical power (lower
-            panel), for a system with a torque model (never in the default dict).
+            panel), for a system with a torque model.
         ax : matplotlib Axes, optional
             Draw one panel there (``which`` = ``"states"``, the default with ``ax``, puts every
-            state on it; ``"input"``; or ``"effort"``, the torques) and return ``ax``.
+            state on it; ``"input"``; or ``"effort"``, the torques); the result holds that axes'
+            figure under that name.
         per_segment : int
             Samples per segment.
+        effort : bool
+            With the default figures, also ``"effort"``.
+
+        Returns
+        -------
+        Figures
+            By name, in the order above.
         """
         from . import plotting
 
-        if which is None and ax is None:
-            return plotting.plot_result(self, per_segment=per_segment)
+        if ax is None:
+            return plotting.plot_result(self, which, per_segment=per_segment, effort=effort)
         which = which or "states"
-        if which == "continuation":
-            if ax is not None:
-                raise ValueError("which: the continuation diagnostics need a figure of their own; leave ax out")
-            return plotting.plot_continuation(self)
+        if which not in ("input", "states", "effort"):
+            raise ValueError(f"which: with ax, must be 'input', 'states' or 'effort', got {which!r}")
         if which == "effort":
             self._torque_setup()
-            return plotting.plot_effort(self, self.sample(per_segment), ax=ax)
-        if which not in ("input", "states"):
-            raise ValueError(f"which: must be 'input', 'states', 'continuation' or 'effort', got {which!r}")
-        fn = plotting.plot_input if which == "input" else plotting.plot_states
-        return fn(self, self.sample(per_segment), ax=ax)
+            plotting.plot_effort(self, self.sample(per_segment), ax=ax)
+        else:
+            fn = plotting.plot_input if which == "input" else plotting.plot_states
+            fn(self, self.sample(per_segment, effort=False), ax=ax)
+        return plotting.Figures({which: ax.figure})
+
+    def animate(self, path=None, **kwargs):
+        """The motion as an animation, drawn by the system's family (its ``animate`` hook:
+        :attr:`Family.animate <acroplan.core.family.Family.animate>`): the body to scale in its
+        centre-of-mass frame, the time and states written on each frame.
+
+        Parameters
+        ----------
+        path : str or pathlib.Path, optional
+            The GIF to write. Without it: in a notebook the animation is kept in memory and shown
+            inline (a player with play, pause and a frame slider); elsewhere it is written to
+            ``motion.gif`` in the current folder.
+        **kwargs
+            The family's options: ``speed`` (1 = real time; default: real time, or slower for a
+            motion shorter than 3 s), ``fps`` (default 25), ``max_frames``, ``mp4_path`` (also an MP4
+            when ffmpeg is on the PATH).
+
+        Returns
+        -------
+        acroplan.core.animation.Animation
+            Its ``path`` (``None`` when kept in memory), ``frames`` and ``fps``; shown inline in a
+            notebook.
+
+        Raises
+        ------
+        InvalidInputError
+            The result has no planned segments, or the system's family draws no animation.
+        """
+        from .animation import animate_result
+        from .family import family_of
+
+        if not self.segments:
+            raise InvalidInputError("result", "has no planned segments to animate", "plan a motion first")
+        fam = family_of(self.system)
+        if fam is None or fam.animate is None:
+            raise InvalidInputError("system", f"{type(self.system).__name__} has no drawing (its family offers no "
+                                    "animate hook)", "draw it yourself from result.sample()")
+        return animate_result(self, fam.animate, path, **kwargs)
 
     def to_pandas(self, per_segment: int = 200):
         """A dense sample as a pandas DataFrame: columns ``t``, the states and the inputs, and

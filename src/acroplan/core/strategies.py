@@ -33,6 +33,8 @@ from .basis import InputBasis
 from .conditions import linear_conditions
 from .continuation import solve_segment
 from .errors import InvalidInputError
+from .family import prepare
+from .progress import note
 from .limits import COMPLIANCE_TOL, Limits, solve_with_limits, violation
 from .result import SegmentResult
 from .status import Status
@@ -155,6 +157,7 @@ def register_strategy(strategy: Strategy, *, replace: bool = False) -> Strategy:
 
 def resolve_strategy(method, system: ControlAffineSystem) -> Strategy:
     """The strategy ``method`` names for ``system`` (a name, ``"auto"``, an instance or a subclass)."""
+    prepare(system)  # the system's family registers its strategies (core.family.Family.setup)
     if isinstance(method, Strategy):
         strategy = method
     elif isinstance(method, type) and issubclass(method, Strategy):
@@ -234,7 +237,8 @@ def run_stages(stages: Iterable[Callable[[], IntervalOutcome | None]]) -> Interv
     """Try ``stages`` in order; the first success wins, and the evaluations the failed stages spent
     are charged to its first piece. A stage may return ``None`` (skipped)."""
     spent, reasons, last = 0, [], None
-    for stage in stages:
+    for k, stage in enumerate(stages):
+        note("guesses", k + 1, detail="tried")  # (core.progress: nothing unless shown)
         out = stage()
         if out is None:
             continue

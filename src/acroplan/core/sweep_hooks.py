@@ -28,6 +28,7 @@ import math
 from typing import Any, Callable, Mapping
 
 from .errors import InvalidInputError
+from .family import prepare, prepare_all
 
 __all__ = ["Derived", "DERIVED", "register_derived", "derived_value", "ReachHook", "register_reach", "reach_hook_of",
            "FACTORIES", "register_factory", "factory_name", "resolve_factory"]
@@ -133,6 +134,7 @@ def register_reach(system_type: type, state: str, fn: Callable) -> None:
 
 def reach_hook_of(system) -> ReachHook | None:
     """The :class:`ReachHook` registered for the system's type (or a base of it), or ``None``."""
+    prepare(system)
     for cls in type(system).__mro__:
         hook = REACH.get(cls)
         if hook is not None:
@@ -189,6 +191,8 @@ def resolve_factory(name: str, given: Mapping[str, Callable] | None = None) -> C
         Naming ``base.factory`` when neither knows the name.
     """
     given = dict(given or {})
+    if name not in given and name not in FACTORIES:
+        prepare_all()  # the families register their factories (core.family.Family.setup)
     fn: Any = given.get(name, FACTORIES.get(name))
     if fn is None:
         raise InvalidInputError("base.factory", f"names {name!r}, which is neither a registered factory "

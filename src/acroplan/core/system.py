@@ -43,6 +43,8 @@ from typing import Any, Callable, ClassVar, Hashable
 import numpy as np
 import sympy as sp
 
+from .family import prepare, system_classes
+
 __all__ = ["ControlAffineSystem", "Infeasibility", "register_torque_model", "TORQUE_MODELS", "torque_model_of",
            "joint_inputs"]
 
@@ -316,7 +318,9 @@ class ControlAffineSystem(abc.ABC):
         d = self.diff(y0, x1)
         return lambda tau: self.retract(y0, tau * d)
 
-    #: the name of the family's own independent check (:meth:`family_errors`), for messages
+    #: the name of the family's own independent check (:meth:`family_errors`), for messages; empty
+    #: when the family cannot run it here (a body's Pinocchio check without Pinocchio): plans are
+    #: then re-simulated by DOP853 and ``verification`` says ``"ode"``
     family_check: ClassVar[str] = ""
 
     def family_errors(self, x0, segments):
@@ -429,6 +433,7 @@ class ControlAffineSystem(abc.ABC):
         :meth:`PlanResult.effort <acroplan.core.result.PlanResult.effort>`, ``objective="torque"``
         and ``tau_max`` (:mod:`acroplan.core.optimal`).
         """
+        prepare(self)  # the family registers its torque model (core.family.Family.setup)
         for cls in type(self).__mro__:
             factory = TORQUE_MODELS.get(cls)
             if factory is not None:
@@ -451,6 +456,8 @@ class ControlAffineSystem(abc.ABC):
 
         if cls is ControlAffineSystem:
             kind = data.get("type") if isinstance(data, dict) else None
+            if kind not in _TYPES:
+                system_classes()  # the registered families' classes, imported
             if kind not in _TYPES:
                 raise InvalidInputError("system.type", f"unknown system type {kind!r}",
                                         f"known types are {sorted(_TYPES)} (import the family first)")

@@ -17,6 +17,7 @@ from scipy.integrate import solve_ivp
 
 
 from . import budget
+from .progress import note
 from .system import ControlAffineSystem
 
 __all__ = ["simulate_segment", "verify_plan", "resolve_verify", "check_name", "RTOL", "ATOL", "VERIFY_TOL", "VERIFY_RTOL", "VERIFY_METHODS"]
@@ -130,6 +131,7 @@ def verify_plan(system: ControlAffineSystem, x0, segments, method: str = "ode"):
                 err = float("inf")
         seg = dataclasses.replace(seg, verified_error=err if np.isfinite(err) else float("inf"))
         checked.append(seg)
+        note("independent check", k + 1, len(segments))  # (core.progress: nothing unless shown)
         scale += max(float(np.max(np.abs(seg.start))), float(np.max(np.abs(seg.target))), 1.0)
         if bad is None:
             allowed = VERIFY_TOL + VERIFY_RTOL * scale
@@ -155,7 +157,9 @@ def resolve_verify(system: ControlAffineSystem, verify) -> str | None:
     """
     from .errors import InvalidInputError
 
-    has_own = type(system).family_errors is not ControlAffineSystem.family_errors
+    # the family's own check, when it has one and can run it here (a body's Pinocchio check without
+    # Pinocchio installed is the DOP853 re-simulation, and is labelled so: "ode")
+    has_own = type(system).family_errors is not ControlAffineSystem.family_errors and bool(system.family_check)
     if verify is True:
         return "family" if has_own else "ode"
     if verify is False:
@@ -163,6 +167,8 @@ def resolve_verify(system: ControlAffineSystem, verify) -> str | None:
     if not isinstance(verify, str) or verify not in VERIFY_METHODS:
         raise InvalidInputError("verify", f"must be True or False, or \"family\" or \"ode\", got {verify!r:.80}",
                                 "give True (the family's own independent check), \"ode\" or False")
+    if verify == "family" and not has_own and type(system).family_errors is not ControlAffineSystem.family_errors:
+        return "ode"  # the family's check falls back on the re-simulation: say so
     if verify == "family" and not has_own:
         raise InvalidInputError("verify", f"\"family\" needs a check of the family's own, which "
                                 f"{type(system).__name__} does not provide", "use True or \"ode\" (the DOP853 "

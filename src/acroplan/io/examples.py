@@ -22,9 +22,13 @@ import tomllib
 from importlib import resources
 from pathlib import Path
 
+from typing import TYPE_CHECKING
+
 from ..core.errors import InvalidInputError
 from ..core.family import Example, families
-from .problem import Problem, Simulation, parse_problem, parse_simulation, with_options
+
+if TYPE_CHECKING:  # the problem readers import the families' numerics: imported where an example is read
+    from .problem import Problem, Simulation
 
 __all__ = ["names", "load", "load_simulation", "robot", "text", "files", "command", "example"]
 
@@ -81,6 +85,8 @@ def command(name: str) -> str:
 def load(name: str, *, options: dict | None = None) -> Problem:
     """The example as a validated :class:`~acroplan.io.problem.Problem`; ``options`` are written over
     its ``[options]`` table first (``{"objective": "energy"}``: the command line's ``--objective``)."""
+    from .problem import parse_problem, with_options
+
     data = with_options(tomllib.loads(text(name)), options)
     if command(name) == "nilpotent":
         raise InvalidInputError("example", f"{name!r} is a nilpotentization problem",
@@ -93,6 +99,8 @@ def load(name: str, *, options: dict | None = None) -> Problem:
 
 def load_simulation(name: str) -> Simulation:
     """The example's ``[simulate]`` table as a validated :class:`~acroplan.io.problem.Simulation`."""
+    from .problem import parse_simulation
+
     data = tomllib.loads(text(name))
     if "simulate" not in data:
         raise InvalidInputError("example", f"{name!r} has no [simulate] table",

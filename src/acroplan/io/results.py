@@ -13,7 +13,6 @@ from ..core.errors import InvalidInputError
 from ..core.limits import Limits
 from ..core.result import PlanResult, SegmentResult, Status
 from ..core.system import ControlAffineSystem
-from ..core.family import families
 
 __all__ = ["load_result", "result_from_dict"]
 
@@ -45,7 +44,6 @@ def load_result(path) -> PlanResult:
 def result_from_dict(data: dict) -> PlanResult:
     """The inverse of :meth:`PlanResult.to_dict`."""
     try:
-        families()  # every registered family's system types are known to from_dict
         system = ControlAffineSystem.from_dict(data["system"])
         names = system.state_names
         wp = data["waypoints"]

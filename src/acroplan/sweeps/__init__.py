@@ -31,6 +31,7 @@ value but ``seconds`` depends only on the point: a sweep gives the same numbers,
 any executor, in any chunking of the work, and when resumed.
 """
 
+from ..core.family import prepare_all
 from ..core.sweep_hooks import DERIVED, register_derived, register_factory
 from .axes import DEFAULT_CHUNK, MAX_CHUNK_SIZE, MAX_CHUNKS, MAX_POINTS
 from .compute import run_chunk, warm_worker
@@ -44,3 +45,5 @@ __all__ = ["sweep", "Sweep", "SweepPoint", "PointStatus", "STATUS_CODES", "MISSI
            "register_derived", "register_factory", "message_code", "message_template", "canonical_json",
            "resolve_field", "from_definition", "run_chunk", "warm_worker", "TORQUE_SAMPLES", "DEFAULT_CHUNK",
            "MAX_POINTS", "MAX_CHUNKS", "MAX_CHUNK_SIZE"]
+
+prepare_all()  # what the families offer sweeps (derived quantities, factories) is registered

@@ -19,6 +19,7 @@ import numpy as np
 
 from ..core import backend
 from ..core.errors import InvalidInputError
+from ..core.progress import Progress
 from ..core.sweep_hooks import derived_value
 from ..planning import PlanRequest, warm_up
 from ..planning import plan as _plan
@@ -74,13 +75,16 @@ def _point(sw, vals, data, j, cache) -> tuple[PointStatus, str]:
         if crash:
             return PointStatus.NOT_CONVERGED, crash
         return (PointStatus.INFEASIBLE, f"infeasible: {proof}") if proof else (PointStatus.SUCCESS, "success: derived")
+    quiet = Progress(enabled=False)  # a point reports nothing (the sweep shows its points)
     try:
-        res = _plan(system, **kw)
+        with quiet.active():
+            res = _plan(system, **{**kw, "progress": False})
     except InvalidInputError as e:
         return PointStatus.INVALID, f"invalid: {e}"
     except Exception as e:  # noqa: BLE001
         return PointStatus.NOT_CONVERGED, _crash(e, "planning")
-    _planned(res, data, j)
+    with quiet.active():
+        _planned(res, data, j)
     return PointStatus(res.status.value), res.message
 
 

@@ -16,11 +16,30 @@
 * :mod:`~.plots`, :mod:`~.drawing`: its figures and animation.
 """
 
-from . import effort  # noqa: F401  (registers the torque model and the optimal strategies' starts)
-from . import flat  # noqa: F401  (registers the "flat" strategy)
-from . import sweeping  # noqa: F401  (registers least_P0, most_P0, plan.reach and a factory for sweeps)
-from .interval import reachable_interval
-from .model import Acrobot, PhysicalParameters
-from .reach import Reach, reachable_set
+from __future__ import annotations
 
-__all__ = ["Acrobot", "PhysicalParameters", "Reach", "reachable_set", "reachable_interval"]
+import importlib
+
+#: The public names and their modules, loaded on first use (PEP 562): the family's descriptor
+#: (``family.py``) is imported without the numerics; the first name used also imports what the
+#: family registers (its ``setup``: strategies, torque models, ...).
+_NAMES = {"Acrobot": "model", "PhysicalParameters": "model", "Reach": "reach", "reachable_set": "reach",
+          "reachable_interval": "interval"}
+
+__all__ = list(_NAMES)
+
+
+def __getattr__(name: str):
+    if name not in _NAMES:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(f"{__name__}.{_NAMES[name]}"), name)
+    from .family import FAMILY
+
+    for module in FAMILY.setup:  # what the family registers (core.family.prepare)
+        importlib.import_module(module)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))

@@ -18,9 +18,9 @@ import warnings
 
 import numpy as np
 
-from ...core.animation import write_frames
+from ...core.animation import auto_speed, write_frames
 
-__all__ = ["Geometry", "geometry_of", "pose", "animate", "strobe", "MAX_FRAMES"]
+__all__ = ["Geometry", "geometry_of", "pose", "animate", "animate_result", "strobe", "MAX_FRAMES"]
 
 #: Frame cap: a longer motion is played faster, with a warning, rather than filling the disk.
 MAX_FRAMES = 1500
@@ -88,7 +88,7 @@ def _frames(t, speed, fps, max_frames):
     return np.linspace(t[0], t[-1], n)
 
 
-def animate(t, theta, phi, u, g: Geometry, path, *, speed: float = 1.0, fps: int = 25, trail: float = 1.0,
+def animate(t, theta, phi, u, g: Geometry, path, *, speed: float | None = None, fps: int = 25, trail: float = 1.0,
             max_frames: int = MAX_FRAMES, mp4_path=None):
     """Write an animated GIF (and an MP4 when ffmpeg is present) of the motion.
 
@@ -98,8 +98,9 @@ def animate(t, theta, phi, u, g: Geometry, path, *, speed: float = 1.0, fps: int
         The sampled motion (``trajectory.csv``), t increasing.
     g : Geometry
     path : path of the GIF
-    speed : float
-        Playback speed (1 = real time).
+    speed : float, optional
+        Playback speed (1 = real time; default: real time, or slower for a motion shorter than 3 s,
+        :func:`~acroplan.core.animation.auto_speed`).
     fps : int
     trail : float
         Seconds of fading trail behind the link ends.
@@ -117,6 +118,7 @@ def animate(t, theta, phi, u, g: Geometry, path, *, speed: float = 1.0, fps: int
     from matplotlib.figure import Figure
 
     t = np.asarray(t, dtype=float)
+    speed = auto_speed(t[-1] - t[0], speed)
     tf = _frames(t, speed, fps, max_frames)
     th = np.interp(tf, t, theta)
     ph = np.interp(tf, t, phi)
@@ -145,7 +147,6 @@ def animate(t, theta, phi, u, g: Geometry, path, *, speed: float = 1.0, fps: int
     ax.plot([0], [0], "+", color="0.4", ms=10)
     tr_t = ax.scatter([], [], s=6, color="C0")
     tr_l = ax.scatter([], [], s=6, color="C1")
-    text = ax.text(0.02, 0.98, "", transform=ax.transAxes, va="top", family="monospace", fontsize=11)
     ax.legend(loc="lower right", fontsize=9)
     n_trail = max(1, int(round(trail * fps / speed)))
 
@@ -163,11 +164,28 @@ def animate(t, theta, phi, u, g: Geometry, path, *, speed: float = 1.0, fps: int
             rgba[:, 3] = alpha
             sc.set_facecolors(rgba)
             sc.set_edgecolors("none")
-        text.set_text(f"t = {tf[i]:7.3f} s\nθ = {th[i]:7.3f} rad\nφ = {ph[i]:7.3f} rad\nu = {uf[i]:7.3f} rad/s")
-        return torso, leg, joint, head, tr_t, tr_l, text
+        return torso, leg, joint, head, tr_t, tr_l
 
-    return write_frames(fig, (torso, leg, joint, head, tr_t, tr_l, text), draw, len(tf), path, fps=fps,
-                        mp4_path=mp4_path)
+    rate = "" if speed == 1 else f"\n(x{speed:.3g} speed)"
+
+    def caption(i):
+        return f"t = {tf[i]:7.3f} s\nθ = {th[i]:7.3f} rad\nφ = {ph[i]:7.3f} rad\nu = {uf[i]:7.3f} rad/s" + rate
+
+    return write_frames(fig, (torso, leg, joint, head, tr_t, tr_l), draw, len(tf), path, fps=fps,
+                        mp4_path=mp4_path, caption=caption, caption_at=(0.15, 0.045), caption_size=10)
+
+
+def animate_result(result, path, *, speed: float | None = None, fps: int = 25, trail: float = 1.0,
+                   max_frames: int = MAX_FRAMES, mp4_path=None) -> int:
+    """:func:`animate` of a plan of the acrobot (the family's ``animate`` hook, behind
+    :meth:`PlanResult.animate <acroplan.core.result.PlanResult.animate>`): the states at the frame
+    times exactly, from the result (:meth:`~acroplan.core.result.PlanResult.evaluate`)."""
+    t0, t1 = float(result.times[0]), float(result.times[-1])
+    s = auto_speed(t1 - t0, speed)
+    tf = _frames(np.array([t0, t1]), s, fps, max_frames)
+    ev = result.evaluate(tf, effort=False)
+    return animate(tf, ev.theta, ev.phi, ev.u, geometry_of(result.system.to_dict()), path, speed=s, fps=fps,
+                   trail=trail, max_frames=max_frames, mp4_path=mp4_path)
 
 
 def strobe(t, theta, phi, g: Geometry, *, poses: int = 9, ax=None):

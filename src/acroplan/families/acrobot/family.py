@@ -3,11 +3,17 @@ reachable sets, bundled examples and drawings."""
 
 from __future__ import annotations
 
-from ...core.family import Example, Family
-from . import problem
-from .model import Acrobot
+from ...core.family import Example, Family, hook
 
-__all__ = ["FAMILY"]
+__all__ = ["FAMILY", "PHYSICAL_KEYS", "LUMPED_KEYS", "ALIASES"]
+
+#: the keys of [robot]: the physical body, or the lumped parameters of the text's eq. (3)
+PHYSICAL_KEYS = ("torso_mass", "leg_mass", "torso_inertia", "leg_inertia", "torso_length", "leg_length",
+                 "angular_momentum")
+LUMPED_KEYS = ("M1", "A1", "M2", "A2", "P0")
+#: the physical keys' clearer names (what they are: centre of mass to the joint)
+ALIASES = {"torso_com_to_joint": "torso_length", "leg_com_to_joint": "leg_length"}
+_PROBLEM = f"{__package__}.problem"
 
 
 def _reach_figure(prob, rows):
@@ -45,6 +51,12 @@ def _draw(folder, solution, gif, strobe_path, mp4, *, speed, fps, load):
     return n
 
 
+def _animate(result, path, **kw):
+    from .drawing import animate_result
+
+    return animate_result(result, path, **kw)
+
+
 def _least_momentum(*args, **kwargs):
     from .momentum import least_momentum
 
@@ -63,14 +75,16 @@ def _example(name, description, command="plan"):
 
 FAMILY = Family(
     name="acrobot",
-    system_types=(Acrobot,),
+    system_types=(f"{__package__}.model:Acrobot",),
+    # the torque model and the optimal strategies' starts, the "flat" strategy, the sweep hooks
+    setup=(f"{__package__}.effort", f"{__package__}.flat", f"{__package__}.sweeping"),
     tables=("robot",),
-    reads=problem.reads,
-    read=problem.read,
-    table_keys=problem.PHYSICAL_KEYS + problem.LUMPED_KEYS + tuple(problem.ALIASES),
-    reach=problem.reach_report,
+    reads=hook(f"{_PROBLEM}:reads"),
+    read=hook(f"{_PROBLEM}:read"),
+    table_keys=PHYSICAL_KEYS + LUMPED_KEYS + tuple(ALIASES),
+    reach=hook(f"{_PROBLEM}:reach_report"),
     reach_figure=_reach_figure,
-    two_link=problem.two_link,
+    two_link=hook(f"{_PROBLEM}:two_link"),
     least_momentum=_least_momentum,
     somersault_table=_somersault_table,
     examples={
@@ -82,6 +96,7 @@ FAMILY = Family(
                                          "v1, v2 (acroplan nilpotent)", "nilpotent"),
     },
     draw=_draw,
+    animate=_animate,
     # the DOP853 re-simulation: 10 ms do not matter on the command line, and it is the check the
     # text's scheme is judged by
     cli_verify="ode",

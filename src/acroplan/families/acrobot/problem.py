@@ -13,16 +13,12 @@ import math
 
 from ...core.errors import InvalidInputError
 from ...core.validate import BODY_VALUES, MAX_ANGLE, MAX_BODY, MAX_TIME, MIN_BODY, check_keys, number, numbers, short
+from .family import ALIASES, LUMPED_KEYS, PHYSICAL_KEYS  # the keys, named by the family's descriptor
 from .model import Acrobot
 from .reach import reachable_set
 
 __all__ = ["reachable_set", "parse_robot", "parse_nilpotent", "read", "read_limits", "reach_report", "PHYSICAL_KEYS", "LUMPED_KEYS", "LIMIT_KEYS"]
 
-PHYSICAL_KEYS = ("torso_mass", "leg_mass", "torso_inertia", "leg_inertia", "torso_length", "leg_length",
-                 "angular_momentum")
-LUMPED_KEYS = ("M1", "A1", "M2", "A2", "P0")
-#: the physical keys' clearer names (what they are: centre of mass to the joint)
-ALIASES = {"torso_com_to_joint": "torso_length", "leg_com_to_joint": "leg_length"}
 #: the acrobot's [limits]: plan() keywords
 LIMIT_KEYS = ("phi_min", "phi_max", "u_max")
 

@@ -18,17 +18,32 @@
   rates as data (:func:`spatial_joint_limits`, ``data/limits_3d.toml``).
 """
 
-from .body import Part, SagittalBody, combine
-from .deleva import de_leva_table, from_height_mass
-from .examples import PlatformDive, flight_time, platform_dive, platform_dive_pike
-from .limits import (POSITIONS, Position, hip_rate_literature, hip_torque_literature, human_data, human_limits,
-                     position)
-from .momentum import LeastMomentumTable, least_momentum_table
-from .spatial_body import spatial_from_height_mass, spatial_from_yeadon, spatial_joint_limits
-from .yeadon_body import from_yeadon, load_human, sample_measurements
+from __future__ import annotations
 
-__all__ = ["Part", "SagittalBody", "combine", "from_yeadon", "load_human", "sample_measurements", "from_height_mass",
-           "de_leva_table", "human_limits", "human_data", "hip_rate_literature", "hip_torque_literature", "Position",
-           "POSITIONS", "position",
-           "flight_time", "PlatformDive", "platform_dive", "platform_dive_pike", "LeastMomentumTable",
-           "least_momentum_table", "spatial_from_yeadon", "spatial_from_height_mass", "spatial_joint_limits"]
+import importlib
+
+#: The public names and their modules, loaded on first use (PEP 562): the family's descriptor
+#: (``family.py``) is imported without the numerics; the first name used also imports what the
+#: family registers (its ``setup``: strategies, torque models, ...).
+_NAMES = {"Part": "body", "SagittalBody": "body", "combine": "body", "from_yeadon": "yeadon_body",
+          "load_human": "yeadon_body", "sample_measurements": "yeadon_body", "from_height_mass": "deleva",
+          "de_leva_table": "deleva", "human_limits": "limits", "human_data": "limits",
+          "hip_rate_literature": "limits", "hip_torque_literature": "limits", "Position": "limits",
+          "POSITIONS": "limits", "position": "limits", "flight_time": "examples", "PlatformDive": "examples",
+          "platform_dive": "examples", "platform_dive_pike": "examples", "LeastMomentumTable": "momentum",
+          "least_momentum_table": "momentum", "spatial_from_yeadon": "spatial_body",
+          "spatial_from_height_mass": "spatial_body", "spatial_joint_limits": "spatial_body"}
+
+__all__ = list(_NAMES)
+
+
+def __getattr__(name: str):
+    if name not in _NAMES:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(f"{__name__}.{_NAMES[name]}"), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))

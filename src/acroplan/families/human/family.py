@@ -5,19 +5,22 @@ reachable sets and drawings are those families'."""
 
 from __future__ import annotations
 
-from ...core.family import Example, Family
-from . import problem
+from ...core.family import Example, Family, hook
 
-__all__ = ["FAMILY"]
+__all__ = ["FAMILY", "HUMAN_KEYS"]
+
+#: the keys of a human body in [body]
+HUMAN_KEYS = ("yeadon", "height", "mass", "sex", "split", "position", "knee_flexion", "shoulder_flexion", "model",
+              "joints", "posture")
 
 FAMILY = Family(
     name="human",
     system_types=(),
     priority=20,
     tables=("body",),
-    reads=problem.reads,
-    read=problem.read,
-    table_keys=problem.HUMAN_KEYS,
+    reads=hook(f"{__package__}.problem:reads"),
+    read=hook(f"{__package__}.problem:read"),
+    table_keys=HUMAN_KEYS,
     examples={
         "platform-dive": Example(__package__, "data/platform-dive.toml", "human body (Yeadon's male1, split at the "
                                  "hips): 10 m platform, 3.5 forward somersaults in pike, energy-optimal within a "

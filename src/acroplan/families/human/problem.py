@@ -15,15 +15,13 @@ from ...core.validate import BODY_VALUES, MAX_ANGLE, MAX_BODY, check_keys, choic
 from ..acrobot.problem import read_limits as acrobot_limits
 from ..planar.model import PlanarBody
 from ..tree.problem import apply_limits
+from .family import HUMAN_KEYS  # the keys, named by the family's descriptor
 from .deleva import from_height_mass
 from .limits import POSITIONS, human_limits, position
 from .yeadon_body import MAX_MEASUREMENT_BYTES, SAMPLES, from_yeadon, sample_measurements
 
 __all__ = ["reads", "read", "HUMAN_KEYS", "SPLITS"]
 
-#: the keys of a human body in [body]
-HUMAN_KEYS = ("yeadon", "height", "mass", "sex", "split", "position", "knee_flexion", "shoulder_flexion", "model",
-              "joints", "posture")
 #: the keys of the planar human only, and of the 3-D human only
 PLANAR_KEYS = ("split", "position", "knee_flexion", "shoulder_flexion")
 SPATIAL_KEYS = ("joints", "posture")

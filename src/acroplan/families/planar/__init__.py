@@ -13,14 +13,32 @@
   :func:`random_body`.
 """
 
-from ...core.optimal import register_starts
-from .effort import PlanarTorque, inverse_dynamics, optimal_starts
-from .links import Link, LinkTable
-from .model import PlanarBody, momentum_from_definition
-from .urdf import read_link_table, read_urdf, to_urdf
-from .zoo import diver_with_arms, planar_space_robot, random_body, three_rods
+from __future__ import annotations
 
-register_starts(PlanarBody, optimal_starts)  # the optimal strategies' starts (effort.optimal_starts)
+import importlib
 
-__all__ = ["Link", "LinkTable", "PlanarBody", "momentum_from_definition", "read_link_table", "read_urdf", "to_urdf",
-           "three_rods", "diver_with_arms", "planar_space_robot", "random_body", "PlanarTorque", "inverse_dynamics"]
+#: The public names and their modules, loaded on first use (PEP 562): the family's descriptor
+#: (``family.py``) is imported without the numerics; the first name used also imports what the
+#: family registers (its ``setup``: strategies, torque models, ...).
+_NAMES = {"Link": "links", "LinkTable": "links", "PlanarBody": "model", "momentum_from_definition": "model",
+          "read_link_table": "urdf", "read_urdf": "urdf", "to_urdf": "urdf", "three_rods": "zoo",
+          "diver_with_arms": "zoo", "planar_space_robot": "zoo", "random_body": "zoo", "PlanarTorque": "effort",
+          "inverse_dynamics": "effort"}
+
+__all__ = list(_NAMES)
+
+
+def __getattr__(name: str):
+    if name not in _NAMES:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(f"{__name__}.{_NAMES[name]}"), name)
+    from .family import FAMILY
+
+    for module in FAMILY.setup:  # what the family registers (core.family.prepare)
+        importlib.import_module(module)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))

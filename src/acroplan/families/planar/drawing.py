@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...core.animation import write_frames
+from ...core.animation import auto_speed, states_at, write_frames
 
 __all__ = ["strobe", "save_strobe", "animate", "link_segments", "conventions_figure", "MAX_FRAMES"]
 
@@ -50,7 +50,8 @@ def link_segments(body, state) -> list[tuple[np.ndarray, np.ndarray, int]]:
     return out
 
 
-def strobe(result, *, poses: int = 7, ax=None, spacing: float | None = None, title: str | None = None):
+def strobe(result, *, poses: int = 7, ax=None, spacing: float | None = None, title: str | None = None,
+           samples=None):
     """A strobe of a planned motion: the body at ``poses`` equally spaced times, side by side.
 
     The root link is drawn thicker, its frame origin marked with a square; joints are circles; a
@@ -77,7 +78,7 @@ def strobe(result, *, poses: int = 7, ax=None, spacing: float | None = None, tit
 
     body = result.system
     t = np.linspace(result.times[0], result.times[-1], poses)
-    S = result.evaluate(t).states
+    S = states_at(result, t, samples)
     segs = [link_segments(body, S[:, k]) for k in range(poses)]
     ext = max(float(np.max(np.abs(np.array([p for s in sg for p in s[:2]])))) for sg in segs)
     spacing = 2.3 * ext if spacing is None else spacing
@@ -133,7 +134,8 @@ def _frame_times(t0: float, t1: float, speed: float, fps: int, max_frames: int) 
     return np.linspace(t0, t1, n)
 
 
-def animate(result, path, *, speed: float = 1.0, fps: int = 25, max_frames: int = MAX_FRAMES, mp4_path=None) -> int:
+def animate(result, path, *, speed: float | None = None, fps: int = 25, max_frames: int = MAX_FRAMES,
+            mp4_path=None, samples=None) -> int:
     """Write an animated GIF (and an MP4 when ffmpeg is on the PATH) of a planar body's motion.
 
     The states at the frame times come from the result itself (:meth:`PlanResult.evaluate
@@ -147,13 +149,17 @@ def animate(result, path, *, speed: float = 1.0, fps: int = 25, max_frames: int 
     result : PlanResult
         A plan or simulation of a :class:`~acroplan.families.planar.model.PlanarBody`.
     path : path of the GIF
-    speed : float
-        Playback speed (1 = real time), > 0.
+    speed : float, optional
+        Playback speed (1 = real time), > 0; default: real time, or slower for a motion shorter than
+        3 s (:func:`~acroplan.core.animation.auto_speed`).
     fps : int
         Frames per second.
     max_frames : int
         A motion needing more frames is played faster (a warning says so).
     mp4_path : path, optional
+    samples : (t, X), optional
+        Draw from these sampled states (an output folder's ``trajectory.csv``:
+        :func:`~acroplan.core.animation.samples_from_csv`) instead of evaluating the result.
 
     Returns
     -------
@@ -165,8 +171,9 @@ def animate(result, path, *, speed: float = 1.0, fps: int = 25, max_frames: int 
 
     body = result.system
     L = body.links
+    speed = auto_speed(float(result.times[-1] - result.times[0]), speed)
     tf = _frame_times(float(result.times[0]), float(result.times[-1]), speed, fps, max_frames)
-    S = np.asarray(result.evaluate(tf, **_no_effort(result)).states)
+    S = states_at(result, tf, samples)
     frames = [link_segments(body, S[:, k]) for k in range(tf.size)]
     joints_at = [body.joint_positions(S[:, k]) for k in range(tf.size)]
     ext = 1.1 * max(float(np.max(np.abs(np.array([p for sg in frames for s in sg for p in s[:2]])))), 1e-9)
@@ -190,7 +197,6 @@ def animate(result, path, *, speed: float = 1.0, fps: int = 25, max_frames: int 
     arrow, = ax.plot([], [], "-", color="tab:red", lw=1.5, label="theta (root's x axis)", zorder=4)
     ax.plot([0], [0], "+", color="0.4", ms=10)
     names = body.state_names
-    text = ax.text(0.02, 0.98, "", transform=ax.transAxes, va="top", family="monospace", fontsize=9)
     ax.legend(loc="lower right", fontsize=8)
 
     def draw(k):
@@ -202,19 +208,16 @@ def animate(result, path, *, speed: float = 1.0, fps: int = 25, max_frames: int 
         th = S[0, k]
         arrow.set_data([J[root, 0], J[root, 0] + 0.3 * ext * np.cos(th)],
                        [J[root, 1], J[root, 1] + 0.3 * ext * np.sin(th)])
-        text.set_text(f"t = {tf[k]:8.3f} s\n" + "\n".join(f"{n:>{max(map(len, names))}} = {S[i, k]:7.3f}"
-                                                          for i, n in enumerate(names)))
-        return (*lines, joint_dots, root_dot, arrow, text)
+        return (*lines, joint_dots, root_dot, arrow)
 
-    return write_frames(fig, (*lines, joint_dots, root_dot, arrow, text), draw, int(tf.size), path, fps=fps,
-                        mp4_path=mp4_path)
+    width = max(map(len, names))
+    rate = "" if speed == 1 else f"\n(x{speed:.3g} speed)"
 
+    def caption(k):
+        return f"t = {tf[k]:8.3f} s\n" + "\n".join(f"{n:>{width}} = {S[i, k]:7.3f}" for i, n in enumerate(names)) + rate
 
-def _no_effort(result) -> dict:
-    """``effort=False`` for :meth:`PlanResult.evaluate` where it takes it (no torques needed to draw)."""
-    import inspect
-
-    return {"effort": False} if "effort" in inspect.signature(result.evaluate).parameters else {}
+    return write_frames(fig, (*lines, joint_dots, root_dot, arrow), draw, int(tf.size), path, fps=fps,
+                        mp4_path=mp4_path, caption=caption, caption_at=(0.15, 0.045), caption_size=9)
 
 
 def conventions_figure():

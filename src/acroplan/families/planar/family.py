@@ -3,21 +3,24 @@
 
 from __future__ import annotations
 
-from ...core.family import Example, Family
-from ..tree.compile_cost import compile_seconds
-from . import problem
-from .model import PlanarBody
+from ...core.family import Example, Family, hook
 
-__all__ = ["FAMILY"]
+__all__ = ["FAMILY", "BODY_KEYS"]
+
+#: the keys of [body] a planar body reads
+BODY_KEYS = ("urdf", "link", "angular_momentum")
+_PROBLEM = f"{__package__}.problem"
 
 
 def _draw(folder, solution, gif, strobe_path, mp4, *, speed, fps, load):
     """A planar body's animation and strobe, from the exact result ``solution.json`` records."""
+    from ...core.animation import samples_from_csv
     from .drawing import animate, strobe
 
     result = load()
-    n = animate(result, gif, speed=speed, fps=fps, mp4_path=mp4)
-    fig = strobe(result, poses=9, title=f"{result.system.n_links} links: theta {result.waypoints[0][0]:.3g} -> "
+    samples = samples_from_csv(folder / "trajectory.csv", result.system.state_names)  # (nothing to compile)
+    n = animate(result, gif, speed=speed, fps=fps, mp4_path=mp4, samples=samples)
+    fig = strobe(result, poses=9, samples=samples, title=f"{result.system.n_links} links: theta {result.waypoints[0][0]:.3g} -> "
                  f"{result.waypoints[-1][0]:.3g} rad in {result.times[-1] - result.times[0]:.3g} s")
     fig.savefig(strobe_path, dpi=120)
     return n
@@ -29,21 +32,28 @@ def _animate(result, path, **kw):
     return animate(result, path, **kw)
 
 
+def _compile_seconds(body, n):
+    from ..tree.compile_cost import compile_seconds
+
+    return compile_seconds("planar", body, n)
+
+
 def _example(name, description, command="plan", companions=()):
     return Example(__package__, f"data/{name}.toml", description, command, tuple(companions))
 
 
 FAMILY = Family(
     name="planar",
-    system_types=(PlanarBody,),
+    system_types=(f"{__package__}.model:PlanarBody",),
+    setup=(f"{__package__}.registry",),  # the optimal strategies' starts
     priority=0,
     tables=("body",),
-    reads=problem.reads,
+    reads=hook(f"{_PROBLEM}:reads"),
     limits_in_body=True,
-    read=problem.read,
-    table_keys=problem.BODY_KEYS,
-    reach=problem.reach_report,
-    two_link=problem.two_link,
+    read=hook(f"{_PROBLEM}:read"),
+    table_keys=BODY_KEYS,
+    reach=hook(f"{_PROBLEM}:reach_report"),
+    two_link=hook(f"{_PROBLEM}:two_link"),
     examples={
         "diver-somersault": _example("diver-somersault", "planar body (URDF): a diver with arms turns one somersault "
                                      "in pike with an arm sweep, P0 = 36, 4 segments, spline conditions",
@@ -58,5 +68,5 @@ FAMILY = Family(
     draw=_draw,
     animate=_animate,
     describe=lambda body: f"a planar body of {body.n_links} links",
-    compile_seconds=lambda body, n: compile_seconds("planar", body, n),
+    compile_seconds=_compile_seconds,
 )

@@ -619,8 +619,8 @@ class PlanarBody(ControlAffineSystem):
         """The name of :meth:`family_errors`' check (``plan(verify=True)`` reports it)."""
         try:
             import pinocchio  # noqa: F401
-        except ImportError:
-            return "scipy DOP853 re-simulation (Pinocchio is not installed)"
+        except ImportError:  # no check of its own here: plans are re-simulated by DOP853 ("ode")
+            return ""
         return "Pinocchio centroidal simulation"
 
     def family_errors(self, x0, segments):

@@ -15,14 +15,13 @@ from ...core.limits import Limits
 from ...core.validate import BODY_VALUES, MAX_ANGLE, MAX_BODY, MIN_BODY, check_keys, number, pair_field
 from ..acrobot.reach import reachable_set
 from ..tree.problem import link_records, read_tree_body
+from .family import BODY_KEYS  # the keys, named by the family's descriptor
 from .links import Link, LinkTable
 from .model import PlanarBody
 from .urdf import read_link_table
 
 __all__ = ["reads", "read", "links_from_tables", "reach_report", "two_link", "BODY_KEYS", "LINK_KEYS"]
 
-#: the keys of [body] a planar body reads
-BODY_KEYS = ("urdf", "link", "angular_momentum")
 #: the keys of each [[body.link]] (the fields of :class:`~acroplan.families.planar.links.Link`)
 LINK_KEYS = ("name", "parent", "mass", "inertia", "com", "joint", "joint_name", "lower", "upper", "velocity")
 

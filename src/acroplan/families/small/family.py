@@ -5,9 +5,8 @@ examples or drawings (plan them from Python)."""
 from __future__ import annotations
 
 from ...core.family import Family
-from .chained import ChainedForm
-from .unicycle import Unicycle
 
 __all__ = ["FAMILY"]
 
-FAMILY = Family(name="small", system_types=(Unicycle, ChainedForm))
+# the classes by name ("module:Class"): the descriptor imports nothing (core.family.Family)
+FAMILY = Family(name="small", system_types=(f"{__package__}.unicycle:Unicycle", f"{__package__}.chained:ChainedForm"))

@@ -18,15 +18,32 @@
   (:class:`~.effort.SpatialTorque`, registered as the torque model of :class:`SpatialBody`).
 """
 
-from .links import SpatialLink, SpatialLinkTable
-from .model import SpatialBody
-from .effort import SpatialTorque, register as _register_torque
-from .rotations import attitude_states
-from .urdf import read_link_table, read_urdf, to_urdf
-from .biomod import read_biomod
-from .zoo import astronaut, falling_cat, random_body, twisting_diver
+from __future__ import annotations
 
-_register_torque()  # SpatialTorque is the torque model of SpatialBody
+import importlib
 
-__all__ = ["SpatialLink", "SpatialLinkTable", "SpatialBody", "SpatialTorque", "attitude_states", "read_link_table", "read_urdf",
-           "to_urdf", "read_biomod", "astronaut", "falling_cat", "random_body", "twisting_diver"]
+#: The public names and their modules, loaded on first use (PEP 562): the family's descriptor
+#: (``family.py``) is imported without the numerics; the first name used also imports what the
+#: family registers (its ``setup``: strategies, torque models, ...).
+_NAMES = {"SpatialLink": "links", "SpatialLinkTable": "links", "SpatialBody": "model", "SpatialTorque": "effort",
+          "attitude_states": "rotations", "read_link_table": "urdf", "read_urdf": "urdf", "to_urdf": "urdf",
+          "read_biomod": "biomod", "astronaut": "zoo", "falling_cat": "zoo", "random_body": "zoo",
+          "twisting_diver": "zoo"}
+
+__all__ = list(_NAMES)
+
+
+def __getattr__(name: str):
+    if name not in _NAMES:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(f"{__name__}.{_NAMES[name]}"), name)
+    from .family import FAMILY
+
+    for module in FAMILY.setup:  # what the family registers (core.family.prepare)
+        importlib.import_module(module)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))

@@ -20,7 +20,7 @@ import math
 
 import numpy as np
 
-from ...core.animation import write_frames
+from ...core.animation import auto_speed, states_at, write_frames
 from . import rotations as rot
 
 __all__ = ["equivalent_boxes", "draw_body", "strobe", "save_strobe", "attitude_figure", "animate", "MAX_FRAMES"]
@@ -136,9 +136,9 @@ def _setup(ax, scale, center=(0.0, 0.0, 0.0)):
     ax.view_init(elev=18, azim=-60)
 
 
-def _states(result, t):
-    ev = result.evaluate(np.asarray(t, dtype=float))
-    return ev.states.T
+def _states(result, t, samples=None):
+    """The states at ``t``, one row a time (exact, or from ``samples``: core.animation.states_at)."""
+    return states_at(result, t, samples, unit_rows=4).T
 
 
 def _title(body, t=None):
@@ -147,7 +147,7 @@ def _title(body, t=None):
     return head + ("L = 0" if nL == 0 else f"|L| = {nL:.3g} kg m²/s")
 
 
-def strobe(result, *, poses: int = 6, fig=None, title: str | None = None):
+def strobe(result, *, poses: int = 6, fig=None, title: str | None = None, samples=None):
     """The body at ``poses`` equally spaced times of a plan, one 3-D panel each.
 
     Returns
@@ -158,7 +158,7 @@ def strobe(result, *, poses: int = 6, fig=None, title: str | None = None):
 
     body = result.system
     t = np.linspace(result.times[0], result.times[-1], poses)
-    X = _states(result, t)
+    X = _states(result, t, samples)
     scale = _size(body, X)
     fig = fig or Figure(figsize=(2.4 * poses, 2.9))
     for k in range(poses):
@@ -224,21 +224,33 @@ def attitude_figure(result, *, seq: str = "yeadon", samples: int = 400, fig=None
     return fig
 
 
-def animate(result, path, *, fps: int = 20, speed: float = 1.0, dpi: int = 80, title: str | None = None) -> int:
-    """An animated GIF of a plan (module docstring), headless.
+def animate(result, path, *, fps: int = 25, speed: float | None = None, dpi: int = 100, title: str | None = None,
+            max_frames: int = MAX_FRAMES, mp4_path=None, samples=None) -> int:
+    """An animated GIF of a plan (module docstring), headless: 560 px square at the default dpi.
 
     Parameters
     ----------
     result : PlanResult
     path : str or pathlib.Path
     fps : int
-    speed : float
-        Playback speed (2: twice as fast as real time).
+    speed : float, optional
+        Playback speed (2: twice as fast as real time); default: real time, or slower for a motion
+        shorter than 3 s (the cat's 0.5 s turn at 1/6 speed: 76 frames;
+        :func:`~acroplan.core.animation.auto_speed`).
+    dpi : int
+    title : str, optional
+    max_frames : int
+        At most this many frames (a longer motion is played faster).
+    mp4_path : path, optional
+        Also an MP4 when ffmpeg is on the PATH.
+    samples : (t, X), optional
+        Draw from these sampled states (an output folder's ``trajectory.csv``:
+        :func:`~acroplan.core.animation.samples_from_csv`) instead of evaluating the result.
 
     Returns
     -------
     int
-        The number of frames written (at most :data:`MAX_FRAMES`).
+        The number of frames written (at most ``max_frames``).
     """
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
@@ -246,11 +258,12 @@ def animate(result, path, *, fps: int = 20, speed: float = 1.0, dpi: int = 80, t
 
     body = result.system
     T = result.times[-1] - result.times[0]
-    frames = int(min(MAX_FRAMES, max(2, math.ceil(T / speed * fps) + 1)))
+    speed = auto_speed(T, speed)
+    frames = int(min(max_frames, max(2, math.ceil(T / speed * fps) + 1)))
     t = np.linspace(result.times[0], result.times[-1], frames)
-    X = _states(result, t)
+    X = _states(result, t, samples)
     scale = _size(body, X)
-    fig = Figure(figsize=(4.8, 4.8), dpi=dpi)
+    fig = Figure(figsize=(5.6, 5.6), dpi=dpi)
     FigureCanvasAgg(fig)
     ax = fig.add_subplot(1, 1, 1, projection="3d")
     _setup(ax, scale)
@@ -266,7 +279,9 @@ def animate(result, path, *, fps: int = 20, speed: float = 1.0, dpi: int = 80, t
     nL = float(np.linalg.norm(L))
     if nL > 0:
         ax.quiver(0, 0, 0, *(0.9 * scale * L / nL), color="k", linewidth=2.0, arrow_length_ratio=0.15)
-    ttl = ax.set_title("", fontsize=9)
+    if title:
+        ax.set_title(title, fontsize=10)
+    rate = "" if speed == 1 else f" (x{speed:.3g} speed)"
 
     def update(k):
         Rs, org, coms = body.link_poses(X[k])
@@ -283,7 +298,7 @@ def animate(result, path, *, fps: int = 20, speed: float = 1.0, dpi: int = 80, t
         for line, axis in zip(root_axes, Rs[r].T):
             end = org[r] + 0.45 * scale * axis
             line.set_data_3d([org[r][0], end[0]], [org[r][1], end[1]], [org[r][2], end[2]])
-        ttl.set_text(title + "\n" + _title(body, t[k]) if title else _title(body, t[k]))
 
     update(0)
-    return write_frames(fig, (pc, dots, *root_axes, ttl), update, frames, path, fps=fps)
+    return write_frames(fig, (pc, dots, *root_axes), update, frames, path, fps=fps, mp4_path=mp4_path,
+                        caption=lambda k: _title(body, t[k]) + rate, caption_at=(0.03, 0.03), caption_size=9)

@@ -3,23 +3,41 @@
 
 from __future__ import annotations
 
-from ...core.family import Example, Family
-from ..tree.compile_cost import compile_seconds
-from . import problem
-from .model import SpatialBody
+from ...core.family import Example, Family, hook
 
-__all__ = ["FAMILY"]
+__all__ = ["FAMILY", "BODY_KEYS", "ATTITUDE_KEYS", "QUATERNION_STATES"]
+
+#: the keys of [body] a spatial body reads
+BODY_KEYS = ("urdf", "link", "angular_momentum")
+#: the attitude keys in [plan] (one attitude per waypoint) and [simulate] (the initial one), and
+#: the form of :func:`~acroplan.families.spatial.rotations.as_quaternion` each names
+#: (``attitude``: a quaternion [w, x, y, z] or an inline table of any form); ``attitude_seq``
+#: names another Euler sequence than Yeadon's
+ATTITUDE_KEYS = {"attitude": None, "attitude_euler_deg": "euler_deg", "attitude_euler": "euler",
+                 "attitude_rotvec_deg": "rotvec_deg", "attitude_rotvec": "rotvec"}
+#: the states the attitude keys give
+QUATERNION_STATES = ("qw", "qx", "qy", "qz")
+_PROBLEM = f"{__package__}.problem"
 
 
 def _draw(folder, solution, gif, strobe_path, mp4, *, speed, fps, load):
     """A spatial body's animation and strobe (the links as shaded equivalent boxes, the root's axes,
     the angular momentum vector), from the exact result ``solution.json`` records."""
+    from ...core.animation import samples_from_csv
     from .drawing import animate, save_strobe
 
     result = load()
-    n = animate(result, gif, speed=speed, fps=fps)
-    save_strobe(result, strobe_path, poses=6)
+    # drawn from the folder's samples: no integrator to compile (seconds for a body in 3-D)
+    samples = samples_from_csv(folder / "trajectory.csv", result.system.state_names)
+    n = animate(result, gif, speed=speed, fps=fps, mp4_path=mp4, samples=samples)
+    save_strobe(result, strobe_path, poses=6, samples=samples)
     return n
+
+
+def _compile_seconds(body, n):
+    from ..tree.compile_cost import compile_seconds
+
+    return compile_seconds("spatial", body, n)
 
 
 def _check_request(req):
@@ -36,16 +54,17 @@ def _animate(result, path, **kw):
 
 FAMILY = Family(
     name="spatial",
-    system_types=(SpatialBody,),
+    system_types=(f"{__package__}.model:SpatialBody",),
+    setup=(f"{__package__}.registry",),  # the torque model
     priority=10,
     tables=("body",),
-    reads=problem.reads,
+    reads=hook(f"{_PROBLEM}:reads"),
     limits_in_body=True,
-    read=problem.read,
-    table_keys=problem.BODY_KEYS,
-    waypoints=problem.waypoints,
-    waypoint_keys=tuple(problem.ATTITUDE_KEYS) + ("attitude_seq",),
-    waypoint_states=problem.QUATERNION_STATES,
+    read=hook(f"{_PROBLEM}:read"),
+    table_keys=BODY_KEYS,
+    waypoints=hook(f"{_PROBLEM}:waypoints"),
+    waypoint_keys=tuple(ATTITUDE_KEYS) + ("attitude_seq",),
+    waypoint_states=QUATERNION_STATES,
     examples={
         "falling-cat": Example(__package__, "data/falling-cat.toml", "spatial body (link tables): Kane and Scher's "
                                "cat turns over, 180 deg about its long axis at zero angular momentum in 0.5 s, from a "
@@ -55,5 +74,5 @@ FAMILY = Family(
     animate=_animate,
     describe=lambda body: f"a spatial body of {body.n_links} links",
     check_request=_check_request,
-    compile_seconds=lambda body, n: compile_seconds("spatial", body, n),
+    compile_seconds=_compile_seconds,
 )

@@ -737,8 +737,8 @@ class SpatialBody(ControlAffineSystem):
         """The name of :meth:`family_errors`' check."""
         try:
             import pinocchio  # noqa: F401
-        except ImportError:
-            return "scipy DOP853 re-simulation (Pinocchio is not installed)"
+        except ImportError:  # no check of its own here: plans are re-simulated by DOP853 ("ode")
+            return ""
         return "Pinocchio centroidal simulation"
 
     def family_errors(self, x0, segments):

@@ -10,6 +10,7 @@ from __future__ import annotations
 from ...core.errors import InvalidInputError
 from ...core.validate import MAX_ANGLE, MAX_BODY, BODY_VALUES, check_keys, matrix3, number, numbers, short, vector3
 from ..tree.problem import link_records, read_tree_body
+from .family import ATTITUDE_KEYS, BODY_KEYS, QUATERNION_STATES  # the keys, named by the family's descriptor
 from .links import SpatialLink, SpatialLinkTable
 from .model import SpatialBody
 from .rotations import attitude_states
@@ -18,8 +19,6 @@ from .urdf import read_link_table
 __all__ = ["reads", "read", "waypoints", "links_from_tables", "attitudes", "BODY_KEYS", "LINK_KEYS",
            "ATTITUDE_KEYS", "ATTITUDE_FORMS", "QUATERNION_STATES"]
 
-#: the keys of [body] a spatial body reads
-BODY_KEYS = ("urdf", "link", "angular_momentum")
 #: the keys of each [[body.link]] (the fields of :class:`~acroplan.families.spatial.links.SpatialLink`)
 LINK_KEYS = ("name", "parent", "mass", "inertia", "com", "joint", "axis", "rotation", "joint_name", "lower",
              "upper", "velocity")
@@ -27,11 +26,7 @@ LINK_KEYS = ("name", "parent", "mass", "inertia", "com", "joint", "axis", "rotat
 #: the form of :func:`~acroplan.families.spatial.rotations.as_quaternion` each names
 #: (``attitude``: a quaternion [w, x, y, z] or an inline table of any form); ``attitude_seq``
 #: names another Euler sequence than Yeadon's
-ATTITUDE_KEYS = {"attitude": None, "attitude_euler_deg": "euler_deg", "attitude_euler": "euler",
-                 "attitude_rotvec_deg": "rotvec_deg", "attitude_rotvec": "rotvec"}
 ATTITUDE_FORMS = ("quaternion", "rotvec", "rotvec_deg", "euler", "euler_deg")
-#: the states the attitude keys give
-QUATERNION_STATES = ("qw", "qx", "qy", "qz")
 
 
 def reads(table: str, data) -> bool:

@@ -6,7 +6,8 @@ progress bars only on a terminal; ``--json`` prints a machine-readable summary o
 
 One module per command (:mod:`~.plan`, :mod:`~.simulate`, :mod:`~.reach`, :mod:`~.momentum`,
 :mod:`~.nilpotent`, :mod:`~.animate`, :mod:`~.examples` with ``init``; the sweep commands live with
-their store), what they share in :mod:`~.common`, the group in :mod:`~.app`. The modules import
+their store), what they share in :mod:`~.common`, the group in :mod:`~.app`: a lazy group that
+imports a command's module only when the command runs or its help is asked. The modules import
 acroplan's numerics inside the commands, so that ``--help`` starts at once.
 
 Output folders are checked and reserved (:class:`~acroplan.io.output.OutputFolder`: lock, repair
@@ -15,18 +16,7 @@ holds a non-finite number: such a value is written as ``null`` and named in the 
 ``warnings`` list.
 """
 
-from . import animate, examples, momentum, nilpotent, plan, reach, simulate  # noqa: F401  (the commands)
-from .app import main, run
+from .app import COMMANDS, LazyGroup, main, run
 from .common import json_text
 
-__all__ = ["main", "run", "json_text"]
-
-
-def _sweep_commands():
-    from ..sweeps.commands import map_cmd, sweep_cmd  # the sweep commands live with their store
-
-    main.add_command(sweep_cmd)
-    main.add_command(map_cmd)
-
-
-_sweep_commands()
+__all__ = ["main", "run", "json_text", "COMMANDS", "LazyGroup"]

@@ -5,15 +5,15 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import math
+
 import click
-import numpy as np
 
 from ...core.errors import InvalidInputError
-from .app import main
-from .common import fail
+from .common import fail, progress
 
 
-def write_animation(folder: Path, *, speed: float = 1.0, fps: int = 25) -> int:
+def write_animation(folder: Path, *, speed: float | None = None, fps: int = 25) -> int:
     """motion.gif (+ motion.mp4 with ffmpeg) and strobe.png from folder/solution.json (and
     trajectory.csv), drawn by the family of the body solution.json records
     (:attr:`Family.draw <acroplan.core.family.Family.draw>`).
@@ -38,9 +38,9 @@ def write_animation(folder: Path, *, speed: float = 1.0, fps: int = 25) -> int:
     if sol.get("status") != "success" or not (folder / "trajectory.csv").is_file():
         raise InvalidInputError(str(folder), f"holds no successful motion (status {sol.get('status')!r})",
                                 "animate a folder whose plan succeeded")
-    if not (speed > 0 and np.isfinite(speed)):
+    if speed is not None and not (speed > 0 and math.isfinite(speed)):
         raise InvalidInputError("--speed", f"must be a positive number, got {speed}", "give for example 1 or 0.5")
-    fam = next((f for f in families() if f.draw is not None and any(t.__name__ == kind for t in f.system_types)),
+    fam = next((f for f in families() if f.draw is not None and kind in f.type_names()),
                None)
     if fam is None:
         raise InvalidInputError(str(sol_path), f"records a body of type {kind!r}, which no family draws",
@@ -58,9 +58,11 @@ def write_animation(folder: Path, *, speed: float = 1.0, fps: int = 25) -> int:
     return n
 
 
-@main.command("animate")
+@click.command("animate")
 @click.argument("folder", type=click.Path(file_okay=False, path_type=Path))
-@click.option("--speed", type=float, default=1.0, show_default=True, help="Playback speed (1 = real time).")
+@click.option("--speed", type=float, default=None,
+              help="Playback speed (1 = real time; default: real time, or slower for a motion shorter than 3 s, so "
+                   "that it lasts 3 s).")
 @click.option("--fps", type=click.IntRange(1, 100), default=25, show_default=True, help="Frames per second.")
 @click.option("--quiet", "-q", is_flag=True, help="Print nothing on success.")
 def animate_cmd(folder, speed, fps, quiet):
@@ -71,8 +73,10 @@ def animate_cmd(folder, speed, fps, quiet):
     The body is drawn to scale in its centre-of-mass frame (an acrobot given only by lumped
     parameters gets a representative geometry: equal masses, L = l = sqrt|A1|); a planar body
     with every link drawn, the root thicker with a square at its frame origin, the joints as
-    circles, theta as a red arrow. A motion longer than 1500 frames is played faster, with a
-    warning.
+    circles, theta as a red arrow; a body in 3-D as shaded solids with the root's axes and the
+    angular momentum. A motion longer than 1500 frames is played faster, with a warning; one
+    shorter than 3 s slower (the falling cat's 0.5 s at 1/6 speed), unless --speed is given.
+    A progress line per stage (frames) on a terminal.
 
     \b
     Example:
@@ -81,7 +85,7 @@ def animate_cmd(folder, speed, fps, quiet):
     import warnings
 
     try:
-        with warnings.catch_warnings(record=True) as caught:
+        with warnings.catch_warnings(record=True) as caught, progress(quiet):
             warnings.simplefilter("always")
             n = write_animation(folder, speed=speed, fps=fps)
         for w in caught:

@@ -4,6 +4,7 @@ one-line errors with their exit code, progress bars on a terminal, the problem n
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import sys
@@ -129,16 +130,20 @@ def save(figs: dict, folder: Path, fmts) -> None:
         for fig in figs.values():
             plt.close(fig)
 
-def progress(total: int, desc: str):
-    """A tqdm bar on a terminal, nothing otherwise; returns (callback, close)."""
-    from tqdm import tqdm
+@contextlib.contextmanager
+def progress(quiet: bool = False):
+    """The command's progress (:mod:`acroplan.core.progress`), active for the whole command: one
+    line on stderr per stage that lasts more than half a second (planning, the independent check,
+    the effort summary, sampling, figures, animation frames), refreshed at least every quarter
+    second; only on a terminal, and not with --quiet."""
+    from ...core.progress import Progress
 
-    bar = tqdm(total=total, desc=desc, leave=False, disable=not sys.stderr.isatty(), file=sys.stderr)
-
-    def update(done, _total):
-        bar.update(done - bar.n)
-
-    return update, bar.close
+    prog = Progress(enabled=sys.stderr.isatty() and not quiet, file=sys.stderr)
+    try:
+        with prog.active():
+            yield prog
+    finally:
+        prog.close()
 
 def report(summary: dict, as_json: bool, quiet: bool, lines: list[str], code: int) -> None:
     if as_json:

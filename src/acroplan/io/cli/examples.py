@@ -2,17 +2,17 @@
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 
 import click
 
 from ...core.errors import InvalidInputError
 from .. import examples as _examples
-from .app import main
 from .common import fail
 
 
-@main.command("examples")
+@click.command("examples")
 @click.option("--show", metavar="NAME", help="Print the example's problem file.")
 def examples_cmd(show):
     """List the bundled example problems, or print one's problem file.
@@ -28,8 +28,25 @@ def examples_cmd(show):
         except InvalidInputError as e:
             fail(str(e))
         return
-    for name, desc in _examples.names().items():
-        click.echo(f"{click.style(f'{name:18s}', bold=True)} {desc}")
+    for line in example_rows(_examples.names(), sys.stdout.isatty()):
+        click.echo(line)
+
+
+def example_rows(names: dict[str, str], styled: bool = False, width: int | None = None) -> list[str]:
+    """The rows of ``acroplan examples``: each name in a column as wide as the longest, its
+    description wrapped to the terminal's width (at least 60 columns) and indented under itself."""
+    import shutil
+    import textwrap
+
+    width = width or max(60, min(shutil.get_terminal_size((100, 24)).columns, 120))
+    pad = max(map(len, names), default=0) + 2
+    rows = []
+    for name, desc in names.items():
+        lines = textwrap.wrap(desc, max(20, width - pad)) or [""]
+        head = click.style(name, bold=True) if styled else name
+        rows.append(head + " " * (pad - len(name)) + lines[0])
+        rows.extend(" " * pad + more for more in lines[1:])
+    return rows
 
 STARTER = '''# acroplan problem file: plan a motion of the free-flying acrobot through waypoints.
 # Run it with:  acroplan plan {name}.toml --out {name}-out --animate
@@ -65,7 +82,7 @@ conditions = "free"            # "free" (u continuous) or "spline" (the text's s
 # tau_max = 31.0               # joint torque limit |tau| <= 31 N m (an energy-optimal plan)
 '''
 
-@main.command("init")
+@click.command("init")
 @click.argument("name")
 @click.option("--example", metavar="EXAMPLE", help="Start from a bundled example (acroplan examples lists them).")
 @click.option("--force", is_flag=True, help="Overwrite an existing file.")

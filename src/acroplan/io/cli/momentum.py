@@ -9,7 +9,6 @@ import click
 
 from ...core.errors import EXIT_INFEASIBLE, EXIT_SUCCESS, InvalidInputError
 from ..output import OutputFolder
-from .app import main
 from .common import allow_outside_option, allowed_paths, check_outputs, common, fail, formats, load_problem_arg, one_line, report, save, write_json
 
 
@@ -48,7 +47,7 @@ def _limits_text(limits, joint: str = "phi", delta: float = 0.0, digits: int = 9
         parts.append(f"|u| <= {d['u_max']:.{digits}g}")
     return ", ".join(parts) or "no limits"
 
-@main.command("least-momentum")
+@click.command("least-momentum")
 @click.argument("problem", required=False, type=click.Path(dir_okay=False, path_type=Path))
 @click.option("--example", metavar="NAME", help="Use a bundled example instead of a PROBLEM file.")
 @common

@@ -8,17 +8,15 @@ import sys
 from pathlib import Path
 
 import click
-import numpy as np
 
 from .. import examples as _examples
 from ...core.errors import EXIT_INFEASIBLE, EXIT_NOT_CONVERGED, EXIT_SUCCESS, InvalidInputError
 from ..output import OutputFolder
 from .animate import write_animation
-from .app import main
 from .common import check_outputs, common, fail, progress, report, save, write_json
 
 
-@main.command("nilpotent")
+@click.command("nilpotent")
 @click.argument("problem", required=False, type=click.Path(dir_okay=False, path_type=Path))
 @click.option("--example", metavar="NAME", help="Use a bundled example (chapter4) instead of a PROBLEM file.")
 @common
@@ -42,6 +40,8 @@ def nilpotent_cmd(problem, example, out, force, quiet, as_json, equations, no_pl
       acroplan nilpotent --example chapter4 --equations
       acroplan nilpotent --example chapter4 --out ch4-out --animate
     """
+    import numpy as np
+
     from ...core.limits import Limits
     from ...families.acrobot import nilpotent as nil
     from ...families.acrobot.problem import parse_nilpotent
@@ -77,14 +77,11 @@ def nilpotent_cmd(problem, example, out, force, quiet, as_json, equations, no_pl
                 infeasible = payload
             else:
                 infeasible = None
-                update, close = progress(1, "solving")
-                try:
+                with progress(quiet) as prog, prog.scope("nilpotentization", unit="solve") as st:
                     result = nil.solve_nilpotent(prob) if method == "nilpotent" else nil.solve_flat_y(prob)
                     counter = nil.counterexample(prob, result.m) if (result.success and method == "nilpotent") \
                         else None
-                    update(1, 1)
-                finally:
-                    close()
+                    st.update()
                 with folder.write() as tmp:
                     doc = {**result.to_dict(), "system": system_to_dict(prob.robot)}
                     if counter is not None:

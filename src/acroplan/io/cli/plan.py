@@ -9,13 +9,12 @@ import click
 from ...core.errors import EXIT_INVALID, EXIT_SUCCESS, InvalidInputError
 from ..output import OutputFolder, check_entry_name
 from .animate import write_animation
-from .app import main
 from .common import (EXIT_BY_STATUS, allow_outside_option, allowed_paths, check_outputs, common, documented, fail,
                      load_problem_arg, one_line, option_overrides, override_error, progress, report, save,
                      solve_in_budget, time_limit_of, verify_method, write_json)
 
 
-@main.command("plan")
+@click.command("plan")
 @click.argument("problem", required=False, type=click.Path(path_type=Path))
 @click.option("--example", metavar="NAME", help="Plan a bundled example instead of a PROBLEM file.")
 @common
@@ -92,23 +91,21 @@ def plan_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do_ani
     if problem is not None and example is None and _is_batch(problem):
         return _plan_batch(problem, out, force, quiet, as_json, no_plots, fmt, overrides, allowed)
     try:
-        prob = load_problem_arg(problem, example, overrides, allowed)
-        fmts = check_outputs(out, force, fmt, "plan-out", [problem])
-        with OutputFolder(out, force) as folder:
-            update, close = progress(len(prob.times) - 1, "segments")
-            try:
-                # the command line re-simulates with DOP853 (verify="ode"): 10 ms do not matter here;
-                # a planar body is checked by Pinocchio (its independent check); the effort summary
-                # is made within the time limit too
-                result, doc = solve_in_budget(prob, verify=verify_method(prob.system), progress=update)
-            finally:
-                close()
-            with folder.write() as tmp:
-                write_json(tmp / "solution.json", doc)
-                if result.success:
-                    _write_plan_files(result, tmp, fmts, no_plots)
-                    if do_animate:
-                        write_animation(tmp)
+        with progress(quiet) as prog:
+            with prog.scope("reading the problem", unit="file"):  # (a human body imports yeadon: seconds)
+                prob = load_problem_arg(problem, example, overrides, allowed)
+            fmts = check_outputs(out, force, fmt, "plan-out", [problem])
+            with OutputFolder(out, force) as folder:
+                # the check the family asks for on the command line (verify_method: the acrobot's DOP853
+                # re-simulation; a body's Pinocchio check), the same in a folder of problems; the
+                # compilation, the plan, its check and the effort summary within the time limit
+                result, doc = solve_in_budget(prob, verify=verify_method(prob.system), progress=prog)
+                with folder.write() as tmp:
+                    write_json(tmp / "solution.json", doc)
+                    if result.success:
+                        _write_plan_files(result, tmp, fmts, no_plots)
+                        if do_animate:
+                            write_animation(tmp)
     except InvalidInputError as e:
         fail(str(e))
     code = EXIT_BY_STATUS[result.status]
@@ -144,17 +141,7 @@ def _write_plan_files(result, folder: Path, fmts, no_plots: bool) -> None:
     write_csv(result, folder / "trajectory.csv")
     if no_plots:
         return
-    import matplotlib.pyplot as plt
-
-    figs = result.plot()
-    try:
-        if result.has_torques:
-            figs["effort"] = result.plot("effort")
-    except BaseException:
-        for fig in figs.values():
-            plt.close(fig)
-        raise
-    save(figs, folder, fmts)
+    save(result.plot(effort=result.has_torques), folder, fmts)
 
 def _is_batch(path: Path) -> bool:
     if path.is_dir():
@@ -247,12 +234,10 @@ def _plan_batch(path, out, force, quiet, as_json, no_plots, fmt, overrides=None,
         with OutputFolder(out, force) as folder:
             results = {}
             if valid:
-                update, close = progress(len(valid), "problems")
-                try:
-                    results = dict(zip([n for n, _ in valid], plan_many([p for _, p in valid], progress=update)))
-                finally:
-                    close()
-            with folder.write() as tmp:
+                with progress(quiet) as prog:
+                    jobs = [{"system": p.robot, **p.plan_kwargs(), "verify": verify_method(p.robot)} for _, p in valid]
+                    results = dict(zip([n for n, _ in valid], plan_many(jobs, progress=prog)))
+            with progress(quiet), folder.write() as tmp:
                 rows = []
                 for name, _, message in entries:
                     if name not in results:

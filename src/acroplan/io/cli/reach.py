@@ -8,11 +8,10 @@ import click
 
 from ...core.errors import EXIT_INFEASIBLE, EXIT_SUCCESS, InvalidInputError
 from ..output import OutputFolder
-from .app import main
 from .common import allow_outside_option, allowed_paths, check_outputs, common, fail, load_problem_arg, report, save, write_json
 
 
-@main.command("reach")
+@click.command("reach")
 @click.argument("problem", required=False, type=click.Path(dir_okay=False, path_type=Path))
 @click.option("--example", metavar="NAME", help="Use a bundled example instead of a PROBLEM file.")
 @common

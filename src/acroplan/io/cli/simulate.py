@@ -9,15 +9,13 @@ import click
 from .. import examples as _examples
 from ...core.errors import EXIT_NOT_CONVERGED, EXIT_SUCCESS, InvalidInputError
 from ..output import OutputFolder
-from .app import main
-from ..problem import load_simulation
 from .animate import write_animation
 from .common import (allow_outside_option, allowed_paths, check_outputs, common, fail, report, save, solution_doc,
                      verify_method, write_json)
 from .plan import write_csv
 
 
-@main.command("simulate")
+@click.command("simulate")
 @click.argument("problem", required=False, type=click.Path(dir_okay=False, path_type=Path))
 @click.option("--example", metavar="NAME", help="Simulate a bundled example instead of a PROBLEM file.")
 @common
@@ -50,6 +48,8 @@ def simulate_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do
         if (problem is None) == (example is None):
             raise InvalidInputError("PROBLEM", "give either a problem file or --example NAME, not both or neither",
                                     "for example: --example space-robot-arm-loop")
+        from ..problem import load_simulation
+
         sim = _examples.load_simulation(example) if example is not None else \
             load_simulation(problem, allowed=allowed_paths(allow_outside))
         fmts = check_outputs(out, force, fmt, "sim-out", [problem])

@@ -20,13 +20,27 @@ callables passed to :func:`run_sweep`). Its SHA-256 is a check against accidenta
 signature.
 """
 
-from .check import check_store
-from .commands import map_cmd, sweep_cmd
-from .files import load_sweep, parse_sweep
-from .layout import CHECKSUMS, LOCK, RECORD
-from .maps import draw_map
-from .reading import open_sweep
-from .runner import SweepSummary, run_sweep
+from __future__ import annotations
+
+import importlib
+
+#: The public names and their modules, loaded on first use (PEP 562): ``acroplan sweep --help``
+#: imports the commands alone, not xarray, zarr or dask.
+_NAMES = {"run_sweep": "runner", "SweepSummary": "runner", "open_sweep": "reading", "load_sweep": "files",
+          "parse_sweep": "files", "draw_map": "maps", "check_store": "check", "sweep_cmd": "commands",
+          "map_cmd": "commands", "RECORD": "layout", "LOCK": "layout", "CHECKSUMS": "layout"}
 
 __all__ = ["run_sweep", "open_sweep", "load_sweep", "parse_sweep", "draw_map", "SweepSummary", "check_store",
            "sweep_cmd", "map_cmd", "RECORD", "LOCK", "CHECKSUMS"]
+
+
+def __getattr__(name: str):
+    if name not in _NAMES:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(f"{__name__}.{_NAMES[name]}"), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))

@@ -10,9 +10,6 @@ from pathlib import Path
 import click
 
 from ...core.errors import EXIT_INVALID, EXIT_SUCCESS, InvalidInputError
-from .files import load_sweep
-from .maps import draw_map
-from .runner import run_sweep
 
 __all__ = ["sweep_cmd", "map_cmd"]
 
@@ -51,6 +48,9 @@ def _sweep_command():
           acroplan sweep effort.toml --out effort.zarr --scheduler tcp://10.0.0.5:8786
           acroplan map least-p0.zarr --x T --y scale --value least_P0 --out least-p0.png
         """
+        from .files import load_sweep  # the store's numerics, imported when the command runs
+        from .runner import run_sweep
+
         try:
             sw = load_sweep(sweep_file)
             summary = run_sweep(sw, out, workers=workers, scheduler=scheduler)
@@ -109,6 +109,8 @@ def _map_command():
         import matplotlib
 
         matplotlib.use("Agg")
+        from .maps import draw_map
+
         try:
             draw_map(store, x, y, value, out, kind=kind, at=_fixed(at), title=title)
         except InvalidInputError as e:

@@ -11,7 +11,6 @@ from __future__ import annotations
 import collections
 import dataclasses
 import multiprocessing
-import sys
 import time
 from pathlib import Path
 from typing import Callable, Mapping
@@ -111,18 +110,14 @@ def _progress_bar(progress, total: int, initial: int):
     """``(update(done), close())``: a tqdm bar (rate and time left) or a callback or nothing."""
     if callable(progress):
         return (lambda done: progress(done, total)), (lambda: None)
-    show = sys.stderr.isatty() if progress is None else bool(progress)
-    if not show:
+    from ...core.progress import Progress, auto
+
+    prog = Progress(enabled=auto() if progress is None else bool(progress))
+    if not prog.enabled:
         return (lambda done: None), (lambda: None)
-    from tqdm import tqdm
-
-    bar = tqdm(total=total, initial=initial, unit="pt", unit_scale=True, desc="sweep", file=sys.stderr,
-               dynamic_ncols=True, smoothing=0.1)
-
-    def update(done):
-        bar.update(done - bar.n)
-
-    return update, bar.close
+    st = prog.stage("sweep", total, unit="pt")  # refreshed while a chunk runs (core.progress)
+    st.set(initial)
+    return st.set, prog.close
 
 
 def _ready(sweep_, factories: Mapping[str, Callable] | None) -> Sweep:
