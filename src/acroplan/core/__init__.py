@@ -21,6 +21,8 @@ Modules
 :mod:`~acroplan.core.optimal`
     Optimal plans: the energy- and torque-optimal strategies (registered on import as
     ``"energy-optimal"`` and ``"torque-optimal"``; ``objective=`` of :func:`acroplan.plan`).
+:mod:`~acroplan.core.optimum`, :mod:`~acroplan.core.sqp`, :mod:`~acroplan.core.objectives`
+    One interval at one basis size; the SQP; the costs and torque limits.
 :mod:`~acroplan.core.verify`
     The independent checking integrator (scipy DOP853).
 :mod:`~acroplan.core.result`

@@ -794,3 +794,96 @@ def _momentum_adjoint(seg, widths, d, g, Lam, J, LU):
     kappa = widths[:, None, None, None] * ((seg.a.T @ rho.reshape(P, N, 12)).reshape(P, N, 4, 3)
                                            + seg.b[None, :, None, None] * mu[1:, None])
     return kappa @ _skew(Lam)
+
+
+# ---------------------------------------------------------------------- the momentum at sample times
+@functools.lru_cache(maxsize=64)
+def _dense_weights(N: int, theta_bytes: bytes) -> np.ndarray:
+    """:math:`\\beta_j(\\theta) = \\int_0^\\theta \\ell_j` (the Lagrange basis on the Gauss nodes) at the
+    points ``theta`` of [0, 1], shape (K, N), read-only."""
+    theta = np.frombuffer(theta_bytes)
+    Vi = _gauss(N)[3]
+    Q = np.polynomial.legendre.legint(np.eye(N), lbnd=-1.0, scl=0.5, axis=0)
+    out = (np.polynomial.legendre.legvander(2.0 * theta - 1.0, N) @ Q) @ Vi
+    out.setflags(write=False)
+    return out
+
+
+def momentum_samples(body, basis, x0, T, c, s, *, jacobian: bool = False):
+    """The angular momentum in the root's frame, :math:`\\lambda(\\sigma) = R(q(\\sigma))^\\top L`, at
+    normalised times ``s`` of one segment, and with ``jacobian`` its derivatives in the coefficients,
+    from the momentum's Gauss collocation (module docstring) and its continuous extension.
+
+    On a panel :math:`[a, a + H]` the collocation polynomial is
+    :math:`\\lambda(a + H\\theta) = \\lambda_a + H \\sum_j \\beta_j(\\theta) F_j`,
+    :math:`\\beta_j(\\theta) = \\int_0^\\theta \\ell_j`, :math:`F_j = \\Lambda_j \\times \\Omega_j` (order
+    :math:`N + 1` inside a panel, :math:`2N` at its ends). Its derivatives come forward, panel after
+    panel, from the collocation equations differentiated at fixed layout: with the derivative of
+    :math:`\\Omega_j` at fixed :math:`\\Lambda_j`, :math:`\\delta\\Omega^c_j` (module docstring, the
+    Jacobian), and :math:`S` the panel's Newton matrix,
+
+    .. math::  S\\,\\delta\\Lambda = \\mathbb{1} \\otimes \\delta\\lambda_a
+               + H (\\alpha \\otimes \\mathbb{1})\\, [\\Lambda]_\\times \\delta\\Omega^c ,\\qquad
+               \\delta F_j = J_j\\, \\delta\\Lambda_j + [\\Lambda_j]_\\times \\delta\\Omega^c_j ,\\qquad
+               \\delta\\lambda(a + H\\theta) = \\delta\\lambda_a + H \\sum_j \\beta_j(\\theta)\\, \\delta F_j .
+
+    Parameters
+    ----------
+    body : SpatialBody
+    basis : InputBasis
+    x0 : array_like, shape (4 + m,)
+    T : float
+    c : array_like, shape (m, basis.n)
+    s : array_like, shape (K,)
+        Normalised times in [0, 1], any order.
+    jacobian : bool
+
+    Returns
+    -------
+    lam : numpy.ndarray, shape (3, K)
+    dlam : numpy.ndarray, shape (K, 3, m * basis.n), only with ``jacobian``
+        Columns in flattened ``c`` order. At :math:`L = 0` both are zero.
+    """
+    s = np.clip(np.asarray(s, dtype=float).reshape(-1), 0.0, 1.0)
+    seg = _Segment(body, basis, x0, T, c)
+    m, n, K = seg.m, seg.n, s.size
+    if not seg.drift:
+        lam = np.zeros((3, K))
+        return (lam, np.zeros((K, 3, m * n))) if jacobian else lam
+    starts, widths, d = _layout(seg)
+    starts, widths, d, Lam, Jb, LU = _momentum(seg, starts, widths, d)
+    P, N = widths.size, seg.N
+    Om = d["w"] + (d["W"] @ Lam[..., None])[..., 0]  # (P, N, 3)
+    F = np.cross(Lam, Om)
+    lam_a = np.empty((P + 1, 3))
+    lam_a[0] = np.einsum("a,iab,b->i", seg.x0[:4], seg.Q, seg.x0[:4])
+    for k in range(P):
+        lam_a[k + 1] = lam_a[k] + widths[k] * (seg.b @ F[k])
+    bounds = np.concatenate([starts, [1.0]])
+    idx = np.clip(np.searchsorted(bounds, s, side="right") - 1, 0, P - 1)
+    theta = np.clip((s - starts[idx]) / widths[idx], 0.0, 1.0)
+    beta = _dense_weights(N, np.ascontiguousarray(theta).tobytes())  # (K, N)
+    lam = lam_a[idx] + widths[idx][:, None] * np.einsum("kj,kjc->kc", beta, F[idx])
+    if not np.isfinite(lam).all():
+        raise IntegrationError("integration gave a non-finite state")
+    if not jacobian:
+        return lam.T.copy()
+    # the derivative of Omega at fixed Lambda, per node: (P, N, 3, m n)
+    Tn = seg.T
+    dOm_du = (-Tn) * d["cA"]  # (P, N, 3, m)
+    dOm_ds = -np.swapaxes((d["X"] @ Om[:, :, None, :, None])[..., 0] + Tn * d["y"], -1, -2)  # (P, N, 3, m)
+    dOc = (dOm_du[..., :, None] * d["Bm"][:, :, None, None, :]
+           + Tn * dOm_ds[..., :, None] * d["Bi"][:, :, None, None, :]).reshape(P, N, 3, m * n)
+    rhsF = _skew(Lam) @ dOc  # [Lambda]x dOmega^c, (P, N, 3, m n)
+    a = seg.a
+    dlam_a = np.zeros((P + 1, 3, m * n))
+    dF = np.empty((P, N, 3, m * n))
+    for k in range(P):
+        H = widths[k]
+        R = np.repeat(dlam_a[k][None], N, axis=0) + H * np.einsum("ij,jcx->icx", a, rhsF[k])  # (N, 3, mn)
+        lu, piv = LU[k]
+        dL = _lu_solve(lu, piv, R.reshape(3 * N, m * n)).reshape(N, 3, m * n)
+        dF[k] = Jb[k] @ dL + rhsF[k]
+        dlam_a[k + 1] = dlam_a[k] + H * np.einsum("j,jcx->cx", seg.b, dF[k])
+    dlam = dlam_a[idx] + widths[idx][:, None, None] * np.einsum("kj,kjcx->kcx", beta, dF[idx])
+    return lam.T.copy(), dlam

@@ -101,6 +101,8 @@ from ...core import backend
 from ...core.errors import InvalidInputError
 from ...core.system import register_torque_model
 from ..tree.pin import INSTALL_HINT, require_pinocchio, thread_data
+from .collocation import momentum_samples
+from .dynamics import MAX_COMPILED_JOINTS, joint_torques
 from .links import SpatialLinkTable
 from .model import SpatialBody
 from .pin import SpatialPinocchioBody, build_model
@@ -276,6 +278,24 @@ def attitude_samples(system, basis, x0, T, c, s, *, jacobian: bool = False):
     return X, out[:, n_x:].reshape(len(s), n_x, -1)
 
 
+def _checked(system, basis, x0, T, c, s):
+    """``(x0, T, c, s)`` of a segment as arrays, checked (naming the field)."""
+    m = system.n_inputs
+    c = np.asarray(c, dtype=float)
+    if c.shape != (m, basis.n):
+        raise InvalidInputError("c", f"must have shape ({m}, {basis.n}), got {c.shape}",
+                                "give one row of basis coefficients per joint")
+    T = float(T)
+    if not (np.isfinite(T) and T > 0):
+        raise InvalidInputError("T", f"must be a positive duration, got {T}", "give the segment's length")
+    x0 = np.asarray(x0, dtype=float).reshape(-1)
+    if x0.shape != (system.n_states,):
+        raise InvalidInputError("x0", f"must have shape ({system.n_states},) {list(system.state_names)}, got "
+                                f"{x0.shape}", "give the quaternion and every joint angle")
+    s = np.ascontiguousarray(np.atleast_1d(np.asarray(s, dtype=float)))
+    return x0, T, c, s
+
+
 @dataclasses.dataclass(frozen=True)
 class SpatialTorque:
     """The torque model of a :class:`~acroplan.families.spatial.model.SpatialBody`: its joint torques
@@ -322,18 +342,7 @@ class SpatialTorque:
         :math:`s, u, \\dot u`, each (m, K), from the basis; with ``jacobian`` also the attitude's
         tangent sensitivity :math:`\\partial\\delta\\theta(s_k)/\\partial c`, shape (K, 3, m n)."""
         m = system.n_inputs
-        c = np.asarray(c, dtype=float)
-        if c.shape != (m, basis.n):
-            raise InvalidInputError("c", f"must have shape ({m}, {basis.n}), got {c.shape}",
-                                    "give one row of basis coefficients per joint")
-        T = float(T)
-        if not (np.isfinite(T) and T > 0):
-            raise InvalidInputError("T", f"must be a positive duration, got {T}", "give the segment's length")
-        x0 = np.asarray(x0, dtype=float).reshape(-1)
-        if x0.shape != (system.n_states,):
-            raise InvalidInputError("x0", f"must have shape ({system.n_states},) {list(system.state_names)}, got "
-                                    f"{x0.shape}", "give the quaternion and every joint angle")
-        s = np.ascontiguousarray(np.atleast_1d(np.asarray(s, dtype=float)))
+        x0, T, c, s = _checked(system, basis, x0, T, c, s)
         V, V1, Int = _basis_tables(basis, s.tobytes())
         joints = (x0[4:, None] + T * (c @ Int.T), c @ V.T, (c @ V1.T) / T)
         if not np.any(system.angular_momentum):
@@ -372,11 +381,53 @@ class SpatialTorque:
         return dataclasses.replace(out, partials=jac)
 
     def torques(self, system, basis, x0, T, c, s):
-        """:math:`\\tau(s)` alone, shape (m, K) (no Jacobian: for results and sweeps; measured on a
-        three-link body at 1025 nodes, 0.07 s against 0.16 s for the call with its Jacobian)."""
+        """:math:`\\tau(s)` alone, shape (m, K) (no Jacobian: for results and sweeps), by the compiled
+        recursion (:meth:`compiled`) when the body has at most
+        :data:`~acroplan.families.spatial.dynamics.MAX_COMPILED_JOINTS` joints, else by
+        :meth:`evaluate`."""
+        if self._compiled_for(system):
+            return self.compiled(system, basis, x0, T, c, s)
         return self.evaluate(system, basis, x0, T, c, s).tau
 
+    def _compiled_for(self, system) -> bool:
+        why = self.unsupported(system)
+        if why is not None:
+            raise InvalidInputError("system", why, "plan a SpatialBody (with Pinocchio installed)")
+        return system.n_inputs <= MAX_COMPILED_JOINTS
+
+    def compiled(self, system, basis, x0, T, c, s, *, jacobian: bool = False):
+        """The torques by the compiled recursion (:func:`~acroplan.families.spatial.dynamics.joint_torques`)
+        at the momentum in the root's frame that the collocation gives at ``s``
+        (:func:`~acroplan.families.spatial.collocation.momentum_samples`), and with ``jacobian`` their
+        exact derivatives in the coefficients:
+
+        .. math::  \\frac{\\partial\\tau}{\\partial c} = \\partial_s\\tau\\, T I(s) + \\partial_u\\tau\\, V(s)
+                   + \\partial_{\\dot u}\\tau\\, V'(s)/T + \\partial_\\lambda\\tau\\, \\frac{\\partial\\lambda(s)}{\\partial c} .
+
+        Returns
+        -------
+        tau : numpy.ndarray, shape (m, K)
+        jacobian : numpy.ndarray, shape (m, K, m * basis.n), only with ``jacobian``
+        """
+        m = system.n_inputs
+        x0, T, c, s = _checked(system, basis, x0, T, c, s)
+        V, V1, Int = _basis_tables(basis, s.tobytes())
+        q, u, du = x0[4:, None] + T * (c @ Int.T), c @ V.T, (c @ V1.T) / T
+        if not jacobian:
+            lam = momentum_samples(system, basis, x0, T, c, s)
+            return joint_torques(system.links, q, u, du, lam)
+        lam, dlam = momentum_samples(system, basis, x0, T, c, s, jacobian=True)
+        tau, P = joint_torques(system.links, q, u, du, lam, derivatives=True)
+        jac = (np.einsum("pkj,ki->pkji", P[:, :, :m], T * Int)
+               + np.einsum("pkj,ki->pkji", P[:, :, m:2 * m], V)
+               + np.einsum("pkj,ki->pkji", P[:, :, 2 * m:3 * m], V1 / T)).reshape(m, s.size, m * basis.n)
+        if np.any(system.angular_momentum):
+            jac += np.einsum("pka,kac->pkc", P[:, :, 3 * m:], dlam)
+        return tau, jac
+
     def __call__(self, system, basis, x0, T, c, s):
+        if self._compiled_for(system):
+            return self.compiled(system, basis, x0, T, c, s, jacobian=True)
         out = self.evaluate(system, basis, x0, T, c, s, derivatives=True)
         return out.tau, out.partials
 

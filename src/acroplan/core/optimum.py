@@ -1,0 +1,429 @@
+"""The optimisation of one waypoint interval at one basis size (:func:`optimize_segment`), and its
+outcome (:class:`OptimalSolve`): the problem in reduced coordinates :math:`c = c_p + Z z` that carry
+the input conditions :math:`Bc = d` exactly, the endpoint as equality constraints, the rate, joint
+and torque limits as inequalities (:mod:`~acroplan.core.optimal` describes the method).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+from scipy.optimize import minimize
+
+from . import backend
+from .basis import InputBasis
+from .errors import InvalidInputError
+from .limits import COMPLIANCE_TOL, linear_limits, violation
+from .linalg import null_space
+from .objectives import TORQUE_LIMIT_GRID, TORQUE_MARGIN, EnergyCost, call_torque, cost_for, energy
+from .sqp import kkt_multipliers, kkt_step, polish_endpoint, sqp
+from .system import ControlAffineSystem
+
+__all__ = ["OptimalSolve", "optimize_segment", "OptimalRun", "OptimalProblem", "OutOfEvaluations", "KKT_TOL",
+           "STAGE_KKT_TOL", "FIRST_KKT_TOL"]
+
+#: Relative KKT residual of the reported optimum (module docstring).
+KKT_TOL = 1e-8
+#: Relative KKT residual at the sizes of the ladder before the last; a size whose change looks
+#: below ``rtol`` is refined to ``kkt_tol`` before the ladder stops on it (refining lowers its cost,
+#: so the change can only grow), and the predictions at the next size include what is left.
+STAGE_KKT_TOL = 1e-3
+#: Relative KKT residual at the first size, where the starts are compared (an optimum not fully
+#: converged there can only make the ladder's first change look larger, never stop it early).
+FIRST_KKT_TOL = 1e-3
+
+
+@dataclasses.dataclass(frozen=True)
+class OptimalSolve:
+    """Outcome of :func:`optimize_segment` (one basis size) or of a strategy's ladder.
+
+    Attributes
+    ----------
+    success : bool
+        Endpoint within ``tol`` and the limits (and torque limits) honoured. Optimality is what
+        :attr:`kkt` measures.
+    message : str
+    coefficients : numpy.ndarray, shape (m, n)
+    basis : InputBasis
+    objective : float
+        The cost at :attr:`coefficients`: :math:`\\int\\|u\\|^2 dt` (exact) or
+        :math:`\\int\\|\\tau\\|^2 dt` (quadrature).
+    energy : float
+        :math:`\\int_0^T \\|u\\|^2 dt`, exact.
+    kkt : float
+        Relative KKT residual :math:`\\kappa` (module docstring).
+    multipliers : numpy.ndarray, shape (ndx,)
+        Least-squares multipliers of the endpoint equations (in the units of the cost per unit
+        of state).
+    final_error : float
+        Endpoint error of the compiled integrator.
+    evaluations, iterations : int
+    solver : str
+        ``"sqp"`` or ``"slsqp"``.
+    sizes : tuple of (int, float)
+        The ladder: (basis size, optimal cost) at each size solved; when the ladder stopped on a
+        prediction, the last entry is the next size with the cost one Newton step predicts there
+        (one entry for :func:`optimize_segment`).
+    converged_in_basis : bool
+        Whether the cost changed (or is predicted to change) by less than ``rtol`` at the last
+        step of the ladder.
+    start : str
+        The start the optimum came from (``"auto"``, ``"deform"`` or ``"given"``).
+    """
+
+    success: bool
+    message: str
+    coefficients: np.ndarray
+    basis: InputBasis
+    objective: float
+    energy: float
+    kkt: float
+    multipliers: np.ndarray
+    final_error: float
+    evaluations: int = 0
+    iterations: int = 0
+    solver: str = "sqp"
+    sizes: tuple = ()
+    converged_in_basis: bool = False
+    start: str = "given"
+
+    def to_dict(self, objective: str = "energy") -> dict:
+        """The diagnostics as plain JSON types (non-finite numbers as ``None``): ``objective``,
+        ``cost``, ``integral_u2``, ``kkt``, ``multipliers``, ``final_error``, ``basis_size``,
+        ``ladder`` (``[[n, cost], ...]``), ``converged_in_basis``, ``start``, ``solver``,
+        ``evaluations``, ``iterations``."""
+        num = (lambda v: float(v) if v is not None and math.isfinite(float(v)) else None)  # noqa: E731
+        return {"objective": objective, "cost": num(self.objective), "integral_u2": num(self.energy),
+                "kkt": num(self.kkt), "multipliers": [num(v) for v in np.ravel(self.multipliers)],
+                "final_error": num(self.final_error), "basis_size": int(self.basis.n),
+                "ladder": [[int(n), num(v)] for n, v in self.sizes],
+                "converged_in_basis": bool(self.converged_in_basis), "start": self.start, "solver": self.solver,
+                "evaluations": int(self.evaluations), "iterations": int(self.iterations),
+                "success": bool(self.success)}
+
+
+class OutOfEvaluations(RuntimeError):
+    pass
+
+
+class OptimalProblem:
+    """One interval at one basis size, in reduced coordinates ``z`` (``c = c_p + Z z``)."""
+
+    def __init__(self, system, basis, x0, x1, T, cost, B, d, max_evaluations, limits=None, torque_model=None,
+                 tau_max=None):
+        self.system, self.basis, self.T = system, basis, float(T)
+        self.x0 = np.asarray(x0, dtype=float)
+        self.x1 = np.asarray(x1, dtype=float)
+        m, n = system.n_inputs, basis.n
+        self.m, self.n, self.N = m, n, m * n
+        if B is None or np.shape(B)[0] == 0:
+            self.c_p, self.Z, self.free = np.zeros(self.N), None, True
+        else:
+            B = np.atleast_2d(np.asarray(B, dtype=float))
+            self.c_p = np.linalg.lstsq(B, np.asarray(d, dtype=float), rcond=None)[0]
+            self.Z, self.free = null_space(B, self.N), False
+        self.cost = cost
+        self.evaluations = 0
+        self.max_evaluations = max_evaluations
+        self._key, self._val, self._Hz = None, None, None
+        self.torque_model = torque_model
+        # inequalities: rate and joint limits (linear), torque limits (nonlinear)
+        self.limits = limits if limits is not None and limits.active else None
+        self.lin = None
+        if self.limits is not None:
+            A_c, b_c = linear_limits(system, basis, self.x0, T, self.limits, margin=2e-3)
+            if A_c.shape[0]:
+                self.lin = (self.zmat(A_c), b_c - A_c @ self.c_p)
+        self.tmax = None if tau_max is None else np.atleast_1d(np.asarray(tau_max, dtype=float))
+        self.grid = None if tau_max is None else np.linspace(0.0, 1.0, TORQUE_LIMIT_GRID)
+
+    # coordinates
+    def c(self, z):
+        return z.copy() if self.free else self.c_p + self.Z @ z
+
+    def z(self, c):
+        c = np.asarray(c, dtype=float).reshape(-1)
+        return c.copy() if self.free else self.Z.T @ (c - self.c_p)
+
+    def zmat(self, M):
+        """Rows ``M`` acting on ``c`` as rows acting on ``z``."""
+        return M if self.free else M @ self.Z
+
+    def zhess(self, H):
+        return H if self.free else self.Z.T @ H @ self.Z
+
+    # functions
+    def f(self, z):
+        """Cost, gradient and model Hessian in ``z``."""
+        if self.free:
+            return self.cost(z)
+        f, g, H = self.cost(self.c(z))
+        if isinstance(self.cost, EnergyCost):  # a constant Hessian: reduced once
+            if self._Hz is None:
+                self._Hz = self.Z.T @ H @ self.Z
+            return f, self.Z.T @ g, self._Hz
+        return f, self.Z.T @ g, self.Z.T @ H @ self.Z
+
+    def endpoint(self, c):
+        """``(y, A_c)``: the endpoint and its tangent Jacobian in flattened ``c`` (counted)."""
+        if self.evaluations >= self.max_evaluations:
+            raise OutOfEvaluations()
+        self.evaluations += 1
+        y, J = backend.endpoint(self.system, self.basis, self.x0, self.T, c)
+        return y, self.system.tangent_jacobian(y, J)
+
+    def h(self, z):
+        """``(h, A_z, y, A_c)``: the endpoint residual :math:`-\\mathrm{diff}(y, x_1)`, its Jacobian
+        in ``z``, the endpoint and the Jacobian in ``c``; raises :class:`backend.IntegrationError`."""
+        key = z.tobytes()
+        if key != self._key:
+            y, Ac = self.endpoint(z if self.free else self.c_p + self.Z @ z)
+            self._key, self._val = key, (-self.system.diff(y, self.x1), self.zmat(Ac), y, Ac)
+        return self._val
+
+    def torque_rows(self, z):
+        """Torque-limit inequalities ``g(z) >= 0`` on the grid, and their Jacobian in ``z``."""
+        tau, J = call_torque(self.torque_model, self.system, self.basis, self.x0, self.T, self.c(z), self.grid)
+        top = self.tmax[:, None] * (1.0 - TORQUE_MARGIN)
+        J = self.zmat(J.reshape(-1, self.N))
+        return np.concatenate([(top - tau).ravel(), (top + tau).ravel()]), np.vstack([-J, J])
+
+    def curvature(self, c, Ac):
+        """Constraint Hessians in ``c`` coordinates, shape (q, N, N), by forward differences of the
+        endpoint Jacobian along every coordinate direction (N evaluations), symmetrised."""
+        q, N = Ac.shape[0], self.N
+        M = np.empty((q, N, N))
+        for k in range(N):
+            eps = 1e-7 * max(1.0, abs(c[k]))
+            ck = c.copy()
+            ck[k] += eps
+            M[:, :, k] = (self.endpoint(ck)[1] - Ac) / eps
+        return 0.5 * (M + M.transpose(0, 2, 1))
+
+
+
+def slsqp(prob: OptimalProblem, z0, max_iter=300):
+    """SLSQP with the linear and torque inequalities, in coordinates ``w = L^T z`` where the cost's
+    model Hessian at the start is the identity (``L L^T``). Returns ``(z, iterations, message)``."""
+    f0, _, H0 = prob.f(z0)
+    ridge = 1e-12 * max(float(np.trace(H0)) / H0.shape[0], 1e-300)
+    L = np.linalg.cholesky(H0 + ridge * np.eye(H0.shape[0]))
+    Li = np.linalg.inv(L.T)  # z = Li w
+    scale = 1.0 + float(np.max(np.abs(prob.x1)))
+    bad = np.full(prob.system.ndx, 1e6)
+
+    def eq(w):
+        try:
+            return prob.h(Li @ w)[0] / scale
+        except backend.IntegrationError:
+            return bad
+
+    def eq_jac(w):
+        try:
+            return prob.h(Li @ w)[1] @ Li / scale
+        except backend.IntegrationError:
+            return np.zeros((prob.system.ndx, w.size))
+
+    cons = [{"type": "eq", "fun": eq, "jac": eq_jac}]
+    if prob.lin is not None:
+        Az, bz = prob.lin
+        AL = Az @ Li
+        cons.append({"type": "ineq", "fun": lambda w: bz - AL @ w, "jac": lambda w: -AL})
+    if prob.tmax is not None:
+        cons.append({"type": "ineq", "fun": lambda w: prob.torque_rows(Li @ w)[0],
+                     "jac": lambda w: prob.torque_rows(Li @ w)[1] @ Li})
+    unit = 1.0 + abs(f0)
+
+    def obj(w):
+        f, g, _ = prob.f(Li @ w)
+        return f / unit, (Li.T @ g) / unit
+
+    res = minimize(obj, L.T @ z0, jac=True, constraints=cons, method="SLSQP",
+                   options={"maxiter": max_iter, "ftol": 1e-15})
+    return Li @ res.x, int(res.nit), str(res.message)
+
+
+class OptimalRun:
+    """The optimisation at one basis size: solve from a start, refine, report."""
+
+    def __init__(self, system, basis, x0, x1, T, cost, torque_model, limits, tau_max, B, d, tol, max_evaluations):
+        self.fn = cost_for(cost, system, basis, x0, T)
+        self.prob = OptimalProblem(system, basis, x0, x1, T, self.fn, B, d, max_evaluations, limits, torque_model, tau_max)
+        self.tol = tol
+        self.solver = "sqp" if self.prob.lin is None and self.prob.tmax is None else "slsqp"
+        self.z = None
+        self.Hc = None  # constraint Hessians in c coordinates (the SQP's)
+        self.its, self.why, self.failed = 0, "", ""
+
+    def solve(self, c0, *, curvature=None, kkt_tol=KKT_TOL, polish=True):
+        prob = self.prob
+        z = prob.z(c0)
+        try:
+            if self.solver == "sqp":
+                _, _, _, Ac = prob.h(z)
+                self.Hc = prob.curvature(prob.c(z), Ac) if curvature is None else curvature
+                Hz = np.stack([prob.zhess(M) for M in self.Hc])
+
+                def refresh(zn):
+                    self.Hc = prob.curvature(prob.c(zn), prob.h(zn)[3])
+                    return np.stack([prob.zhess(M) for M in self.Hc])
+
+                z, info = sqp(prob, z, Hz, tol=self.tol, kkt_tol=kkt_tol, refresh=refresh)
+                self.its += info["its"]
+                self.why = info["why"]
+            else:
+                z, its, msg = slsqp(prob, z)
+                self.its += its
+                self.why = "" if msg.startswith("Optimization terminated successfully") else msg
+            self.z = polish_endpoint(prob, z, self.tol) if polish or self.solver != "sqp" else z
+        except OutOfEvaluations:
+            self.z, self.failed = z, f"the evaluation budget ({prob.max_evaluations}) was spent"
+        except backend.IntegrationError as e:
+            self.z, self.failed = z, f"the integrator failed ({e})"
+        return self
+
+    def refine(self, kkt_tol):
+        """More SQP iterations at this size from the current optimum, with its curvature."""
+        if self.solver != "sqp" or self.failed or self.Hc is None:
+            return self
+        prob = self.prob
+        try:
+            Hz = np.stack([prob.zhess(M) for M in self.Hc])
+            z, info = sqp(prob, self.z, Hz, tol=self.tol, kkt_tol=kkt_tol)
+            self.its += info["its"]
+            self.why = info["why"]
+            self.z = polish_endpoint(prob, z, self.tol)
+        except (OutOfEvaluations, backend.IntegrationError):
+            pass
+        return self
+
+    def predicted_decrease(self, c0, curvature=None):
+        """The relative decrease of the cost that one Newton step of the SQP from ``c0`` (the
+        previous size's optimum, padded) predicts at this size: :math:`-(g^\\top p +
+        \\tfrac12 p^\\top W p)/f` with the step :math:`p` of the KKT system (one evaluation,
+        reused by a :meth:`solve` from the same point). ``inf`` when the model is not convex on the
+        constraints' tangent space or the evaluation fails (then the size is solved)."""
+        prob = self.prob
+        z = prob.z(c0)
+        try:
+            f, g, H = prob.f(z)
+            h, A, _, _ = prob.h(z)
+        except (OutOfEvaluations, backend.IntegrationError):
+            return math.inf
+        lam, _ = kkt_multipliers(g, A)
+        W = H.copy()
+        if curvature is not None:
+            W += np.tensordot(lam, np.stack([prob.zhess(M) for M in curvature]), axes=1)
+        out = kkt_step(W, g, h, A, H, convex_only=True)
+        if out is None or f <= 0:
+            return math.inf
+        p, _ = out
+        return max(-(float(g @ p) + 0.5 * float(p @ W @ p)) / f, 0.0)
+
+    def brief(self):
+        """``(success, cost)`` of the current point, cheaply (no KKT residual, no message); the full
+        :meth:`result` when it failed."""
+        if self.failed or self.solver != "sqp":
+            r = self.result()
+            return r.success, r.objective, r
+        try:
+            h, _, y, _ = self.prob.h(self.z)
+        except (OutOfEvaluations, backend.IntegrationError):
+            r = self.result()
+            return r.success, r.objective, r
+        if self.prob.system.error(y, self.prob.x1) > self.tol:
+            r = self.result()
+            return False, r.objective, r
+        return True, self.prob.f(self.z)[0], None
+
+    def result(self, **extra) -> OptimalSolve:
+        prob, z = self.prob, self.z
+        system, basis = prob.system, prob.basis
+        m, n = prob.m, prob.n
+        c = prob.c(z)
+        nan = float("nan")
+        if self.failed:
+            return OptimalSolve(False, self.failed, c.reshape(m, n), basis, nan, nan, nan, np.zeros(system.ndx),
+                                float("inf"), prob.evaluations, self.its, self.solver, **extra)
+        try:
+            h, A, y, _ = prob.h(z)
+        except (OutOfEvaluations, backend.IntegrationError) as e:
+            return OptimalSolve(False, f"the endpoint could not be evaluated ({e})", c.reshape(m, n), basis, nan, nan,
+                                nan, np.zeros(system.ndx), float("inf"), prob.evaluations, self.its, self.solver,
+                                **extra)
+        f, g, _ = prob.f(z)
+        C = []  # active inequalities, for the KKT residual
+        if prob.lin is not None:
+            Az, bz = prob.lin
+            C.append(Az[bz - Az @ z <= 1e-7 * (1.0 + np.abs(bz))])
+        if prob.tmax is not None:
+            vals, J = prob.torque_rows(z)
+            top = np.tile(np.repeat(prob.tmax, TORQUE_LIMIT_GRID), 2)
+            C.append(-J[vals <= 1e-7 * (1.0 + np.where(np.isfinite(top), top, 0.0))])
+        C = np.vstack(C) if C else None
+        lam, kkt = kkt_multipliers(g, A, C)
+        err = system.error(y, prob.x1)
+        ok = err <= self.tol
+        msg = (f"{self.fn.label} = {f:.10g} with {n} coefficient(s) per input ({self.solver}, {self.its} "
+               f"iteration(s), {prob.evaluations} evaluations): endpoint error {err:.2e}, relative KKT residual "
+               f"{kkt:.1e}")
+        if prob.limits is not None:
+            v = violation(system, basis, prob.x0, prob.T, c, prob.limits)
+            ok = ok and v["u"] <= COMPLIANCE_TOL and v["state"] <= COMPLIANCE_TOL
+            msg += f", limit violation {max(v['u'], v['state']):.1e}"
+        if prob.tmax is not None:
+            tau, _ = call_torque(prob.torque_model, system, basis, prob.x0, prob.T, c, np.linspace(0.0, 1.0, 1025))
+            excess = float(np.max(np.abs(tau) - prob.tmax[:, None]))
+            ok = ok and excess <= COMPLIANCE_TOL * max(1.0, float(np.max(prob.tmax[np.isfinite(prob.tmax)],
+                                                                          initial=1.0)))
+            msg += f", max(|tau| - tau_max) = {excess:.2e}"
+        if self.why:
+            msg += f" ({self.why})"
+        return OptimalSolve(ok, msg, c.reshape(m, n), basis, f, energy(basis, prob.T, c.reshape(m, n)), kkt, lam, err,
+                            prob.evaluations, self.its, self.solver, **extra)
+
+
+def optimize_segment(system: ControlAffineSystem, basis: InputBasis, x0, x1, T: float, start, *, B=None, d=None,
+                     cost="energy", limits=None, tau_max=None, tol: float = 1e-10, kkt_tol: float = KKT_TOL,
+                     max_evaluations: int = 2000) -> OptimalSolve:
+    """Minimise the cost on one segment at one basis size, from ``start`` (no ladder).
+
+    Parameters
+    ----------
+    system : ControlAffineSystem
+    basis : InputBasis
+    x0, x1 : array_like, shape (n,)
+    T : float
+    start : array_like, shape (m, basis.n)
+        Starting coefficients (feasible or not; projected onto :math:`Bc = d`).
+    B, d : array_like, optional
+        Input conditions :math:`Bc = d` (:func:`~acroplan.core.conditions.linear_conditions`).
+    cost : "energy" or TorqueModel
+        :math:`\\int\\|u\\|^2 dt` or :math:`\\int\\|\\tau\\|^2 dt` with the given torque model.
+    limits : Limits, optional
+        Rate and joint limits (linear inequalities on a grid).
+    tau_max : array_like, shape (p,), optional
+        Torque limits per joint (``cost`` must then be a torque model).
+    tol : float
+        Endpoint tolerance.
+    kkt_tol : float
+        Target relative KKT residual of the SQP (no inequality).
+    max_evaluations : int
+        Endpoint evaluations at most.
+
+    Returns
+    -------
+    OptimalSolve
+    """
+    if isinstance(cost, str) and cost != "energy":
+        raise InvalidInputError("cost", f"must be \"energy\" or a torque model, got {cost!r}",
+                                "give \"energy\" or a callable torque(system, basis, x0, T, c, s)")
+    if tau_max is not None and isinstance(cost, str):
+        raise InvalidInputError("tau_max", "torque limits need a torque model", "pass the model as cost=")
+    model = None if isinstance(cost, str) else cost
+    run = OptimalRun(system, basis, x0, x1, T, cost, model, limits, tau_max, B, d, tol, max_evaluations)
+    out = run.solve(np.asarray(start, dtype=float).reshape(-1), kkt_tol=kkt_tol).result()
+    return dataclasses.replace(out, sizes=((basis.n, out.objective),))
+
