@@ -41,7 +41,7 @@ from .core.system import ControlAffineSystem, torque_model_of
 from .core.verify import VERIFY_TOL, check_name, resolve_verify, verify_plan
 
 __all__ = ["plan", "warm_up", "PlanRequest", "CONDITIONS", "VERIFY_TOL", "DEFAULT_SIZE", "MAX_COEFFICIENTS",
-           "TIME_LIMIT"]
+           "TIME_LIMIT", "plausibility", "waypoint_rate", "PLAUSIBLE_FACTOR"]
 
 #: Coefficients per input per segment when neither ``n_coefficients`` nor the strategy says.
 DEFAULT_SIZE = 6
@@ -50,6 +50,14 @@ DEFAULT_SIZE = 6
 MAX_COEFFICIENTS = 30
 #: The default wall-clock budget of one plan, in seconds.
 TIME_LIMIT = 60.0
+#: A success whose peak joint rate exceeds this many times the fastest rate its waypoints imply
+#: (:func:`waypoint_rate`) carries warnings (:func:`plausibility`).
+PLAUSIBLE_FACTOR = 10.0
+#: Up to this many segments, a warning's peak torque and power are the exact effort summary's
+#: (:meth:`PlanResult.effort`, about 20 ms a segment); beyond, sampled on the fastest segments.
+EXACT_EFFORT_SEGMENTS = 100
+#: Segments from which a plan's waypoints count as dense (the warning then suggests fewer).
+DENSE_SEGMENTS = 50
 #: Segment durations and times the arithmetic carries (the power-basis export takes T**(n-1)).
 MIN_DURATION, MAX_DURATION, MAX_TIME = 1e-6, 1e6, 1e12
 
@@ -523,10 +531,10 @@ def _solve(req: PlanRequest, prog) -> PlanResult:
     K = t.size - 1
     if not req.verify:
         worst_final = max(s.final_error for s in segments)
-        return _check_torque_limits(PlanResult(
+        return _plausible(_check_torque_limits(PlanResult(
             status=Status.SUCCESS, message=f"success: {K} segment(s), max endpoint error {worst_final:.2e} (not "
             f"independently verified)" + _optimality_note(segments, req), segments=segments, verified=False,
-            **common), req)
+            **common), req), req)
     return _verified(req, X, segments, common)
 
 
@@ -547,21 +555,22 @@ def _infeasible(req: PlanRequest, X, limits, common) -> PlanResult | None:
                       infeasible=tuple(infeasible), **common)
 
 
-#: How many refused segments a message names (every one is in ``result.infeasible``).
-MESSAGE_SEGMENTS = 3
+#: How many refused segments a message names (every one is in ``result.infeasible``): one, so
+#: that the message stays a few hundred characters however many segments are refused.
+MESSAGE_SEGMENTS = 1
 
 
 def infeasible_message(req: PlanRequest, X, infeasible: list[dict]) -> str:
-    """The message of an infeasible plan: the first :data:`MESSAGE_SEGMENTS` refused segments with
-    their proofs, how many more there are (all in ``result.infeasible`` and ``solution.json``), and
-    the degrees hint when the angles look like degrees (every waypoint angle within 360 in size,
+    """The message of an infeasible plan: how many segments are refused, the first
+    :data:`MESSAGE_SEGMENTS` with their proofs (all in ``result.infeasible`` and ``solution.json``),
+    and the degrees hint when the angles look like degrees (every waypoint angle within 360 in size,
     some beyond 2 pi, and whole numbers or halves: what a file in degrees holds)."""
     system = req.system
     shown = [f"segment {d['index']} [{d['t0']:g}, {d['t1']:g}]: {d['reason']}" for d in infeasible[:MESSAGE_SEGMENTS]]
     msg = "infeasible: " + "; ".join(shown)
     if len(infeasible) > MESSAGE_SEGMENTS:
-        msg += (f"; and {len(infeasible) - MESSAGE_SEGMENTS} more of {req.times.size - 1} segments (every one in "
-                "result.infeasible, solution.json)")
+        msg = (f"infeasible: {len(infeasible)} of {req.times.size - 1} segments (every one in result.infeasible, "
+               f"solution.json); the first, " + "; ".join(shown))
     angles = [i for i, name in enumerate(system.state_names) if name in system.angle_states]
     if not req.degrees and angles and _look_like_degrees(X[:, angles]):
         msg += (f" (angles up to {np.max(np.abs(X[:, angles])):.4g} rad: if these are degrees, pass "
@@ -636,7 +645,7 @@ def _verified(req: PlanRequest, X, segments, common) -> PlanResult:
                         f"{max(s.final_error for s in checked):.2e}, independently verified to {worst:.2e} "
                         f"({check})" + _optimality_note(checked, req), segments=checked, verified=True,
                         verification=req.verify, **common)
-    return _check_torque_limits(result, req)
+    return _plausible(_check_torque_limits(result, req), req)
 
 
 def _optimality_note(segments, req) -> str:
@@ -672,6 +681,127 @@ def _check_torque_limits(result: PlanResult, req) -> PlanResult:
     return dataclasses.replace(result, status=Status.NOT_CONVERGED, message=f"not converged: the peak torque of "
                                f"joint {j} is {peak:.10g} > tau_max = {top:g} (every waypoint reached)")
 
+
+
+def waypoint_rate(system, times, waypoints) -> tuple[float, int]:
+    """The fastest rate the waypoints imply, and the interval where: the largest finite difference
+    :math:`|\\Delta q_i| / (t_{k+1} - t_k)` over the intervals :math:`k` and the angles :math:`q_i`
+    (every angle state, the turn :math:`\\theta` included; a spatial body's attitude as the
+    rotation vector :meth:`~ControlAffineSystem.diff` gives), in rad/s. ``(0.0, 0)`` when the
+    system has no angle state or the waypoints do not move."""
+    X = np.asarray(waypoints, dtype=float)
+    T = np.diff(np.asarray(times, dtype=float))
+    if system.ndx == system.n_states:
+        idx = [i for i, name in enumerate(system.state_names) if name in system.angle_states]
+        if not idx:
+            return 0.0, 0
+        D = np.abs(np.diff(X[:, idx], axis=0))
+    else:  # an attitude on a manifold (unit quaternion): its rotation vector and the joint angles
+        D = np.abs(np.array([system.diff(X[k], X[k + 1]) for k in range(T.size)]))
+    rate = np.max(D, axis=1) / T
+    k = int(np.argmax(rate))
+    return float(rate[k]), k
+
+
+def plausibility(result: PlanResult, *, factor: float = PLAUSIBLE_FACTOR) -> tuple[str, ...]:
+    """Why a successful plan may not be a motion to use: the warnings :func:`plan` puts in
+    :attr:`PlanResult.warnings` (empty when nothing is suspect).
+
+    A plan is suspect when its peak joint rate (exact, :attr:`PlanResult.max_abs_u`) exceeds
+    ``factor`` times the fastest rate its waypoints imply (:func:`waypoint_rate`): the waypoints
+    are met, but by a motion far wilder than theirs (dense waypoints of a body with little
+    authority, free conditions that pass a growing oscillation from segment to segment). The
+    warnings then say: the peak rate, where, and the ratio; the peak torque and power when the
+    body gives torques (exact, :meth:`PlanResult.effort`, up to :data:`EXACT_EFFORT_SEGMENTS`
+    segments; beyond, a lower bound sampled on the 32 fastest segments, said so); and what to try
+    (``conditions="spline"`` for free conditions, fewer waypoints when they are dense, from
+    :data:`DENSE_SEGMENTS` segments). Only bodies whose inputs are all joint rates are checked,
+    and only the inputs without a rate limit (``u_max``, ``input_bounds``, a link table's or URDF's
+    velocity): a bounded input is within what the caller says the body can do.
+
+    A turn at zero angular momentum made by shape loops needs joint rates many times its turn's
+    (the bundled ``three-rods-turn`` 14 times, ``space-robot-turn`` 31 times): such plans pass when
+    their rates are bounded, as the bundled ones are; unbounded, they are flagged.
+    """
+    system, segs = result.system, result.segments
+    if not result.success or not segs or not system.rate_inputs or \
+            set(system.rate_inputs) != set(system.input_names) or \
+            not set(system.rate_inputs.values()) <= set(system.angle_states):
+        return ()
+    # an input with a rate limit is within what the caller says the body can do: not checked
+    free = [j for j, name in enumerate(system.input_names)
+            if result.limits is None or result.limits.input_bound(name) is None]
+    implied, k = waypoint_rate(system, result.times, result.waypoints)
+    if not free or implied <= 0.0:
+        return ()
+    from .core.limits import input_extremes
+
+    def row_peaks(seg):
+        basis = result.basis_for(seg)
+        return [max(abs(v) for v in input_extremes(basis, seg.basis_coefficients[j])) for j in free]
+
+    if len(free) == system.n_inputs:
+        peaks = np.array([s.max_abs_u for s in segs])  # exact, and kept for the message and to_dict
+    else:
+        peaks = np.array([max(row_peaks(s)) for s in segs])
+    worst = int(np.argmax(peaks))
+    peak = float(peaks[worst])
+    if not peak > factor * implied:
+        return ()
+    seg = segs[worst]
+    name = system.input_names[free[int(np.argmax(row_peaks(seg)))]]
+    out = [f"peak joint rate {peak:.4g} rad/s ({name}, segment {seg.index}, t = {seg.t0:.4g} to {seg.t1:.4g} s) is "
+           f"{peak / implied:.0f} times the fastest rate the waypoints imply, {implied:.4g} rad/s (finite difference "
+           f"over [{result.times[k]:.4g}, {result.times[k + 1]:.4g}] s)"]
+    if result.has_torques:
+        out.append(_effort_warning(result, peaks))
+    K = len(result.times) - 1
+    tries = []
+    if result.conditions == "free":
+        tries.append('conditions = "spline"')
+    if K >= DENSE_SEGMENTS:
+        dt = np.diff(result.times)
+        tries.append(f"fewer waypoints, further apart (these are {K} segments of {np.median(dt):.3g} s: with so "
+                     "little time a segment can need a wild motion to keep the turn on its waypoints)")
+    out.append("try " + " or ".join(tries) if tries else
+               "check the waypoints (a turn the body can only make with such a motion), or add rate limits "
+               "(u_max, input_bounds) to plan within them")
+    return tuple(out)
+
+
+def _effort_warning(result: PlanResult, peaks) -> str:
+    """The warning's peak torque and power (exact, or a lower bound sampled on the fastest segments)."""
+    segs = result.segments
+    try:
+        if len(segs) <= EXACT_EFFORT_SEGMENTS:
+            effort = result.effort()
+            j = max(effort, key=lambda n: effort[n].peak_torque)
+            p = max(e.peak_power for e in effort.values())
+            return f"peak torque {effort[j].peak_torque:.4g} N m (joint {j}), peak power {p:.4g} W"
+        fastest = np.argsort(peaks)[-32:]
+        t = np.concatenate([np.linspace(segs[i].t0, segs[i].t1, 65) for i in sorted(fastest)])
+        tau, power = result.torques(t)
+        return (f"peak torque at least {np.max(np.abs(tau)):.4g} N m, peak power at least "
+                f"{np.max(np.abs(power)):.4g} W (sampled on the 32 fastest of {len(segs)} segments; exact in "
+                "result.effort())")
+    except BudgetExceeded as e:
+        return f"peak torque and power not computed: {e}"
+
+
+def _plausible(result: PlanResult, req: PlanRequest) -> PlanResult:
+    """``result`` with its :func:`plausibility` warnings, the message saying so (a success only)."""
+    if not result.success:
+        return result
+    try:
+        warnings = plausibility(result)
+    except BudgetExceeded:
+        return result
+    if not warnings:
+        return result
+    head = warnings[0].split(" (", 1)[0]
+    ratio = warnings[0].split(" is ", 1)[1].split(" times", 1)[0]
+    return dataclasses.replace(result, warnings=warnings, message=result.message + f"; IMPLAUSIBLE: {head}, {ratio}x "
+                               f"what the waypoints imply ({len(warnings)} warnings: result.warnings)")
 
 
 def _fill_free(system, t, X, free, limits):

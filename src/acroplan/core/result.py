@@ -376,6 +376,11 @@ class PlanResult:
         plan, no cost minimised). Each segment's :attr:`SegmentResult.optimality` says how well.
     torque_limits : dict or None
         The torque limits the plan honours, ``{joint: tau_max}`` (``tau_max=`` of :func:`acroplan.plan`).
+    warnings : tuple of str
+        Why a successful plan may not be a motion to use, each a short sentence with its numbers
+        (:func:`acroplan.planning.plausibility`: a peak joint rate far beyond what the waypoints
+        imply, with the peak torque and power); empty when nothing is suspect. The message says
+        how many there are; every one is in :meth:`to_dict` (``solution.json``).
 
     Methods: :meth:`evaluate` (states, inputs, and torques and power), :meth:`sample`,
     :meth:`to_dict`, :meth:`to_json`, :meth:`to_pandas`, :meth:`plot`. When the system has a torque
@@ -402,12 +407,14 @@ class PlanResult:
     verification: str | None = None
     objective: str | None = None
     torque_limits: dict | None = None
+    warnings: tuple[str, ...] = ()
     #: the effort summary, computed on first use (a cache of values the segments fix)
     _effort: dict | None = dataclasses.field(default=None, init=False, repr=False, compare=False)
 
     def __post_init__(self):
         _freeze(self, "times", "waypoints")
         object.__setattr__(self, "status", Status(self.status))
+        object.__setattr__(self, "warnings", tuple(str(w) for w in self.warnings))
 
     @property
     def success(self) -> bool:
@@ -652,12 +659,13 @@ class PlanResult:
         holds per joint the peak torque and power, positive and net work, the integrals of
         :math:`\\tau^2` and :math:`u^2` (:meth:`effort`, ``null`` unless the plan succeeded) and the
         rule they were computed by; a segment of an optimal plan carries its ``optimality``
-        diagnostics (:attr:`SegmentResult.optimality`).
+        diagnostics (:attr:`SegmentResult.optimality`); ``warnings`` the list of :attr:`warnings`.
         """
         return _json_safe({
             "status": self.status.value,
             "success": self.success,
             "message": self.message,
+            "warnings": list(self.warnings),
             "system": self.system.to_dict(),
             "waypoints": {
                 "times": list(map(float, self.times)),

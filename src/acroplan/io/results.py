@@ -86,12 +86,23 @@ def result_from_dict(data: dict) -> PlanResult:
                           segments=tuple(segments), infeasible=tuple(data.get("infeasible", ())),
                           verified=bool(data.get("verified", False)), limits=limits,
                           verification=data.get("verification"), objective=_objective(data.get("objective")),
-                          torque_limits=_torque_limits(data.get("torque_limits")))
+                          torque_limits=_torque_limits(data.get("torque_limits")),
+                          warnings=_warnings(data.get("warnings")))
     except InvalidInputError:
         raise
     except (KeyError, TypeError, ValueError, IndexError) as e:
         raise InvalidInputError("solution.json", f"is not a plan result ({type(e).__name__}: {e})",
                                 "give a solution.json written by acroplan plan") from None
+
+
+def _warnings(value) -> tuple[str, ...]:
+    """``warnings`` of a solution.json: a list of strings (absent in files written before them)."""
+    if value is None:
+        return ()
+    if not isinstance(value, list) or not all(isinstance(w, str) for w in value):
+        raise InvalidInputError("solution.json: warnings", f"must be a list of strings, got {type(value).__name__}",
+                                "give a solution.json written by acroplan plan (or drop the key)")
+    return tuple(value)
 
 
 def _objective(value):

@@ -41,7 +41,7 @@ def plan_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do_ani
                          waypoints, segments (Legendre and power-basis coefficients per input;
                          an optimal plan's optimality diagnostics), objective, torque_limits,
                          effort (per joint: peak |tau|, peak |power|, positive and net work,
-                         integrals of tau^2 and u^2), status, diagnostics
+                         integrals of tau^2 and u^2), status, warnings, diagnostics
       trajectory.csv     t, theta, every joint angle, every rate (t,theta,phi,u for the
                          acrobot), and tau_<joint>, power_<joint> per joint when the body
                          gives torques (its masses and inertias: the acrobot's physical
@@ -52,7 +52,8 @@ def plan_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do_ani
       effort.png         joint torques (limits dotted) and power, when the body gives torques
     On exit code 3 (infeasible) or 4 (not converged) only solution.json is written. A planar
     body ([body] table) is checked independently by Pinocchio, the acrobot by a DOP853
-    re-simulation.
+    re-simulation. A success whose peak joint rate is far beyond what its waypoints imply
+    (10 times their fastest finite difference) prints warnings with the peaks and what to try.
 
     \b
     --objective energy|torque plans the least integral of u^2 or of tau^2 instead of the fast
@@ -113,9 +114,10 @@ def plan_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do_ani
     summary = {"command": "plan", "status": result.status.value, "message": result.message, "out": str(out),
                "segments": len(result.segments), **d["diagnostics"], "infeasible": d["infeasible"],
                "objective": result.objective, "torque_limits": result.torque_limits,
-               "effort": (d.get("effort") or {}).get("joints")}
-    lines = [result.message] + _effort_lines(d) + [f"wrote {out}/"] if code == EXIT_SUCCESS else [
-        result.message, f"diagnostics written to {out / 'solution.json'}"]
+               "effort": (d.get("effort") or {}).get("joints"), "warnings": list(result.warnings)}
+    warned = [f"warning: {w}" for w in result.warnings]  # why a success may not be a motion to use
+    lines = [result.message] + warned + _effort_lines(d) + [f"wrote {out}/"] if code == EXIT_SUCCESS else [
+        result.message, *warned, f"diagnostics written to {out / 'solution.json'}"]
     report(summary, as_json, quiet, lines, code)
 
 def _effort_lines(doc: dict) -> list[str]:

@@ -1,0 +1,168 @@
+"""Plausible, or it says why not (issue #24): a success whose peak joint rate is far beyond what its
+waypoints imply carries ``result.warnings`` with the peak numbers and the message says so; an
+infeasible file of thousands of segments gives a message of a few hundred characters.
+
+The problem files are the issue's reproducers, generated here (not committed): 5,001 waypoints
+0.02 s apart sampled from a gentle motion of a human body split at the hips (de Leva's tables,
+1.74 m, 70 kg, P0 = 20 kg m^2/s), the hips within 0.2 rad of straight (|u| <= 0.2 rad/s),
+``conditions = "free"``; and its unreachable version (the turn 0.1 rad/s slower than the straight
+body's, below every segment's reachable interval).
+"""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+import acroplan
+from acroplan.families.human.deleva import from_height_mass
+from acroplan.io.cli import main as cli
+from acroplan.io.results import result_from_dict
+from acroplan.planning import PLAUSIBLE_FACTOR, plausibility, waypoint_rate
+
+P0, AMPLITUDE = 20.0, 0.2  # kg m^2/s; rad, at 1 rad/s: |u| <= 0.2 rad/s
+
+
+def gentle_motion(n: int = 5001, dt: float = 0.02):
+    """``(times, theta, phi)``: the gentle motion phi = -pi + 0.2 sin t and the turn it makes,
+    theta = theta0 - [F(phi) - F(phi0)] + P0 int dt / h(phi) (docs/mathematics.md), the integral by
+    composite Simpson on 40 panels a waypoint interval (error below 1e-13 rad)."""
+    body = from_height_mass(1.74, 70.0).two_link(angular_momentum=P0)
+    t = np.arange(n) * dt
+    phi = -np.pi + AMPLITUDE * np.sin(t)
+    fine = np.linspace(0.0, t[-1], 40 * (n - 1) + 1)
+    f = 1.0 / body.h(-np.pi + AMPLITUDE * np.sin(fine))
+    h = fine[1] - fine[0]
+    pairs = (f[:-2:2] + 4 * f[1:-1:2] + f[2::2]) * h / 3  # Simpson on each pair of panels
+    integral = np.concatenate([[0.0], np.cumsum(pairs)])[::20]
+    theta = -0.5 * np.pi - (body.F(phi) - body.F(phi[0])) + P0 * integral
+    return t, theta, phi
+
+
+def problem_file(path, times, theta, phi, conditions="free"):
+    """A problem file of the planar human split at the hips (no position: no limits)."""
+    row = lambda v: "[" + ", ".join(repr(float(x)) for x in v) + "]"  # noqa: E731
+    path.write_text(f'[body]\nheight = 1.74\nmass = 70.0\nangular_momentum = {P0!r}\n\n[plan]\n'
+                    f'times = {row(times)}\ntheta = {row(theta)}\nphi = {row(phi)}\nconditions = "{conditions}"\n')
+    return path
+
+
+@pytest.fixture(scope="module")
+def motion():
+    return gentle_motion()
+
+
+def test_the_sampled_motion_is_the_bodys(motion):
+    """The waypoints are the body's own motion: the flat-output identity holds between them, so
+    the gentle motion itself (|u| <= 0.2 rad/s) passes through every one."""
+    t, theta, phi = motion
+    body = from_height_mass(1.74, 70.0).two_link(angular_momentum=P0)
+    assert np.max(np.abs(np.diff(phi) / np.diff(t))) <= AMPLITUDE
+    implied, _ = waypoint_rate(body, t, np.column_stack([theta, phi]))
+    assert 1.7 < implied < 1.9  # the turn P0 / h(straight) = 1.73 rad/s is the fastest rate
+
+
+@pytest.mark.xdist_group("plausible-5001")
+def test_5001_dense_waypoints_free_give_a_warning_with_the_peaks(tmp_path, motion):
+    """The issue's feasible file: "success" with a peak joint rate of some hundred rad/s. It now
+    carries warnings with the peak rate (more than PLAUSIBLE_FACTOR times the waypoints'), the
+    peak torque and power, and the suggestion; the message says so and stays short."""
+    prob = acroplan.load_problem(problem_file(tmp_path / "dense.toml", *motion))
+    assert len(prob.times) == 5001 and prob.conditions == "free"
+    r = acroplan.plan(prob.system, verify=False, progress=False, time_limit=None, **prob.plan_kwargs())
+    assert r.success
+    implied, _ = waypoint_rate(r.system, r.times, r.waypoints)
+    assert r.max_abs_u > PLAUSIBLE_FACTOR * implied  # not a gentle motion: so it must warn
+    assert len(r.warnings) == 3
+    rate, effort, hint = r.warnings
+    assert f"peak joint rate {r.max_abs_u:.4g} rad/s" in rate and f"{implied:.4g} rad/s" in rate
+    assert "peak torque at least" in effort and "N m" in effort and "W" in effort
+    tau = float(effort.split("at least ")[1].split(" N m")[0])
+    assert tau > 1e4  # the hips of a 70 kg man give some 300 N m: far beyond
+    assert 'conditions = "spline"' in hint and "fewer waypoints" in hint and "5000 segments of 0.02 s" in hint
+    assert "IMPLAUSIBLE" in r.message and "result.warnings" in r.message and len(r.message) <= 300
+
+
+@pytest.mark.xdist_group("plausible-5001")
+def test_5001_unreachable_waypoints_give_a_short_message(tmp_path, motion):
+    """The issue's unreachable file printed one 651,057-character line: now one refused segment
+    with its proof and how many more, all of them in solution.json; no degrees hint (radians)."""
+    t, theta, phi = motion
+    path = problem_file(tmp_path / "unreachable.toml", t, theta - 0.1 * t, phi)
+    out = tmp_path / "out"
+    run = CliRunner().invoke(cli, ["plan", str(path), "--out", str(out)])
+    assert run.exit_code == 3, run.output
+    doc = json.loads((out / "solution.json").read_text())
+    assert doc["status"] == "infeasible" and len(doc["infeasible"]) == 5000
+    msg = doc["message"]
+    assert len(msg) <= 320, msg
+    assert msg.startswith("infeasible: 5000 of 5000 segments") and "segment 0 [0, 0.02]" in msg
+    assert "degrees" not in msg
+    first, second = run.output.splitlines()  # the message, and where the diagnostics are
+    assert first == "acroplan: " + msg and second.startswith("acroplan: diagnostics written to")
+
+
+def test_the_same_motion_with_fewer_waypoints_is_gentle(motion):
+    """What the warning suggests works: every 250th waypoint (21, 5 s apart) with spline
+    conditions plans a motion as gentle as the one sampled, and no warning."""
+    t, theta, phi = (v[::250] for v in motion)
+    body = from_height_mass(1.74, 70.0).two_link(angular_momentum=P0)
+    r = acroplan.plan(body, times=t, theta=theta, phi=phi, conditions="spline", progress=False)
+    assert r.success and r.warnings == ()
+    assert r.max_abs_u <= 1.5 * AMPLITUDE
+    assert "IMPLAUSIBLE" not in r.message
+
+
+def test_201_dense_waypoints_warn_with_exact_peaks_through_the_cli(tmp_path, motion):
+    """The first 4 s of the dense file (200 segments): flagged under both conditions; the command
+    line prints the warnings and writes them to solution.json."""
+    t, theta, phi = (v[:201] for v in motion)
+    body = from_height_mass(1.74, 70.0).two_link(angular_momentum=P0)
+    for conditions in ("free", "spline"):
+        r = acroplan.plan(body, times=t, theta=theta, phi=phi, conditions=conditions, progress=False)
+        assert r.success and len(r.warnings) == 3, (conditions, r.max_abs_u)
+        assert r.max_abs_u > PLAUSIBLE_FACTOR * waypoint_rate(body, t, r.waypoints)[0]
+    path = problem_file(tmp_path / "dense201.toml", t, theta, phi)
+    out = tmp_path / "out"
+    run = CliRunner().invoke(cli, ["plan", str(path), "--out", str(out), "--no-plots"])
+    assert run.exit_code == 0, run.output
+    doc = json.loads((out / "solution.json").read_text())
+    assert len(doc["warnings"]) == 3
+    for w in doc["warnings"]:
+        assert f"warning: {w}" in run.output
+    assert "IMPLAUSIBLE" in doc["message"] and doc["message"] in run.output
+    assert result_from_dict(doc).warnings == tuple(doc["warnings"])  # solution.json read back
+
+
+def test_exact_peaks_on_few_segments_and_bounded_inputs_are_not_checked():
+    """The bundled three rods turn 0.4 rad at zero momentum by a shape loop within |u| <= 2 rad/s:
+    no warning (a bounded input is within what the body can do). The same plan without its rate
+    limit is flagged (the loop's rate is 14 times the turn's), with the exact peak torque and power
+    of the effort summary (one segment)."""
+    prob = acroplan.examples.load("three-rods-turn")
+    r = prob.solve(progress=False)
+    assert r.success and r.warnings == () and r.max_abs_u <= 2.0
+    w = plausibility(r)
+    assert w == ()
+    unbounded = r.__class__(**{**{f: getattr(r, f) for f in ("status", "message", "system", "times", "waypoints",
+                                                              "conditions", "basis", "segments", "verified",
+                                                              "verification")}, "limits": None})
+    w = plausibility(unbounded)
+    implied, _ = waypoint_rate(r.system, r.times, r.waypoints)
+    assert r.max_abs_u / implied > PLAUSIBLE_FACTOR and len(w) == 3
+    e = r.effort()
+    j = max(e, key=lambda n: e[n].peak_torque)
+    assert w[1] == (f"peak torque {e[j].peak_torque:.4g} N m (joint {j}), peak power "
+                    f"{max(x.peak_power for x in e.values()):.4g} W")
+
+
+def test_gentle_bundled_examples_carry_no_warning():
+    """The bundled two-link examples: peak rates 1.9 and 6.4 times their waypoints' fastest."""
+    for name in ("pike-dive", "pike-dive-limited"):
+        r = acroplan.examples.load(name).solve(progress=False)
+        implied, _ = waypoint_rate(r.system, r.times, r.waypoints)
+        assert r.success and r.warnings == () and r.max_abs_u < PLAUSIBLE_FACTOR * implied, name
+        assert "IMPLAUSIBLE" not in r.message
