@@ -714,8 +714,9 @@ def plausibility(result: PlanResult, *, factor: float = PLAUSIBLE_FACTOR) -> tup
     warnings then say: the peak rate, where, and the ratio; the peak torque and power when the
     body gives torques (exact, :meth:`PlanResult.effort`, up to :data:`EXACT_EFFORT_SEGMENTS`
     segments; beyond, a lower bound sampled on the 32 fastest segments, said so); and what to try
-    (``conditions="spline"`` for free conditions, fewer waypoints when they are dense, from
-    :data:`DENSE_SEGMENTS` segments). Only bodies whose inputs are all joint rates are checked,
+    (fewer waypoints when they are dense, from :data:`DENSE_SEGMENTS` segments: the issue's 5,001
+    waypoints 0.02 s apart give 179 rad/s free and 92 rad/s spline, every 250th of them 0.28 rad/s;
+    ``conditions="spline"`` for free conditions). Only bodies whose inputs are all joint rates are checked,
     and only the inputs without a rate limit (``u_max``, ``input_bounds``, a link table's or URDF's
     velocity): a bounded input is within what the caller says the body can do.
 
@@ -757,12 +758,12 @@ def plausibility(result: PlanResult, *, factor: float = PLAUSIBLE_FACTOR) -> tup
         out.append(_effort_warning(result, peaks))
     K = len(result.times) - 1
     tries = []
-    if result.conditions == "free":
-        tries.append('conditions = "spline"')
     if K >= DENSE_SEGMENTS:
         dt = np.diff(result.times)
         tries.append(f"fewer waypoints, further apart (these are {K} segments of {np.median(dt):.3g} s: with so "
                      "little time a segment can need a wild motion to keep the turn on its waypoints)")
+    if result.conditions == "free":
+        tries.append('conditions = "spline"')
     out.append("try " + " or ".join(tries) if tries else
                "check the waypoints (a turn the body can only make with such a motion), or add rate limits "
                "(u_max, input_bounds) to plan within them")
