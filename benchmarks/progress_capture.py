@@ -13,6 +13,10 @@ Notebook: the cell runs in a Jupyter kernel through nbclient; every message the 
     python benchmarks/progress_capture.py --notebook "import acroplan; r = acroplan.examples.load('falling-cat').solve()"
 
 The summary is printed as JSON (and written to ``OUT/summary.json`` with the raw capture).
+``--silences OUT`` lists where a terminal capture showed nothing new for more than a second, and
+the line on screen meanwhile::
+
+    python benchmarks/progress_capture.py --silences /tmp/cap
 """
 
 from __future__ import annotations
@@ -33,6 +37,32 @@ _STAGE = re.compile(r"([A-Za-z][A-Za-z :'-]{2,40}?): +(?:\d+%\||\d+:\d\d)")
 
 def _gaps(times: list[float]) -> float:
     return max((b - a for a, b in zip(times, times[1:])), default=0.0)
+
+
+def _text_before(chunk: bytes) -> str:
+    """The last line drawn in ``chunk`` (after its last carriage return), stripped of its bar."""
+    line = chunk.decode("utf-8", "replace").replace("\r\n", "\n").rstrip("\r\n").split("\r")[-1].split("\n")[-1]
+    return re.sub(r"[\u2580-\u259f]+", "", line).strip()[:90]
+
+
+def silences(out: Path, longer: float = 1.0) -> list[dict]:
+    """Where a terminal capture (``OUT/typescript``, ``OUT/timing``) shows nothing new for more than
+    ``longer`` seconds: the start of each silence, how long, and the line on screen meanwhile (the
+    command's start and its end count as draws)."""
+    data = (out / "typescript").read_bytes()
+    start = data.index(b"\n") + 1
+    clock, pos, draws = 0.0, start, [(0.0, "(the command starts)")]
+    for row in (out / "timing").read_text().split("\n"):
+        if not row.strip():
+            continue
+        delay, size = row.split()
+        clock += float(delay)
+        chunk = data[pos:pos + int(size)]
+        pos += int(size)
+        if chunk.strip():
+            draws.append((clock, _text_before(chunk)))
+    return [{"at_s": round(a, 2), "for_s": round(b - a, 2), "showing": text}
+            for (a, text), (b, _) in zip(draws, draws[1:]) if b - a > longer]
 
 
 def terminal(cmd: list[str], out: Path) -> dict:
@@ -103,8 +133,13 @@ def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", type=Path, default=None, help="where the capture goes (default: a temporary folder)")
     ap.add_argument("--notebook", metavar="CODE", help="run CODE in a notebook cell instead of a command")
+    ap.add_argument("--silences", type=Path, metavar="OUT", help="list the silences over 1 s of the terminal "
+                    "capture in OUT (its typescript and timing), with the line on screen meanwhile")
     ap.add_argument("cmd", nargs=argparse.REMAINDER, help="the command (after --)")
     args = ap.parse_args(argv)
+    if args.silences:
+        print(json.dumps(silences(args.silences), indent=2, ensure_ascii=False))
+        return
     out = args.out or Path(tempfile.mkdtemp(prefix="acroplan-progress-"))
     if args.notebook:
         summary = notebook(args.notebook, out)
