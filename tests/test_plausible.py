@@ -21,7 +21,7 @@ import acroplan
 from acroplan.families.human.deleva import from_height_mass
 from acroplan.io.cli import main as cli
 from acroplan.io.results import result_from_dict
-from acroplan.planning import PLAUSIBLE_FACTOR, plausibility, waypoint_rate
+from acroplan.planning import EXACT_EFFORT_SEGMENTS, PLAUSIBLE_FACTOR, plausibility, waypoint_rate
 
 P0, AMPLITUDE = 20.0, 0.2  # kg m^2/s; rad, at 1 rad/s: |u| <= 0.2 rad/s
 
@@ -117,16 +117,21 @@ def test_the_same_motion_with_fewer_waypoints_is_gentle(motion):
     assert "IMPLAUSIBLE" not in r.message
 
 
-def test_201_dense_waypoints_warn_with_exact_peaks_through_the_cli(tmp_path, motion):
-    """The first 4 s of the dense file (200 segments): flagged under both conditions; the command
-    line prints the warnings and writes them to solution.json."""
-    t, theta, phi = (v[:201] for v in motion)
+def test_60_dense_waypoints_warn_with_exact_peaks_through_the_cli(tmp_path, motion):
+    """60 segments of the dense file (t = 2.8 to 4 s): flagged under both conditions, with the exact
+    peak torque and power (the effort summary: at most EXACT_EFFORT_SEGMENTS segments); the command
+    line prints the warnings and writes them to solution.json, which reads back with them."""
+    t, theta, phi = (v[140:201] for v in motion)
+    assert len(t) - 1 <= EXACT_EFFORT_SEGMENTS
     body = from_height_mass(1.74, 70.0).two_link(angular_momentum=P0)
     for conditions in ("free", "spline"):
         r = acroplan.plan(body, times=t, theta=theta, phi=phi, conditions=conditions, progress=False)
         assert r.success and len(r.warnings) == 3, (conditions, r.max_abs_u)
         assert r.max_abs_u > PLAUSIBLE_FACTOR * waypoint_rate(body, t, r.waypoints)[0]
-    path = problem_file(tmp_path / "dense201.toml", t, theta, phi)
+        e = r.effort()["phi"]
+        assert r.warnings[1] == f"peak torque {e.peak_torque:.4g} N m (joint phi), peak power {e.peak_power:.4g} W"
+        assert e.peak_torque > 1e4
+    path = problem_file(tmp_path / "dense60.toml", t, theta, phi)
     out = tmp_path / "out"
     run = CliRunner().invoke(cli, ["plan", str(path), "--out", str(out), "--no-plots"])
     assert run.exit_code == 0, run.output

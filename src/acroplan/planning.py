@@ -801,8 +801,10 @@ def _plausible(result: PlanResult, req: PlanRequest) -> PlanResult:
         return result
     head = warnings[0].split(" (", 1)[0]
     ratio = warnings[0].split(" is ", 1)[1].split(" times", 1)[0]
-    return dataclasses.replace(result, warnings=warnings, message=result.message + f"; IMPLAUSIBLE: {head}, {ratio}x "
-                               f"what the waypoints imply ({len(warnings)} warnings: result.warnings)")
+    out = dataclasses.replace(result, warnings=warnings, message=result.message + f"; IMPLAUSIBLE: {head}, {ratio}x "
+                              f"what the waypoints imply ({len(warnings)} warnings: result.warnings)")
+    object.__setattr__(out, "_effort", result._effort)  # the effort summary the warning computed, kept
+    return out
 
 
 def _fill_free(system, t, X, free, limits):
