@@ -128,15 +128,27 @@ def _effort_lines(doc: dict) -> list[str]:
             f", peak |power| {e['peak_power']:.6g}, positive work {e['positive_work']:.6g}, integral of tau^2 "
             f"{e['torque_squared']:.6g}" for j, e in joints.items()]
 
-def write_csv(result, path: Path, per_segment: int = 200, *, effort: bool = True) -> None:
-    import numpy as np
+#: Rows of trajectory.csv written between two progress updates.
+CSV_BLOCK = 20_000
 
+
+def write_csv(result, path: Path, per_segment: int = 200, *, effort: bool = True) -> None:
     """``per_segment`` samples per segment: the columns of :meth:`Samples.columns` (``t``, the states,
     the inputs, and with ``effort`` when the system has a torque model ``tau_<joint>``,
-    ``power_<joint>``)."""
+    ``power_<joint>``). Written in blocks of :data:`CSV_BLOCK` rows, the stage "writing
+    trajectory.csv" reporting them (a million rows take tens of seconds)."""
+    import numpy as np
+
+    from ...core import progress as progress_mod
+
     cols = result.sample(per_segment, effort=effort).columns()
-    np.savetxt(path, np.column_stack(list(cols.values())), delimiter=",", header=",".join(cols), comments="",
-               fmt="%.17g")
+    data = np.column_stack(list(cols.values()))
+    with open(path, "w", encoding="utf-8") as f, \
+            progress_mod.stage("writing trajectory.csv", len(data), unit="row") as st:
+        f.write(",".join(cols) + "\n")
+        for i in range(0, len(data), CSV_BLOCK):
+            np.savetxt(f, data[i:i + CSV_BLOCK], delimiter=",", fmt="%.17g")
+            st.update(min(CSV_BLOCK, len(data) - i))
 
 def _write_plan_files(result, folder: Path, fmts, no_plots: bool) -> None:
     """trajectory.csv and, unless ``no_plots``, the figures (effort.png when the plan gives torques)."""
