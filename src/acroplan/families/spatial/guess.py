@@ -285,14 +285,7 @@ def loop_guesses(body, basis, x0, x1, T: float, ends: dict | None = None, limits
     SHg = np.polynomial.polynomial.polyval(grid, qh.T)
     dSHg = np.polynomial.polynomial.polyval(grid, dqh.T) if dqh.size else np.zeros((m, grid.size))
     c_base = (dSH / T) @ P.T
-    lo = np.full(m, -np.inf)
-    hi = np.full(m, np.inf)
-    U = np.full(m, np.inf)
-    if limits is not None and limits.active:
-        for j, name in enumerate(body.links.joint_names):
-            lo[j], hi[j] = limits.bounds(name)
-            bnd = limits.input_bound(f"u_{name}")
-            U[j] = np.inf if bnd is None else bnd
+    lo, hi, U = body.joint_bounds(limits)
 
     q_base = fast_attitudes(body, x0[:4], T, SHg[:, None, :], dSHg[:, None, :])[:, 0]
     err_base = rot.angle_between(q_base, x1[:4])
