@@ -131,6 +131,7 @@ def test_60_dense_waypoints_warn_with_exact_peaks_through_the_cli(tmp_path, moti
         e = r.effort()["phi"]
         assert r.warnings[1] == f"peak torque {e.peak_torque:.4g} N m (joint phi), peak power {e.peak_power:.4g} W"
         assert e.peak_torque > 1e4
+        assert r._repr_html_().count("warning: ") == 3  # shown in a notebook too
     path = problem_file(tmp_path / "dense60.toml", t, theta, phi)
     out = tmp_path / "out"
     run = CliRunner().invoke(cli, ["plan", str(path), "--out", str(out), "--no-plots"])

@@ -458,7 +458,8 @@ class PlanResult:
         colour = {"success": "#1a7f37", "infeasible": "#9a6700", "not_converged": "#cf222e"}[self.status.value]
         return (f"<div><b>PlanResult</b> of {html.escape(type(self.system).__name__)}: "
                 f"<b style='color:{colour}'>{self.status.value}</b><br><small>{html.escape(self.message)}</small>"
-                f"<table><tr><th>segment</th><th>t</th><th>method</th><th>coefficients</th><th>final error</th>"
+                + "".join(f"<br><small style='color:#9a6700'>warning: {html.escape(w)}</small>" for w in self.warnings)
+                + f"<table><tr><th>segment</th><th>t</th><th>method</th><th>coefficients</th><th>final error</th>"
                 f"<th>verified error</th><th>max |u|</th><th>evaluations</th></tr>{rows}</table>{more}</div>")
 
     # ------------------------------------------------------------------ evaluation
