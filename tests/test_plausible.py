@@ -76,8 +76,11 @@ def test_5001_dense_waypoints_free_give_a_warning_with_the_peaks(tmp_path, motio
     assert r.success
     implied, _ = waypoint_rate(r.system, r.times, r.waypoints)
     assert r.max_abs_u > PLAUSIBLE_FACTOR * implied  # not a gentle motion: so it must warn
-    assert len(r.warnings) == 3
-    rate, effort, hint = r.warnings
+    assert len(r.warnings) == 5
+    rate, effort, hint, human_rate, human_torque = r.warnings
+    assert human_rate == (f"peak joint rate {r.max_abs_u:.4g} rad/s (u) is beyond what the body can do, 12.8 rad/s "
+                          "(the highest mean peak hip rate of elite platform divers, Murtaugh 2000)")
+    assert human_torque.startswith("peak torque at least ") and "is beyond the body's strength, 351.4 N m" in human_torque
     assert f"peak joint rate {r.max_abs_u:.4g} rad/s" in rate and f"{implied:.4g} rad/s" in rate
     assert "peak torque at least" in effort and "N m" in effort and "W" in effort
     tau = float(effort.split("at least ")[1].split(" N m")[0])
@@ -126,7 +129,7 @@ def test_60_dense_waypoints_warn_with_exact_peaks_through_the_cli(tmp_path, moti
     body = from_height_mass(1.74, 70.0).two_link(angular_momentum=P0)
     for conditions in ("free", "spline"):
         r = acroplan.plan(body, times=t, theta=theta, phi=phi, conditions=conditions, progress=False)
-        assert r.success and len(r.warnings) == 3, (conditions, r.max_abs_u)
+        assert r.success and len(r.warnings) == 3, (conditions, r.max_abs_u)  # no capacity given: no more
         assert r.max_abs_u > PLAUSIBLE_FACTOR * waypoint_rate(body, t, r.waypoints)[0]
         e = r.effort()["phi"]
         assert r.warnings[1] == f"peak torque {e.peak_torque:.4g} N m (joint phi), peak power {e.peak_power:.4g} W"
@@ -137,7 +140,8 @@ def test_60_dense_waypoints_warn_with_exact_peaks_through_the_cli(tmp_path, moti
     run = CliRunner().invoke(cli, ["plan", str(path), "--out", str(out), "--no-plots"])
     assert run.exit_code == 0, run.output
     doc = json.loads((out / "solution.json").read_text())
-    assert len(doc["warnings"]) == 3
+    assert len(doc["warnings"]) == 5  # the file's human body brings its capacity: rate and strength beyond
+    assert "is beyond the body's strength, 351.4 N m" in doc["warnings"][4]
     for w in doc["warnings"]:
         assert f"warning: {w}" in run.output
     assert "IMPLAUSIBLE" in doc["message"] and doc["message"] in run.output
@@ -206,3 +210,36 @@ def test_a_target_near_the_edge_of_the_reachable_set_is_flagged():
     assert hint.startswith("check the waypoints") and "u_max" in hint
     ok = acroplan.plan(robot, times=[0, 1], theta=[0, 1.0], phi=[-np.pi, -np.pi / 2], progress=False)
     assert ok.success and ok.warnings == ()  # the README's example: 5.4 times
+
+
+def test_a_human_body_brings_its_capacity_from_the_data(tmp_path):
+    """A human file carries plan()'s capacity= from families/human/data/limits.toml (the hip rate
+    12.8 rad/s, the hip strength 351.4 N m for both hips); the bundled platform dive is within it."""
+    from acroplan.families.human.limits import hip_rate_literature, hip_torque_literature
+
+    t, theta, phi = gentle_motion(3, 0.5)
+    prob = acroplan.load_problem(problem_file(tmp_path / "short.toml", t, theta, phi))
+    cap = prob.options["capacity"]
+    assert cap["rates"]["u"][0] == hip_rate_literature()[1] == 12.8
+    assert cap["torques"]["phi"][0] == max(hip_torque_literature()) == 351.4
+    r = prob.solve(progress=False)
+    assert r.success and r.warnings == () and r.max_abs_u < 1.0
+
+
+def test_capacity_is_a_yardstick_not_a_limit():
+    """The same plan with and without capacity=: the same motion; with it, two more warnings naming
+    the yardstick's numbers and sources. A capacity naming no input is refused, naming the field."""
+    robot = acroplan.Acrobot.from_physical(torso_mass=40.0, leg_mass=20.0, torso_inertia=1.8, leg_inertia=1.2,
+                                           torso_length=0.35, leg_length=0.45, angular_momentum=10.0)
+    kw = dict(times=[0, 1], theta=[0, 2.0], phi=[-np.pi, -np.pi / 2], progress=False)
+    cap = {"rates": {"u": (12.0, "source A")}, "torques": {"phi": (351.4, "source B")}}
+    a, b = acroplan.plan(robot, **kw), acroplan.plan(robot, capacity=cap, **kw)
+    assert np.array_equal(a.segments[0].basis_coefficients, b.segments[0].basis_coefficients)
+    assert b.warnings[:3] == a.warnings and len(b.warnings) == 5
+    assert b.warnings[3] == f"peak joint rate {b.max_abs_u:.4g} rad/s (u) is beyond what the body can do, 12 rad/s (source A)"
+    assert b.warnings[4] == (f"peak torque {b.effort()['phi'].peak_torque:.4g} N m (joint phi) is beyond the body's "
+                             "strength, 351.4 N m (source B)")
+    ok = acroplan.plan(robot, times=[0, 1], theta=[0, 1.0], phi=[-np.pi, -np.pi / 2], progress=False, capacity=cap)
+    assert ok.warnings == () and ok.max_abs_u < 12.0
+    with pytest.raises(acroplan.InvalidInputError, match=r"capacity\.rates\.v: is not an input of Acrobot"):
+        acroplan.plan(robot, capacity={"rates": {"v": (1.0, "x")}}, **kw)

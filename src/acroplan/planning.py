@@ -41,7 +41,7 @@ from .core.system import ControlAffineSystem, torque_model_of
 from .core.verify import VERIFY_TOL, check_name, resolve_verify, verify_plan
 
 __all__ = ["plan", "warm_up", "PlanRequest", "CONDITIONS", "VERIFY_TOL", "DEFAULT_SIZE", "MAX_COEFFICIENTS",
-           "TIME_LIMIT", "plausibility", "waypoint_rate", "PLAUSIBLE_FACTOR"]
+           "TIME_LIMIT", "plausibility", "beyond_capacity", "waypoint_rate", "PLAUSIBLE_FACTOR"]
 
 #: Coefficients per input per segment when neither ``n_coefficients`` nor the strategy says.
 DEFAULT_SIZE = 6
@@ -173,6 +173,7 @@ class PlanRequest:
     degrees: bool = False
     objective: str | None = None
     torque_limits: dict | None = None
+    capacity: dict | None = None
 
     @classmethod
     def build(cls, system, *, times, conditions: str | None = None, method="auto", basis="legendre",
@@ -180,7 +181,7 @@ class PlanRequest:
               state_bounds=None, input_bounds=None, verify: bool | str = True, tol: float = 1e-10,
               max_evaluations: int = 2000, time_limit: float | None = TIME_LIMIT, start_rate=None,
               end_rate=None, degrees: bool = False, objective: str | None = None, tau_max=None,
-              **named) -> "PlanRequest":
+              capacity=None, **named) -> "PlanRequest":
         """Validate :func:`plan`'s arguments (same keywords). Raises :class:`InvalidInputError`."""
         if not isinstance(system, ControlAffineSystem):
             raise InvalidInputError("system", f"must be a ControlAffineSystem, got {type(system).__name__}",
@@ -207,7 +208,8 @@ class PlanRequest:
         req = cls(system=system, times=t, waypoints=X, free=free, conditions=conditions, strategy=strategy, basis=b,
                   sizes=sizes, limits=limits, verify=verify, tol=tol, max_evaluations=max_evaluations,
                   time_limit=time_limit, start_rate=rates.get("start_rate"), end_rate=rates.get("end_rate"),
-                  degrees=degrees, objective=objective, torque_limits=torque_limits)
+                  degrees=degrees, objective=objective, torque_limits=torque_limits,
+                  capacity=_capacity(system, capacity))
         fam = family_of(system)
         if fam is not None and fam.check_request is not None:
             fam.check_request(req)  # what the family's planners cannot take, refused at the boundary
@@ -349,6 +351,37 @@ def _end_rates(system, conditions: str, degrees: bool, **given) -> dict[str, np.
     return rates
 
 
+def _capacity(system, capacity) -> dict | None:
+    """``capacity=`` validated: ``{"rates": {input: (top, source)}, "torques": {joint: (top, source)}}``."""
+    if capacity is None:
+        return None
+    fix = 'give {"rates": {"u": (12.0, "a source")}, "torques": {"phi": (350.0, "a source")}}'
+    if not isinstance(capacity, dict) or set(capacity) - {"rates", "torques"}:
+        raise InvalidInputError("capacity", f"must be a dict with the keys rates and torques, got {_short(capacity)}",
+                                fix)
+    out = {}
+    for kind, names in (("rates", system.input_names), ("torques", None)):
+        table = capacity.get(kind) or {}
+        if not isinstance(table, dict):
+            raise InvalidInputError(f"capacity.{kind}", f"must be a dict, got {_short(table)}", fix)
+        entries = {}
+        for name, pair in table.items():
+            if names is not None and name not in names:
+                raise InvalidInputError(f"capacity.{kind}.{name}", f"is not an input of {type(system).__name__}",
+                                        f"inputs are {list(names)}")
+            try:
+                top, source = pair
+                top = float(top)
+            except (TypeError, ValueError):
+                raise InvalidInputError(f"capacity.{kind}.{name}", f"must be (top, source), got {_short(pair)}",
+                                        fix) from None
+            if not (math.isfinite(top) and top > 0):
+                raise InvalidInputError(f"capacity.{kind}.{name}", f"must be a positive number, got {top!r}", fix)
+            entries[str(name)] = (top, str(source))
+        out[kind] = entries
+    return out
+
+
 def _check_compile_time(req: PlanRequest) -> None:
     """Refuse a plan whose first compilation would take longer than its time limit
     (:func:`acroplan.core.backend.compile_estimate`: a lower bound from the family's measured
@@ -423,7 +456,7 @@ def plan(system: ControlAffineSystem, *, times, conditions: str | None = None, m
          n_coefficients: int | None = None, limits: Limits | None = None, u_max: float | None = None,
          state_bounds=None, input_bounds=None, verify: bool | str = True, tol: float = 1e-10,
          max_evaluations: int = 2000, time_limit: float | None = TIME_LIMIT, start_rate=None, end_rate=None,
-         degrees: bool = False, objective: str | None = None, tau_max=None, progress=None,
+         degrees: bool = False, objective: str | None = None, tau_max=None, capacity=None, progress=None,
          **waypoints) -> PlanResult:
     r"""Plan a motion of ``system`` through waypoints.
 
@@ -506,6 +539,13 @@ def plan(system: ControlAffineSystem, *, times, conditions: str | None = None, m
         needs a torque model. Torque limits need the optimiser, so ``objective`` defaults to
         ``"energy"`` with them. The result's peak torque of each joint (refined between grid points)
         is checked: above :math:`\bar\tau_j(1 + 10^{-9})` the plan is ``not_converged``.
+    capacity : dict, optional
+        What the body can do, as a yardstick of the plan, not a limit of it: ``{"rates": {input:
+        (top, source)}, "torques": {joint: (top, source)}}`` (rad/s and N m whatever ``degrees``;
+        ``source`` a short citation). A success beyond it carries a warning
+        (:attr:`PlanResult.warnings`, :func:`beyond_capacity`) with the peak and the yardstick. A
+        human body read from a problem file brings its own (the hip rate and strength of
+        ``families/human/data/limits.toml``: 12.8 rad/s, 351.4 N m for both hips).
     progress : bool, Progress or callable, optional
         Progress of the work, one ``tqdm.auto`` line per stage that lasts more than half a second
         (the waypoint intervals; within one, the strategy's guesses, path deformation, the optimal
@@ -539,7 +579,7 @@ def plan(system: ControlAffineSystem, *, times, conditions: str | None = None, m
                             n_coefficients=n_coefficients, limits=limits, u_max=u_max, state_bounds=state_bounds,
                             input_bounds=input_bounds, verify=verify, tol=tol, max_evaluations=max_evaluations,
                             time_limit=time_limit, start_rate=start_rate, end_rate=end_rate, degrees=degrees,
-                            objective=objective, tau_max=tau_max, **waypoints)
+                            objective=objective, tau_max=tau_max, capacity=capacity, **waypoints)
     return solve(req, progress=progress)
 
 
@@ -836,21 +876,71 @@ def _effort_warning(result: PlanResult, peaks) -> str:
         return f"peak torque and power not computed: {e}"
 
 
+def beyond_capacity(result: PlanResult, capacity: dict | None) -> tuple[str, ...]:
+    """Warnings of a success beyond what the body can do (``capacity=`` of :func:`plan`): a peak
+    joint rate above its input's top rate (exact), a peak torque above its joint's strength (exact
+    up to :data:`EXACT_EFFORT_SEGMENTS` segments; beyond, a lower bound sampled on the 32 fastest
+    segments, which is enough to show it exceeded)."""
+    if not capacity or not result.success or not result.segments:
+        return ()
+    from .core.limits import input_extremes
+
+    segs, system, out = result.segments, result.system, []
+    for name, (top, source) in capacity.get("rates", {}).items():
+        j = system.input_names.index(name)
+        if system.n_inputs == 1:
+            peak = max(s.max_abs_u for s in segs)
+        else:
+            peak = max(max(abs(v) for v in input_extremes(result.basis_for(s), s.basis_coefficients[j])) for s in segs)
+        if peak > top * (1.0 + 1e-9):
+            out.append(f"peak joint rate {peak:.4g} rad/s ({name}) is beyond what the body can do, {top:g} rad/s "
+                       f"({source})")
+    torques = capacity.get("torques") or {}
+    if torques and result.has_torques:
+        try:
+            if len(segs) <= EXACT_EFFORT_SEGMENTS:
+                effort = result.effort()
+                peaks, exact = {j: e.peak_torque for j, e in effort.items()}, True
+            else:
+                fastest = np.argsort([s.max_abs_u for s in segs])[-32:]
+                t = np.concatenate([np.linspace(segs[i].t0, segs[i].t1, 65) for i in sorted(fastest)])
+                tau, _ = result.torques(t)
+                peaks, exact = {j: float(np.max(np.abs(tau[:, k]))) for k, j in enumerate(_joint_names(result))}, False
+        except BudgetExceeded:
+            peaks, exact = {}, True
+        for joint, (top, source) in torques.items():
+            peak = peaks.get(joint)
+            if peak is not None and peak > top * (1.0 + 1e-9):
+                out.append(f"peak torque {'at least ' if not exact else ''}{peak:.4g} N m (joint {joint}) is beyond "
+                           f"the body's strength, {top:g} N m ({source})")
+    return tuple(out)
+
+
+def _joint_names(result: PlanResult) -> tuple[str, ...]:
+    """The torque model's joint names, in the order of :meth:`PlanResult.torques`'s columns."""
+    return result._torque_setup()[1]
+
+
 def _plausible(result: PlanResult, req: PlanRequest) -> PlanResult:
-    """``result`` with its :func:`plausibility` warnings, the message saying so (a success only)."""
+    """``result`` with its warnings (:func:`plausibility`, :func:`beyond_capacity`), the message
+    saying so (a success only)."""
     if not result.success:
         return result
     try:
-        warnings = plausibility(result)
+        rate = plausibility(result)
+        warnings = rate + beyond_capacity(result, req.capacity)
     except BudgetExceeded:
         return result
     if not warnings:
         return result
-    head = warnings[0].split(" (", 1)[0]
-    ratio = warnings[0].split(" is ", 1)[1].split(" times", 1)[0]
-    out = dataclasses.replace(result, warnings=warnings, message=result.message + f"; IMPLAUSIBLE: {head}, {ratio}x "
-                              f"what the waypoints imply ({len(warnings)} warnings: result.warnings)")
-    object.__setattr__(out, "_effort", result._effort)  # the effort summary the warning computed, kept
+    if rate:
+        ratio = rate[0].split(" is ", 1)[1].split(" times", 1)[0]
+        head = f"{rate[0].split(' (', 1)[0]}, {ratio}x what the waypoints imply"
+    else:
+        head = warnings[0].split(" (", 1)[0] + " beyond what the body can do"
+    out = dataclasses.replace(result, warnings=warnings, message=result.message + f"; IMPLAUSIBLE: {head} "
+                              f"({len(warnings)} warning{'s' if len(warnings) > 1 else ''}: result.warnings)")
+    object.__setattr__(out, "_effort", result._effort)  # the effort summary the warnings computed, kept
     return out
 
 

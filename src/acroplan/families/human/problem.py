@@ -57,8 +57,27 @@ def read(table: str, data: dict, limits: dict | None, context):
                                 "planar human")
     system, defaults = _human_body(data, given, limits, context=context)
     if defaults or not isinstance(system, PlanarBody):
-        return system, acrobot_limits(limits, defaults, degrees=context.degrees)
-    return system, {}
+        return system, {**acrobot_limits(limits, defaults, degrees=context.degrees), "capacity": capacity(system)}
+    return system, {"capacity": capacity(system)}
+
+
+def capacity(system) -> dict:
+    """What a human body can do, as plan()'s ``capacity=`` (a yardstick of a plan, not a limit of
+    it: a success beyond it is warned of): the hip rate, the highest mean peak hip flexion rate
+    measured in elite platform divers, and the hip strength, the larger of an elite gymnast's
+    largest isometric hip flexion and extension torques, both hips together (``data/limits.toml``);
+    split at the shoulders too, the shoulder's rate (an estimate, said so)."""
+    from .limits import hip_rate_literature, hip_torque_literature, human_data
+
+    rate = hip_rate_literature()[1]
+    strength = max(hip_torque_literature(both=True))
+    rate_src = "the highest mean peak hip rate of elite platform divers, Murtaugh 2000"
+    torque_src = "an elite gymnast's largest isometric hip torque, both hips, Jackson 2010"
+    if not isinstance(system, PlanarBody):  # split at the hips: the acrobot's u and phi
+        return {"rates": {"u": (rate, rate_src)}, "torques": {"phi": (strength, torque_src)}}
+    shoulder = float(human_data()["rates"]["shoulder"]["value"])
+    return {"rates": {"u_hip": (rate, rate_src), "u_shoulder": (shoulder, "an estimate, data/limits.toml")},
+            "torques": {"hip": (strength, torque_src)}}
 
 
 _INSTALL_HUMAN = 'pip install "acroplan[human]"'
