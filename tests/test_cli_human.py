@@ -74,9 +74,13 @@ def test_platform_dive_file_is_the_python_example(dive):
     assert prob.theta[-1] - prob.theta[0] == pytest.approx(7.0 * math.pi, abs=1e-14)
     assert prob.limits == kw["limits"] == human_limits(dive.body, "pike")
     assert prob.conditions == kw["conditions"] == "free"
-    opts = {k: v for k, v in prob.options.items() if k not in ("phi_min", "phi_max", "u_max")}
+    opts = {k: v for k, v in prob.options.items() if k not in ("phi_min", "phi_max", "u_max", "capacity")}
     assert opts == {k: v for k, v in kw.items() if k not in ("times", "theta", "phi", "limits", "conditions")} == \
         {"objective": "energy"}
+    # a file's human body brings its capacity (a yardstick of the plan: warnings, not limits; issue #24)
+    from acroplan.families.human.problem import capacity
+
+    assert prob.options["capacity"] == capacity(prob.robot)
     assert prob.robot.P0 == dive.P0 and dive.P0 / dive.least.P0 - 1.0 == pytest.approx(0.149, abs=5e-4)
 
 
