@@ -363,6 +363,18 @@ def prepare_all() -> None:
         _prepare_family(fam)
 
 
+def registered_class(name: str) -> type | None:
+    """The registered family's system class named ``name`` (imported), or ``None``: what a record's
+    ``system.type`` names, before any other class of the same name (a user's, defined in a notebook
+    before the family's class was first imported)."""
+    for fam in families():
+        if name in fam.type_names():
+            for cls in fam.classes():
+                if cls.__name__ == name:
+                    return cls
+    return None
+
+
 def system_classes() -> dict[str, type]:
     """Every registered family's system classes by class name, imported (what reading a result
     file's ``system.type`` needs)."""

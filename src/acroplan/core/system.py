@@ -43,7 +43,7 @@ from typing import Any, Callable, ClassVar, Hashable
 import numpy as np
 import sympy as sp
 
-from .family import prepare, system_classes
+from .family import prepare, registered_class, system_classes
 
 __all__ = ["ControlAffineSystem", "Infeasibility", "register_torque_model", "TORQUE_MODELS", "torque_model_of",
            "joint_inputs"]
@@ -456,12 +456,15 @@ class ControlAffineSystem(abc.ABC):
 
         if cls is ControlAffineSystem:
             kind = data.get("type") if isinstance(data, dict) else None
-            if kind not in _TYPES:
-                system_classes()  # the registered families' classes, imported
-            if kind not in _TYPES:
+            # a registered family's class of that name first, else a class defined so far
+            target = registered_class(kind) if isinstance(kind, str) else None
+            if target is None:
+                target = _TYPES.get(kind)
+            if target is None:
+                system_classes()  # (every registered family imported, for the message)
                 raise InvalidInputError("system.type", f"unknown system type {kind!r}",
                                         f"known types are {sorted(_TYPES)} (import the family first)")
-            return _TYPES[kind].from_dict(data)
+            return target.from_dict(data)
         return cls(**dict(data.get("params", {})))
 
     # ------------------------------------------------------------------ the body's parameters (sweeps)
