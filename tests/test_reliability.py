@@ -433,3 +433,37 @@ def test_issue_25_a_spatial_momentum_too_fast_for_the_guesses_is_refused(L):
     assert MAX_FREE_TURN == 96
     PlanRequest.build(fast, **{**kw, "method": "deform"})  # path deformation alone is not refused
     PlanRequest.build(dataclasses.replace(cat, L=(1.0, 0.0, 0.0)), **kw)  # 54 rad: planned (it succeeds)
+
+
+def test_issue_25_a_spatial_bodys_compiled_maps_are_waited_for_within_the_budget(monkeypatch):
+    """Since issue #22 a spatial plan compiles its topology's momentum maps (Gauss collocation of the
+    attitude, heyoka cfuncs) instead of a Taylor integrator, and compiled them in the caller's thread,
+    outside the time budget (fuzzed spatial files ran to 16.8 s under --time-limit 10). Counted, not
+    timed: the plan returns at its deadline while the compilation it started is blocked; that
+    compilation then finishes once in the background, and the next plan uses it."""
+    import threading
+
+    from acroplan.families.spatial import collocation
+    from acroplan.families.spatial.examples import falling_cat_turn
+
+    monkeypatch.setattr(collocation, "_MAPS", {})  # as in a process that never compiled them
+    monkeypatch.setattr(backend, "_ONCE", {})
+    release, started = threading.Event(), []
+    real_build = collocation._build
+
+    def blocked_build(body, light=False):
+        started.append(light)
+        release.wait(60)
+        return real_build(body, light=light)
+
+    monkeypatch.setattr(collocation, "_build", blocked_build)
+    cat, kw = falling_cat_turn()
+    res = acroplan.plan(cat, **{**kw, "time_limit": 0.2})
+    assert res.status == "not_converged" and "time budget of 0.2 s" in res.message, res.message
+    assert len(started) == 1 and not release.is_set() and not collocation._MAPS
+    release.set()
+    res = acroplan.plan(cat, **{**kw, "time_limit": 60})  # waits for the compilation under way
+    assert res.success, res.message
+    assert sorted(started) == [False, True] and set(collocation._MAPS) == {(cat.links.parents, False),
+                                                                          (cat.links.parents, True)}
+    assert backend.compiled_before(collocation.map_key(cat)) and backend.compiled_before(collocation.map_key(cat, True))
