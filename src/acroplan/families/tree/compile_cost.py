@@ -42,7 +42,7 @@ MEASURED = {
     "spatial-heyoka": {2: 1.5, 3: 2.2, 4: 3.3, 5: 4.1, 6: 7.3, 7: 19.3},
     # processor seconds of compiling a topology's two momentum maps (the collocation's; symbolic map
     # excluded), the least of chains and stars (the stars': a chain costs more, x2.0-2.8 per link)
-    "spatial-map": {2: 0.22, 3: 0.42, 4: 0.75, 5: 1.32, 6: 2.05, 7: 2.84, 8: 4.17},
+    "spatial-map": {2: 0.22, 3: 0.42, 4: 0.75, 5: 1.32, 6: 2.05, 7: 2.84, 8: 4.17, 9: 6.08, 10: 8.34},
 }
 #: Kinds whose compilation does not depend on the number of coefficients.
 SIZE_FREE = frozenset({"spatial-map"})
@@ -50,11 +50,12 @@ SIZE_FREE = frozenset({"spatial-map"})
 MEASURED_SIZE = 6
 #: The share of a measured time the bound claims: the measurements were made with the machine's load
 #: average from 1.6 to 12 on 2 cores, and the same compilation took from 65 s to 156 s (a 7-link
-#: planar chain), so a quarter: an idle machine, or one four times as fast.
+#: planar chain), so a quarter: an idle machine, or one four times as fast (of the spatial maps'
+#: processor seconds: a machine whose compilation runs on four cores at once, or as fast).
 SAFETY = 0.25
 #: The growth per link beyond the last measured count, below every measured average growth per link
 #: (planar chains 2.2 and stars 2.0; spatial chains 2.2 and stars 1.34). ``None``: in proportion
-#: to the links (the spatial maps of stars grew x1.83 to x1.39 per link, falling: the maps' outputs
+#: to the links (the spatial maps of stars grew x1.83 to x1.37 per link, falling: the maps' outputs
 #: grow in proportion to the joints, so no faster growth is claimed).
 GROWTH = {"planar": 1.5, "spatial": 1.25, "spatial-heyoka": 1.25, "spatial-map": None}
 
