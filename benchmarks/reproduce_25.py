@@ -89,6 +89,8 @@ def write_cases(root: pathlib.Path) -> pathlib.Path:
 
     case("1-chain3831-planar", PLANAR, body_urdf=chain(3831))
     case("1-chain3831-spatial", SPATIAL, body_urdf=chain(3831))
+    case("1-chain3831-sweep", PLANAR + "[sweep]\nchunk_size = 5\n[sweep.grid]\nT = [1.0, 2.0]\n", "sweep",
+         body_urdf=chain(3831))
     case("2-yeadon-8.9MB", YEADON, me_txt=measurements + "\n# " + "x" * 8_900_000 + "\n")
     case("3-sweep-num-1e9", sweep + "\n[sweep.grid]\nT = {start = 1.0, stop = 2.0, num = 1000000000}\n", "sweep")
     case("3-sweep-sample-1e12", sweep + "\n[sweep.sample]\nn = 1000000000000\nT = [0.5, 2.0]\n", "sweep")

@@ -704,6 +704,17 @@ def test_issue_25_a_long_chain_urdf_is_refused_before_pinocchio_reads_it(tmp_pat
 
 
 
+def test_issue_25_a_long_chain_urdf_in_a_sweep_is_refused_before_pinocchio_reads_it(tmp_path, capfd):
+    """``acroplan sweep`` of a body with the 3,831-link chain was killed by SIGSEGV too (exit 139 on
+    639160b): exit 2, one line, no store."""
+    (tmp_path / "body.urdf").write_text(chain_urdf(3831))
+    text = PLANAR_FILE + "[sweep]\nchunk_size = 5\n[sweep.grid]\nT = [1.0, 2.0]\n"
+    res = run(["sweep", write(tmp_path, text), "--out", tmp_path / "o.zarr"])
+    one_line_error(res, "body.urdf: body.urdf has 3830 moving joints (3831 moving links), more than 16 links")
+    assert capfd.readouterr().err == ""
+    assert not list(tmp_path.glob("*o.zarr*"))
+
+
 @pytest.mark.parametrize("value, words", [
     ("nan", "has mass = nan, not a finite number"),
     ("inf", "has mass = inf, not a finite number"),
