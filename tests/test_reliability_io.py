@@ -703,7 +703,6 @@ def test_issue_25_a_long_chain_urdf_is_refused_before_pinocchio_reads_it(tmp_pat
     assert not (tmp_path / "out").exists()
 
 
-
 def test_issue_25_a_long_chain_urdf_in_a_sweep_is_refused_before_pinocchio_reads_it(tmp_path, capfd):
     """``acroplan sweep`` of a body with the 3,831-link chain was killed by SIGSEGV too (exit 139 on
     639160b): exit 2, one line, no store."""
