@@ -35,9 +35,15 @@ def _draw(folder, solution, gif, strobe_path, mp4, *, speed, fps, load):
 
 
 def _compile_seconds(body, n):
+    """What a spatial plan compiles: its topology's momentum maps (Gauss collocation, issue #22),
+    none when both were compiled before (in this process or on this machine)."""
+    from ...core import backend
     from ..tree.compile_cost import compile_seconds
+    from .collocation import map_key
 
-    return compile_seconds("spatial", body, n)
+    if all(backend.compiled_before(map_key(body, light)) for light in (False, True)):
+        return None
+    return compile_seconds("spatial-map", body, n)
 
 
 def _check_request(req):
