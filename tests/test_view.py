@@ -1,0 +1,103 @@
+"""The interactive 3-D view in the browser (issue #24): one self-contained HTML page, loaded in a
+headless Chromium (Debian's package; .ci/run installs it) through the DevTools Protocol: no console
+error, the body on the screenshot, and the slider and the play button change the picture. Counted
+in pixels, never timed."""
+
+import json
+
+import numpy as np
+import pytest
+
+import acroplan
+
+browser = pytest.importorskip("browser")  # tests/browser.py
+pytest.importorskip("plotly")
+pytest.importorskip("websocket")
+if browser.chromium() is None:
+    pytest.skip("no chromium on the PATH (apt-get install -y chromium)", allow_module_level=True)
+
+READY = "document.querySelector('.js-plotly-plot') && document.querySelector('.js-plotly-plot')._fullLayout"
+#: The frame shown (plotly records it while animating and when the slider moves)
+ACTIVE = "document.querySelector('.js-plotly-plot')._fullLayout._currentFrame"
+#: Two animation frames of the page: what a picture needs to be redrawn after a change
+REDRAWN = "new Promise(r => requestAnimationFrame(() => requestAnimationFrame(() => setTimeout(r, 300))))"
+
+
+@pytest.fixture(scope="module")
+def cat_view(tmp_path_factory):
+    result = acroplan.examples.load("falling-cat").solve(verify=False)
+    path = result.view(tmp_path_factory.mktemp("view") / "cat.html", frames=40)
+    return result, path
+
+
+def _coloured(img, box):
+    """Pixels of ``img`` inside ``box`` (left, top, right, bottom) that are coloured (not white, grey
+    or black: the background, the grid, the text): the body's shaded solids."""
+    a = np.asarray(img.crop(box)).astype(int)
+    return (a.max(axis=2) - a.min(axis=2)) > 60
+
+
+def test_the_page_is_self_contained(cat_view):
+    _, path = cat_view
+    import re
+
+    html = path.read_text(encoding="utf-8")
+    assert not re.findall(r"<script[^>]*\bsrc=", html)  # every script inline: plotly's too
+    assert "Plotly.newPlot" in html and len(html) > 3_000_000  # plotly.js itself is ~3.5 MB
+
+
+def test_the_view_loads_shows_the_body_and_moves_with_the_slider_and_play(cat_view):
+    result, path = cat_view
+    with browser.Browser(width=1200, height=700) as b:
+        b.open(browser.file_url(path))
+        b.wait_js(READY)
+        b.js(REDRAWN, await_promise=True)
+        assert b.errors == []
+        frames = b.js("document.querySelector('.js-plotly-plot')._transitionData._frames.length")
+        assert frames == 40
+        scene = b.js("JSON.stringify(document.querySelector('.gl-container canvas').getBoundingClientRect())")
+        r = json.loads(scene)
+        box = (int(r["left"]), int(r["top"]), int(r["left"] + 0.55 * 1200), int(r["top"] + r["height"]))
+        first = b.screenshot()
+        body = _coloured(first, box)
+        assert body.sum() > 3000  # the body's solids (measured: ~15,000 px at 1200 x 700)
+        # the slider: a click three quarters along its rail moves the body
+        rail = json.loads(b.js("JSON.stringify(document.querySelector('.slider-rail-rect').getBoundingClientRect())"))
+        b.click(rail["left"] + 0.75 * rail["width"], rail["top"] + rail["height"] / 2)
+        b.js(REDRAWN, await_promise=True)
+        active = b.js(ACTIVE)
+        names = [f"{t:.4f}" for t in np.linspace(result.times[0], result.times[-1], 40)]
+        assert active in names and 25 <= names.index(active) <= 33
+        moved = b.screenshot()
+        changed = (np.abs(np.asarray(moved.crop(box)).astype(int) - np.asarray(first.crop(box)).astype(int))
+                   .max(axis=2) > 40)
+        assert changed.sum() > 1000  # a different picture of the body
+        # play runs the frames on from there; pause stops them
+        buttons = json.loads(b.js("JSON.stringify(Array.from(document.querySelectorAll('.updatemenu-button'))"
+                                  ".map(e => e.getBoundingClientRect()))"))
+        b.click(buttons[0]["left"] + 5, buttons[0]["top"] + 5)  # play
+        b.wait_js(f"{ACTIVE} != '{active}'")
+        b.click(buttons[1]["left"] + 5, buttons[1]["top"] + 5)  # pause
+        b.js(REDRAWN, await_promise=True)
+        stopped = b.js(ACTIVE)
+        b.js(REDRAWN, await_promise=True)
+        assert b.js(ACTIVE) == stopped != active
+        assert b.errors == []
+
+
+def test_the_command_line_writes_the_view_from_a_folder(tmp_path):
+    from click.testing import CliRunner
+
+    from acroplan.io.cli import main
+
+    out = tmp_path / "cat"
+    assert CliRunner().invoke(main, ["plan", "--example", "falling-cat", "--out", str(out), "--no-plots"]).exit_code == 0
+    res = CliRunner().invoke(main, ["view", str(out), "--frames", "12"])
+    assert res.exit_code == 0, res.output
+    html = (out / "view.html").read_text(encoding="utf-8")
+    assert html.count('"name":"0.') + html.count('"name":"0') >= 12  # the frames, named by their times
+    planar = tmp_path / "rods"
+    assert CliRunner().invoke(main, ["plan", "--example", "three-rods-turn", "--out", str(planar), "--no-plots"]
+                              ).exit_code == 0
+    res = CliRunner().invoke(main, ["view", str(planar)])
+    assert res.exit_code == 2 and "acroplan animate" in res.output
