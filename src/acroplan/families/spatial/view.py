@@ -23,21 +23,36 @@ __all__ = ["figure", "write_view", "FRAMES"]
 #: Frames of the view by default (the page holds every frame's vertices).
 FRAMES = 120
 _AXES = ("#d62728", "#2ca02c", "#1f77b4")
+#: plotly.js rejects the promise of an animation that a newer one interrupts (the pause button, a
+#: slider step while playing) with no reason, and nothing catches it: the browser logs "Uncaught (in
+#: promise)". Those rejections (and only those: no reason) are marked handled.
+QUIET_PAUSE = ("window.addEventListener('unhandledrejection', function (e) {"
+               " if (e.reason === undefined) { e.preventDefault(); } });")
 
 
-def _meshes(body, solids, state):
-    """One Mesh3d's arrays for all solids at ``state``: x, y, z and the triangles i, j, k."""
-    verts = posed(body, state, solids)
-    offsets = np.cumsum([0] + [v.shape[0] for v in verts[:-1]])
-    V = np.vstack(verts)
-    F = np.vstack([s.faces + o for s, o in zip(solids, offsets)])
-    return V, F
+def _groups(solids):
+    """The solids by link, in link order: ``[(link, [solid, ...]), ...]`` (one mesh trace each, one
+    entry of the key)."""
+    out: dict[int, list] = {}
+    for s in solids:
+        out.setdefault(s.link, []).append(s)
+    return sorted(out.items())
+
+
+def _meshes(body, groups, state):
+    """Per link: one Mesh3d's arrays for its solids at ``state``: ``(V (n, 3), F (f, 3))``."""
+    out = []
+    for _, solids in groups:
+        verts = posed(body, state, solids)
+        offsets = np.cumsum([0] + [v.shape[0] for v in verts[:-1]])
+        out.append((np.vstack(verts), np.vstack([s.faces + o for s, o in zip(solids, offsets)])))
+    return out
 
 
 def _root_axes(body, state, scale):
     Rs, org, _ = body.link_poses(state)
     r = body.links.root
-    return [(org[r], org[r] + 0.45 * scale * Rs[r][:, k]) for k in range(3)]
+    return [(org[r], org[r] + 0.75 * scale * Rs[r][:, k]) for k in range(3)]
 
 
 def figure(result, *, frames: int = FRAMES, samples=None, title: str | None = None):
@@ -65,22 +80,23 @@ def figure(result, *, frames: int = FRAMES, samples=None, title: str | None = No
     D = states_at(result, dense_t, samples, unit_rows=4)
     euler = np.degrees(np.unwrap(np.radians(rot.to_euler(D[:4], "yeadon")), axis=1))
     joints = np.degrees(D[4:])
-    solids = solids_of(body)
-    V0, F = _meshes(body, solids, X[:, 0])
-    scale = max(float(np.max(np.abs(np.vstack([_meshes(body, solids, X[:, k])[0] for k in
-                                               range(0, t.size, max(1, t.size // 12))])))), 1e-6)
-    colors = np.vstack([np.tile(_rgb255(s.color), (s.faces.shape[0], 1)) for s in solids])
-    facecolor = [f"rgb({r},{g},{b})" for r, g, b in colors]
+    groups = _groups(solids_of(body))
+    scale = max(float(max(np.max(np.abs(V)) for k in range(0, t.size, max(1, t.size // 12))
+                          for V, _ in _meshes(body, groups, X[:, k]))), 1e-6)
 
     fig = make_subplots(rows=2, cols=2, column_widths=[0.56, 0.44], horizontal_spacing=0.07, vertical_spacing=0.14,
                         specs=[[{"type": "scene", "rowspan": 2}, {"type": "xy"}], [None, {"type": "xy"}]],
                         subplot_titles=("", "attitude (Yeadon's angles) [deg]", "joint angles [deg]"))
-    fig.add_trace(go.Mesh3d(x=V0[:, 0], y=V0[:, 1], z=V0[:, 2], i=F[:, 0], j=F[:, 1], k=F[:, 2],
-                            facecolor=facecolor, flatshading=True, name="body",
-                            lighting=dict(ambient=0.45, diffuse=0.8, specular=0.15, roughness=0.6),
-                            lightposition=dict(x=1000, y=-1500, z=2500), hoverinfo="skip", showscale=False,
-                            showlegend=True, legend="legend3"), row=1, col=1)
+    moving = []  # the meshes and the root's axes, then the time marks
+    for (link, solids), (V, F) in zip(groups, _meshes(body, groups, X[:, 0])):
+        moving.append(len(fig.data))
+        fig.add_trace(go.Mesh3d(x=V[:, 0], y=V[:, 1], z=V[:, 2], i=F[:, 0], j=F[:, 1], k=F[:, 2],
+                                color=solids[0].color, flatshading=True, name=body.links.links[link].name,
+                                lighting=dict(ambient=0.45, diffuse=0.8, specular=0.15, roughness=0.6),
+                                lightposition=dict(x=1000, y=-1500, z=2500), hoverinfo="name", showscale=False,
+                                showlegend=True, legend="legend3"), row=1, col=1)
     for (a, b), c, name in zip(_root_axes(body, X[:, 0], scale), _AXES, ("root x", "root y", "root z")):
+        moving.append(len(fig.data))
         fig.add_trace(go.Scatter3d(x=[a[0], b[0]], y=[a[1], b[1]], z=[a[2], b[2]], mode="lines", name=name,
                                    line=dict(color=c, width=6), hoverinfo="skip", legend="legend3"), row=1, col=1)
     L = np.asarray(body.angular_momentum, dtype=float)
@@ -93,7 +109,6 @@ def figure(result, *, frames: int = FRAMES, samples=None, title: str | None = No
         fig.add_trace(go.Cone(x=[tip[0]], y=[tip[1]], z=[tip[2]], u=[tip[0]], v=[tip[1]], w=[tip[2]], sizemode="absolute",
                               sizeref=0.12 * scale, anchor="tail", showscale=False, colorscale=[[0, "black"], [1, "black"]],
                               hoverinfo="skip", name="L", showlegend=False), row=1, col=1)
-    moving = [0, 1, 2, 3]  # the mesh and the root's axes
     for k, name in enumerate(rot.EULER_NAMES):
         fig.add_trace(go.Scatter(x=dense_t, y=euler[k], mode="lines", name=name, legend="legend"), row=1, col=2)
     for j, name in enumerate(body.links.joint_names):
@@ -104,18 +119,17 @@ def figure(result, *, frames: int = FRAMES, samples=None, title: str | None = No
         moving.append(len(fig.data))
         fig.add_trace(go.Scatter(x=[t[0], t[0]], y=[lo, hi], mode="lines", line=dict(color="#444", dash="dot", width=1.5), showlegend=False, hoverinfo="skip"), row=row, col=2)
 
-    fig.frames = [go.Frame(name=f"{t[k]:.4f}", traces=moving, data=_frame_data(body, solids, X[:, k], scale, t[k],
+    fig.frames = [go.Frame(name=f"{t[k]:.4f}", traces=moving, data=_frame_data(body, groups, X[:, k], scale, t[k],
                                                                                 (lo_a, hi_a), (lo_j, hi_j)))
                   for k in range(t.size)]
     _layout(fig, t, scale, title or _title(body))
     return fig
 
 
-def _frame_data(body, solids, state, scale, tk, att, jnt):
+def _frame_data(body, groups, state, scale, tk, att, jnt):
     import plotly.graph_objects as go
 
-    V, _ = _meshes(body, solids, state)
-    data = [go.Mesh3d(x=V[:, 0], y=V[:, 1], z=V[:, 2])]
+    data = [go.Mesh3d(x=V[:, 0], y=V[:, 1], z=V[:, 2]) for V, _ in _meshes(body, groups, state)]
     for a, b in _root_axes(body, state, scale):
         data.append(go.Scatter3d(x=[a[0], b[0]], y=[a[1], b[1]], z=[a[2], b[2]]))
     data += [go.Scatter(x=[tk, tk], y=list(att)), go.Scatter(x=[tk, tk], y=list(jnt))]
@@ -138,7 +152,8 @@ def _layout(fig, t, scale, title):
         margin=dict(l=10, r=150, t=60, b=10),
         legend=dict(x=1.01, y=1.0, yanchor="top", font=dict(size=11), title=dict(text="attitude")),
         legend2=dict(x=1.01, y=0.43, yanchor="top", font=dict(size=11), title=dict(text="joints")),
-        legend3=dict(x=0.0, y=0.93, yanchor="top", font=dict(size=11), bgcolor="rgba(255,255,255,0.6)"),
+        legend3=dict(x=0.0, y=1.0, yanchor="top", font=dict(size=11), bgcolor="rgba(255,255,255,0.6)",
+                     title=dict(text="links")),
         scene=dict(xaxis={**axis, "title": dict(text="x [m]")}, yaxis={**axis, "title": dict(text="y [m]")},
                    zaxis={**axis, "title": dict(text="z [m]")}, aspectmode="cube",
                    camera=dict(eye=dict(x=1.5, y=-1.5, z=0.9))),
@@ -162,12 +177,6 @@ def _title(body):
             + " (drag to turn, scroll to zoom)")
 
 
-def _rgb255(color):
-    from matplotlib.colors import to_rgb
-
-    return [int(round(255 * v)) for v in to_rgb(color)]
-
-
 def write_view(result, path, **kwargs):
     """Write the view (:func:`figure`) to ``path`` as one self-contained HTML page (plotly's
     JavaScript inline); returns the path."""
@@ -175,6 +184,6 @@ def write_view(result, path, **kwargs):
 
     fig = figure(result, **kwargs)
     path = Path(path)
-    fig.write_html(str(path), include_plotlyjs=True, full_html=True, auto_play=False,
+    fig.write_html(str(path), include_plotlyjs=True, full_html=True, auto_play=False, post_script=QUIET_PAUSE,
                    config=dict(displaylogo=False, responsive=True))
     return path
