@@ -8,14 +8,14 @@ uniform box with the link's mass and principal moments, :math:`a_i = \\sqrt{6 (I
 centred at its centre of mass along its principal axes. Massless links (the inner links of joints
 of several axes) are not drawn.
 
-Shapes (each a mapping, in the link's frame):
+Shapes (each ``(kind, params, origin, rotation)``, placed in the link's frame at ``origin`` turned
+by ``rotation``; the solid's own x is its stadia's long axis, its z its height):
 
-* ``{"kind": "stadium_solid", "r0", "t0", "r1", "t1", "height", "pose"}``: Yeadon's stadium solid,
-  the loft from a stadium (radius ``r0``, half straight length ``t0``) at its base to another
-  (``r1``, ``t1``) at ``height`` along the solid's z; ``pose`` = ``(origin (3,), rotation 3 x 3)``
-  of the solid's frame in the link's (its x the stadium's long axis);
-* ``{"kind": "semiellipsoid", "r", "t", "height", "pose"}``: Yeadon's semi-ellipsoid (the head's
-  top, a hand), a stadium-based dome of ``height``.
+* ``("stadium_solid", (r0, t0, r1, t1, height), ...)``: Yeadon's stadium solid, the loft from a
+  stadium (radius ``r0``, half straight length ``t0``) at its base to another (``r1``, ``t1``) at
+  ``height`` along its z;
+* ``("semiellipsoid", (r, t, height), ...)``: Yeadon's semi-ellipsoid (the top of the head), a
+  dome of ``height`` on a stadium (``r``, ``t``) base.
 """
 
 from __future__ import annotations
@@ -139,12 +139,13 @@ def semiellipsoid(r, t, height, pose=((0.0, 0.0, 0.0), np.eye(3)), levels: int =
 
 
 def _shape_mesh(shape) -> tuple[np.ndarray, np.ndarray]:
-    pose = (np.asarray(shape["pose"][0], dtype=float), np.asarray(shape["pose"][1], dtype=float))
-    if shape["kind"] == "stadium_solid":
-        return stadium_solid(shape["r0"], shape["t0"], shape["r1"], shape["t1"], shape["height"], pose)
-    if shape["kind"] == "semiellipsoid":
-        return semiellipsoid(shape["r"], shape["t"], shape["height"], pose)
-    raise ValueError(f"unknown shape kind {shape['kind']!r}")
+    kind, params, origin, rotation = shape
+    pose = (np.asarray(origin, dtype=float), np.asarray(rotation, dtype=float))
+    if kind == "stadium_solid":
+        return stadium_solid(*params, pose)
+    if kind == "semiellipsoid":
+        return semiellipsoid(*params, pose)
+    raise ValueError(f"unknown shape kind {kind!r}")
 
 
 def solids_of(body) -> list[Solid]:

@@ -148,15 +148,16 @@ def _layout(fig, t, scale, title):
     r = 1.05 * scale
     axis = dict(range=[-r, r], title=dict(text=""), showbackground=True, backgroundcolor="rgb(245,245,245)")
     fig.update_layout(
-        title=dict(text=title, x=0.02, font=dict(size=15)), height=640, width=1180, template="plotly_white",
+        title=dict(text=title, x=0.02, y=0.98, font=dict(size=15)), height=660, width=1180, template="plotly_white",
         margin=dict(l=10, r=150, t=60, b=10),
         legend=dict(x=1.01, y=1.0, yanchor="top", font=dict(size=11), title=dict(text="attitude")),
         legend2=dict(x=1.01, y=0.43, yanchor="top", font=dict(size=11), title=dict(text="joints")),
-        legend3=dict(x=0.0, y=1.0, yanchor="top", font=dict(size=11), bgcolor="rgba(255,255,255,0.6)",
-                     title=dict(text="links")),
+        legend3=dict(x=0.0, y=1.0, yanchor="top", font=dict(size=10), bgcolor="rgba(255,255,255,0.6)",
+                     title=dict(text="key")),
         scene=dict(xaxis={**axis, "title": dict(text="x [m]")}, yaxis={**axis, "title": dict(text="y [m]")},
                    zaxis={**axis, "title": dict(text="z [m]")}, aspectmode="cube",
-                   camera=dict(eye=dict(x=1.5, y=-1.5, z=0.9))),
+                   domain=dict(x=[0.12, 0.57], y=[0.04, 1.0]),
+                   camera=dict(eye=dict(x=1.45, y=-1.45, z=0.85))),
         updatemenus=[dict(type="buttons", direction="left", x=0.0, y=0.0, xanchor="left", yanchor="top",
                           pad=dict(t=10, r=10), showactive=False, buttons=[play, pause])],
         sliders=[dict(active=0, x=0.16, y=0.0, len=0.40, xanchor="left", yanchor="top", pad=dict(t=10),
