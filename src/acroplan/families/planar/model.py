@@ -445,6 +445,10 @@ class PlanarBody(ControlAffineSystem):
         """
         return self._kinematics(state)[1]
 
+    def state_unit(self, state):
+        """The root's angle and the joint angles: ``"rad"``."""
+        return "rad"
+
     def default_limits(self):
         """The table's (or the URDF's) joint limits: :func:`acroplan.plan` honours them unless the
         call gives limits of its own (``limits=Limits()`` switches them off)."""

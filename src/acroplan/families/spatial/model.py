@@ -695,6 +695,21 @@ class SpatialBody(ControlAffineSystem):
             return None
         return Limits(states, inputs)
 
+    def state_unit(self, state):
+        """The quaternion's components have no unit; the joint angles are in ``"rad"``."""
+        return "" if state in ("qw", "qx", "qy", "qz") else "rad"
+
+    def display_states(self, X, *, degrees: bool = False):
+        """The attitude as Yeadon's somersault, tilt and twist (:func:`~acroplan.families.spatial.
+        rotations.to_euler`, unwrapped along the columns; labelled ``"attitude: somersault"``, ...),
+        then the joint angles; in radians, or degrees with ``degrees``."""
+        X = np.asarray(X, dtype=float)
+        E = np.unwrap(np.radians(rot.to_euler(X[:4], "yeadon")), axis=1)
+        unit = "deg" if degrees else "rad"
+        conv = np.degrees if degrees else (lambda v: v)
+        return ([(f"attitude: {name}", conv(E[k]), unit, None) for k, name in enumerate(rot.EULER_NAMES)]
+                + [(name, conv(X[4 + j]), unit, name) for j, name in enumerate(self.links.joint_names)])
+
     def default_limits(self):
         """The table's (or the URDF's) joint limits, honoured by :func:`acroplan.plan` unless the
         call gives limits of its own (``limits=Limits()`` switches them off)."""
