@@ -21,6 +21,8 @@ def write_view(folder: Path, out: Path | None = None, *, frames: int = 120) -> P
 
     folder = Path(folder)
     sol_path = folder / "solution.json"
+    if not folder.is_dir():
+        raise InvalidInputError(str(folder), "no such folder", "give a folder written by acroplan plan or simulate")
     if not sol_path.is_file():
         raise InvalidInputError(str(folder), "holds no solution.json", "give a folder written by acroplan plan or "
                                 "simulate")
