@@ -101,3 +101,42 @@ def test_the_command_line_writes_the_view_from_a_folder(tmp_path):
                               ).exit_code == 0
     res = CliRunner().invoke(main, ["view", str(planar)])
     assert res.exit_code == 2 and "acroplan animate" in res.output
+    # honest failures: exit 2 naming what is missing, and no page left behind
+    (out / "view.html").unlink()
+    (out / "trajectory.csv").rename(tmp_path / "kept.csv")
+    res = CliRunner().invoke(main, ["view", str(out)])
+    assert res.exit_code == 2 and "trajectory.csv" in res.output
+    assert sorted(p.name for p in out.iterdir()) == ["solution.json"]
+    res = CliRunner().invoke(main, ["view", str(tmp_path / "nowhere")])
+    assert res.exit_code == 2 and "no such folder" in res.output
+    res = CliRunner().invoke(main, ["view", str(tmp_path)])
+    assert res.exit_code == 2 and "solution.json" in res.output
+
+
+def test_the_3d_human_is_viewed_as_yeadons_solids_one_mesh_per_link():
+    pytest.importorskip("yeadon")
+    import plotly.graph_objects as go
+
+    from acroplan.families.human.twist import asymmetric_arm_twist
+    from acroplan.families.spatial.solids import solids_of
+    from acroplan.families.spatial.view import figure
+
+    result = asymmetric_arm_twist(acroplan.simulate, verify=False, samples=3).result
+    fig = figure(result, frames=5)
+    meshes = [d for d in fig.data if isinstance(d, go.Mesh3d)]
+    body = result.system
+    drawn = [link.name for link in body.links.links if link.mass > 0]
+    assert [m.name for m in meshes] == drawn == ["pelvis", "left_upper_arm", "right_upper_arm"]
+    solids = solids_of(body)
+    assert sum(len(m.x) for m in meshes) == sum(s.vertices.shape[0] for s in solids)
+    assert all(len(s.vertices) > 8 for s in solids)  # stadium solids and a semi-ellipsoid, not boxes
+    assert len(fig.frames) == 5 and all(len(f.data) == len(f.traces) for f in fig.frames)
+    # the body's height in the scene is the measured body's (yeadon's male1: about 1.8 m with the arms up)
+    z = np.concatenate([m.z for m in meshes])
+    assert 1.9 < z.max() - z.min() < 2.4
+    # the attitude panel is rotations.py's conversion, in degrees
+    from acroplan.families.spatial import rotations as rot
+
+    som = next(d for d in fig.data if d.name == "somersault")
+    X = result.evaluate(np.asarray(som.x), effort=False).states
+    assert np.allclose(som.y, np.degrees(np.unwrap(np.radians(rot.to_euler(X[:4])), axis=1))[0], atol=1e-9)
