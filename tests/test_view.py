@@ -96,6 +96,7 @@ def test_the_command_line_writes_the_view_from_a_folder(tmp_path):
     assert res.exit_code == 0, res.output
     html = (out / "view.html").read_text(encoding="utf-8")
     assert html.count('"name":"0.') + html.count('"name":"0') >= 12  # the frames, named by their times
+    assert '"text":"cat: a spatial body of 4 links' in html  # the title names the folder
     planar = tmp_path / "rods"
     assert CliRunner().invoke(main, ["plan", "--example", "three-rods-turn", "--out", str(planar), "--no-plots"]
                               ).exit_code == 0

@@ -55,7 +55,7 @@ def _root_axes(body, state, scale):
     return [(org[r], org[r] + 0.75 * scale * Rs[r][:, k]) for k in range(3)]
 
 
-def figure(result, *, frames: int = FRAMES, samples=None, title: str | None = None):
+def figure(result, *, frames: int = FRAMES, samples=None, title: str | None = None, name: str | None = None):
     """The view's :class:`plotly.graph_objects.Figure` (module docstring).
 
     Parameters
@@ -67,6 +67,8 @@ def figure(result, *, frames: int = FRAMES, samples=None, title: str | None = No
     samples : (t, X), optional
         Sampled states to draw from (an output folder's ``trajectory.csv``); default: evaluated.
     title : str, optional
+        Default: the body's links and :math:`|L|`, after ``name`` (an output folder's).
+    name : str, optional
     """
     import plotly.graph_objects as go
     from plotly.subplots import make_subplots
@@ -74,6 +76,7 @@ def figure(result, *, frames: int = FRAMES, samples=None, title: str | None = No
     from ...core.animation import states_at
 
     body = result.system
+    title = title or ((f"{name}: " if name else "") + _title(body))
     t = np.linspace(float(result.times[0]), float(result.times[-1]), max(2, int(frames)))
     X = states_at(result, t, samples, unit_rows=4)
     dense_t = np.linspace(t[0], t[-1], 400)
@@ -122,7 +125,7 @@ def figure(result, *, frames: int = FRAMES, samples=None, title: str | None = No
     fig.frames = [go.Frame(name=f"{t[k]:.4f}", traces=moving, data=_frame_data(body, groups, X[:, k], scale, t[k],
                                                                                 (lo_a, hi_a), (lo_j, hi_j)))
                   for k in range(t.size)]
-    _layout(fig, t, scale, title or _title(body))
+    _layout(fig, t, scale, title)
     return fig
 
 

@@ -45,7 +45,7 @@ def write_view(folder: Path, out: Path | None = None, *, frames: int = 120) -> P
     out = Path(out) if out is not None else folder / "view.html"
     tmp = out.with_name(f".{out.name}.tmp")
     try:
-        fam.view(result, tmp, samples=samples, frames=frames)
+        fam.view(result, tmp, samples=samples, frames=frames, name=folder.resolve().name)
         os.replace(tmp, out)
     finally:
         tmp.unlink(missing_ok=True)
