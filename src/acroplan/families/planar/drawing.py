@@ -167,8 +167,10 @@ def strobe(result, *, poses: int = 7, ax=None, spacing: float | None = None, tit
     scale_bar(ax, ext)
     handles, labels = ax.get_legend_handles_labels()
     uniq = dict(zip(labels, handles))  # (each link once)
-    ax.legend(uniq.values(), uniq.keys(), loc="upper left", fontsize=7, ncols=min(len(uniq), 6), frameon=False,
-              bbox_to_anchor=(0.0, 1.02))
+    key = ax.legend(uniq.values(), uniq.keys(), loc="upper left", fontsize=7, ncols=min(len(uniq), 6),
+                    frameon=False, bbox_to_anchor=(0.0, 1.02))
+    for handle in key.legend_handles:
+        handle.set_alpha(1.0)  # (the key in full colour; the first pose is drawn faded)
     if title:
         ax.set_title(title, fontsize=10)
     fig.tight_layout()
