@@ -176,3 +176,17 @@ def test_the_planar_diver_has_a_head_a_key_and_a_scale_bar():
     bars = [a for a in ax.artists if isinstance(a, AnchoredSizeBar)]
     assert len(bars) == 1 and bars[0].txt_label.get_text() in ("10 cm", "20 cm", "50 cm", "1 m")
     assert any(isinstance(p, matplotlib.patches.Circle) for p in ax.patches)
+
+
+def test_a_map_labels_a_swept_time_in_seconds():
+    pytest.importorskip("xarray")
+    import xarray as xr
+
+    from acroplan.io.sweeps.maps import _axis_label, field_unit
+
+    assert [field_unit(f) for f in ("plan.T", "plan.times[-1]", "T", "body.angular_momentum", "plan.theta[-1]")] \
+        == ["s", "s", "s", "", ""]
+    ds = xr.Dataset(coords={"T": ("T", [1.0, 2.0], {"field": "plan.T"}),
+                            "L": ("L", [1.0, 2.0], {"field": "body.angular_momentum", "units": "kg m^2/s"})})
+    assert _axis_label(ds, "T") == "T  (plan.T) [s]"
+    assert _axis_label(ds, "L") == "L  (body.angular_momentum) [kg m^2/s]"
