@@ -141,3 +141,19 @@ def test_the_3d_human_is_viewed_as_yeadons_solids_one_mesh_per_link():
     som = next(d for d in fig.data if d.name == "somersault")
     X = result.evaluate(np.asarray(som.x), effort=False).states
     assert np.allclose(som.y, np.degrees(np.unwrap(np.radians(rot.to_euler(X[:4])), axis=1))[0], atol=1e-9)
+
+
+def test_a_page_is_written_whole_or_not_at_all(cat_view, tmp_path, monkeypatch):
+    import plotly.graph_objects as go
+
+    result, _ = cat_view
+
+    def broken(self, file, **kw):
+        with open(file, "w", encoding="utf-8") as f:
+            f.write("<html>half a page")
+        raise OSError("disk full")
+
+    monkeypatch.setattr(go.Figure, "write_html", broken)
+    with pytest.raises(OSError, match="disk full"):
+        result.view(tmp_path / "page.html", frames=3)
+    assert list(tmp_path.iterdir()) == []

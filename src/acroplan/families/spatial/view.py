@@ -183,11 +183,18 @@ def _title(body):
 
 def write_view(result, path, **kwargs):
     """Write the view (:func:`figure`) to ``path`` as one self-contained HTML page (plotly's
-    JavaScript inline); returns the path."""
+    JavaScript inline), whole or not at all (a temporary file beside it, then renamed); returns the
+    path."""
+    import os
     from pathlib import Path
 
     fig = figure(result, **kwargs)
     path = Path(path)
-    fig.write_html(str(path), include_plotlyjs=True, full_html=True, auto_play=False, post_script=QUIET_PAUSE,
-                   config=dict(displaylogo=False, responsive=True))
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    try:
+        fig.write_html(str(tmp), include_plotlyjs=True, full_html=True, auto_play=False, post_script=QUIET_PAUSE,
+                       config=dict(displaylogo=False, responsive=True))
+        os.replace(tmp, path)
+    finally:
+        tmp.unlink(missing_ok=True)
     return path
