@@ -157,3 +157,24 @@ def test_a_page_is_written_whole_or_not_at_all(cat_view, tmp_path, monkeypatch):
     with pytest.raises(OSError, match="disk full"):
         result.view(tmp_path / "page.html", frames=3)
     assert list(tmp_path.iterdir()) == []
+
+
+def test_in_a_notebook_the_view_is_shown_inline(tmp_path):
+    """``result.view()`` as a cell's last expression: the interactive figure in the output (plotly's
+    own MIME type, and its HTML), no file written."""
+    nbclient = pytest.importorskip("nbclient")
+    nbformat = pytest.importorskip("nbformat")
+    pytest.importorskip("ipykernel")
+    code = ("import acroplan\n"
+            "cat = acroplan.examples.load('falling-cat').solve(verify=False, progress=False)\n"
+            "cat.view(frames=4)\n")
+    nb = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell(code)])
+    nbclient.NotebookClient(nb, timeout=300, kernel_name="python3",
+                            resources={"metadata": {"path": str(tmp_path)}}).execute()
+    outs = [o for o in nb.cells[0].outputs if o.get("output_type") in ("execute_result", "display_data")]
+    assert len(outs) == 1
+    data = outs[0]["data"]
+    assert "application/vnd.plotly.v1+json" in data
+    fig = data["application/vnd.plotly.v1+json"]
+    assert len(fig["frames"]) == 4 and any(d["type"] == "mesh3d" for d in fig["data"])
+    assert list(tmp_path.iterdir()) == []
