@@ -150,7 +150,7 @@ def test_drawings(tmp_path):
         assert np.allclose(V @ np.diag(moments) @ V.T, body.links[i].inertia_matrix, atol=1e-12)
     p = random_segment(100, 3)
     res = acroplan.plan(p.body, conditions="free", verify=False, **p.plan_kwargs())
-    frames = drawing.animate(res, tmp_path / "a.gif", fps=4, dpi=30)
+    frames = drawing.animate(res, tmp_path / "a.gif", fps=4, dpi=30, speed=1)  # (real time: no auto_speed)
     assert frames == int(np.ceil(p.T * 4)) + 1 and Image.open(tmp_path / "a.gif").n_frames == frames
     fig = drawing.attitude_figure(res)
     lines = fig.axes[0].get_lines()
