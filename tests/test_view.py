@@ -16,6 +16,9 @@ pytest.importorskip("websocket")
 if browser.chromium() is None:
     pytest.skip("no chromium on the PATH (apt-get install -y chromium)", allow_module_level=True)
 
+# one worker for the module: the cat is planned and its page written once (the module fixture)
+pytestmark = pytest.mark.xdist_group("test_view")
+
 READY = "document.querySelector('.js-plotly-plot') && document.querySelector('.js-plotly-plot')._fullLayout"
 #: The frame shown (plotly records it while animating and when the slider moves)
 ACTIVE = "document.querySelector('.js-plotly-plot')._fullLayout._currentFrame"
