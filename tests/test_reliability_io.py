@@ -703,7 +703,6 @@ def test_issue_25_a_long_chain_urdf_is_refused_before_pinocchio_reads_it(tmp_pat
     assert not (tmp_path / "out").exists()
 
 
-
 @pytest.mark.parametrize("value, words", [
     ("nan", "has mass = nan, not a finite number"),
     ("inf", "has mass = inf, not a finite number"),

@@ -96,11 +96,12 @@ from __future__ import annotations
 
 import dataclasses
 import importlib
+import sys
 import threading
 from pathlib import Path
 from typing import Any, Callable, Mapping
 
-__all__ = ["Family", "Example", "ReadContext", "register_family", "families", "family_of", "family_named",
+__all__ = ["Family", "Example", "ReadContext", "lazy_package", "register_family", "families", "family_of", "family_named",
            "reader_for", "hook", "prepare", "prepare_all", "system_classes", "ENTRY_POINT_GROUP"]
 
 #: The entry point group a family is registered under.
@@ -321,6 +322,44 @@ def prepare(system) -> None:
     if fam is not None:
         _prepare_family(fam)
     _PREPARED_TYPES.add(cls)
+
+
+def lazy_package(package: str, names: Mapping[str, str]):
+    """A family package's ``__getattr__`` and ``__dir__`` (PEP 562): each public name of ``names``
+    (name -> module of the package) is imported on its first use, and with it the family's
+    :attr:`Family.setup` modules (its ``family.py`` ``FAMILY``), so that importing the package, or
+    its light descriptor, imports no numerics.
+
+    Examples
+    --------
+    In a family's ``__init__.py``::
+
+        _NAMES = {"PlanarBody": "model", "read_urdf": "urdf"}
+        __all__ = list(_NAMES)
+        __getattr__, __dir__ = lazy_package(__name__, _NAMES)
+    """
+    module = sys.modules[package]
+
+    def __getattr__(name: str):
+        if name not in names:
+            raise AttributeError(f"module {package!r} has no attribute {name!r}")
+        value = getattr(importlib.import_module(f"{package}.{names[name]}"), name)
+        try:
+            fam = importlib.import_module(f"{package}.family").FAMILY
+        except ModuleNotFoundError as e:  # a package that registers no family
+            if e.name != f"{package}.family":
+                raise
+            fam = None
+        if fam is not None:
+            for setup in fam.setup:  # what the family registers (prepare)
+                importlib.import_module(setup)
+        setattr(module, name, value)
+        return value
+
+    def __dir__():
+        return sorted(set(vars(module)) | set(names))
+
+    return __getattr__, __dir__
 
 
 def prepare_all() -> None:

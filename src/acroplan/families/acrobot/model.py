@@ -39,8 +39,6 @@ from .reach import reachable_set
 __all__ = ["Acrobot", "PhysicalParameters"]
 
 
-
-
 def _finite(field: str, value) -> float:
     v = finite_number(field, value)
     if abs(v) > MAX_MAGNITUDE:

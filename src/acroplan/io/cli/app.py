@@ -129,6 +129,7 @@ def main(debug):
     Exit codes: 0 success, 2 invalid input, 3 infeasible (with proof), 4 not converged.
     """
 
+
 def matplotlib_home() -> str:
     """Point matplotlib's configuration and cache folder (``MPLCONFIGDIR``) at a folder acroplan owns
     when the user has not set one, so that a first run writes nothing under the home folder:
