@@ -10,11 +10,13 @@ import pytest
 
 import acroplan
 
-browser = pytest.importorskip("browser")  # tests/browser.py
+import browser  # tests/browser.py
+
 pytest.importorskip("plotly")
-pytest.importorskip("websocket")
-if browser.chromium() is None:
-    pytest.skip("no chromium on the PATH (apt-get install -y chromium)", allow_module_level=True)
+#: The tests that load the page in Chromium skip without it (and without websocket-client); the
+#: page's other tests run anyway
+needs_chromium = pytest.mark.skipif(browser.chromium() is None,
+                                    reason="no chromium on the PATH (apt-get install -y chromium)")
 
 # one worker for the module: the cat is planned and its page written once (the module fixture)
 pytestmark = pytest.mark.xdist_group("test_view")
@@ -49,7 +51,9 @@ def test_the_page_is_self_contained(cat_view):
     assert "Plotly.newPlot" in html and len(html) > 3_000_000  # plotly.js itself is ~3.5 MB
 
 
+@needs_chromium
 def test_the_view_loads_shows_the_body_and_moves_with_the_slider_and_play(cat_view):
+    pytest.importorskip("websocket")
     result, path = cat_view
     with browser.Browser(width=1200, height=700) as b:
         b.open(browser.file_url(path))
