@@ -363,6 +363,28 @@ class ControlAffineSystem(abc.ABC):
         a :class:`~acroplan.core.limits.Limits`, or ``None`` (the default: no limits)."""
         return None
 
+    def state_unit(self, state: str) -> str:
+        """The unit of ``state`` on figures: ``"rad"`` for the :attr:`angle_states`, ``""`` for the
+        others by default (abstract coordinates); a family overrides it."""
+        return "rad" if state in self.angle_states else ""
+
+    def display_states(self, X, *, degrees: bool = False) -> list[tuple[str, np.ndarray, str, str | None]]:
+        """What a figure of the states draws (:func:`~acroplan.core.plotting.plot_states`): one
+        ``(label, values, unit, state)`` per panel from states ``X`` (shape (n, N), columns at
+        times), ``state`` the state it shows or ``None`` for a coordinate made from several (its
+        limits and reference lines are the state's). By default each state as it is
+        (``degrees``: angles in ``"rad"`` shown in degrees); a family with better coordinates
+        overrides it (a spatial body's attitude as Yeadon's angles)."""
+        X = np.asarray(X, dtype=float)
+        out = []
+        for i, name in enumerate(self.state_names):
+            unit = self.state_unit(name)
+            if degrees and unit == "rad":
+                out.append((name, np.degrees(X[i]), "deg", name))
+            else:
+                out.append((name, X[i], unit, name))
+        return out
+
     def reference_lines(self, state: str, lo: float, hi: float) -> list[tuple[float, str]]:
         """Values of ``state`` worth marking on plots between ``lo`` and ``hi``, with labels (the
         acrobot's straight and folded body). None by default."""

@@ -58,6 +58,12 @@ def _animate(result, path, **kw):
     return animate(result, path, **kw)
 
 
+def _view(result, path, **kw):
+    from .view import figure, write_view
+
+    return figure(result, **kw) if path is None else write_view(result, path, **kw)
+
+
 FAMILY = Family(
     name="spatial",
     system_types=(f"{__package__}.model:SpatialBody",),
@@ -78,6 +84,7 @@ FAMILY = Family(
     },
     draw=_draw,
     animate=_animate,
+    view=_view,
     describe=lambda body: f"a spatial body of {body.n_links} links",
     check_request=_check_request,
     compile_seconds=_compile_seconds,
