@@ -58,7 +58,12 @@ missing hook means the family does not offer that job, and the layer asking says
    animation (``gif``, and ``mp4`` when not ``None`` and ffmpeg is there) and the strobe figure of
    the motion an output folder holds (``solution``: its ``solution.json``; ``load()``: the
    :class:`~acroplan.core.result.PlanResult` it records); returns the number of frames.
-   ``animate(result, path, **kw) -> int`` (optional): the animation of a result.
+   ``animate(result, path, **kw) -> int`` (optional): the animation of a result
+   (:meth:`PlanResult.animate <acroplan.core.result.PlanResult.animate>`); ``view(result, path,
+   samples=None, **kw) -> path`` (optional): an interactive 3-D view in the browser, one HTML page
+   (:meth:`PlanResult.view <acroplan.core.result.PlanResult.view>`, ``acroplan view``; ``samples``:
+   an output folder's sampled states, ``(t, X)``); with ``path=None`` the figure itself (shown
+   inline in a notebook).
 9. ``cli_verify`` (str or None): the check the command line asks for (``"ode"``: the DOP853
    re-simulation, which the acrobot affords at any size); ``None``: the family's own check where
    it has one.
@@ -197,6 +202,7 @@ class Family:
     commands: Mapping[str, str] = dataclasses.field(default_factory=dict)
     draw: Callable[..., int] | None = None
     animate: Callable[..., int] | None = None
+    view: Callable[..., Any] | None = None
     limits_in_body: bool = False
     cli_verify: str | None = None
     torque_hint: tuple[str, str] | None = None
@@ -361,6 +367,18 @@ def prepare_all() -> None:
     quantity or factory)."""
     for fam in families():
         _prepare_family(fam)
+
+
+def registered_class(name: str) -> type | None:
+    """The registered family's system class named ``name`` (imported), or ``None``: what a record's
+    ``system.type`` names, before any other class of the same name (a user's, defined in a notebook
+    before the family's class was first imported)."""
+    for fam in families():
+        if name in fam.type_names():
+            for cls in fam.classes():
+                if cls.__name__ == name:
+                    return cls
+    return None
 
 
 def system_classes() -> dict[str, type]:

@@ -362,6 +362,10 @@ class Acrobot(ControlAffineSystem):
             x1[0] = 0.5 * (lo + hi)
         return x1
 
+    def state_unit(self, state):
+        """theta and phi are angles: ``"rad"``."""
+        return "rad"
+
     def reference_lines(self, state, lo, hi):
         """The straight body (phi = pi mod 2 pi) and the folded body (phi = 0 mod 2 pi) on plots of phi."""
         if state != "phi" or not (np.isfinite(lo) and np.isfinite(hi)) or hi - lo > 40 * math.pi:

@@ -576,6 +576,10 @@ class PlanarBody(TreeBody, ControlAffineSystem):
 
         return PlanarTorque(self.links.joint_names)
 
+    def state_unit(self, state):
+        """The root's angle and the joint angles: ``"rad"``."""
+        return "rad"
+
     def auto_strategy(self):
         """``method="auto"``: path deformation from a shape-loop guess that already meets the target
         (:class:`~acroplan.families.planar.strategy.PlanarAuto`)."""

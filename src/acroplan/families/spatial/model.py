@@ -684,6 +684,21 @@ class SpatialBody(TreeBody, ControlAffineSystem):
                                         "rotations.as_quaternion normalises and converts other forms)")
         return self.joint_ends_infeasibility(x0, x1, duration, limits)
 
+    def state_unit(self, state):
+        """The quaternion's components have no unit; the joint angles are in ``"rad"``."""
+        return "" if state in ("qw", "qx", "qy", "qz") else "rad"
+
+    def display_states(self, X, *, degrees: bool = False):
+        """The attitude as Yeadon's somersault, tilt and twist (:func:`~acroplan.families.spatial.
+        rotations.to_euler`, unwrapped along the columns; labelled ``"attitude: somersault"``, ...),
+        then the joint angles; in radians, or degrees with ``degrees``."""
+        X = np.asarray(X, dtype=float)
+        E = np.unwrap(np.radians(rot.to_euler(X[:4], "yeadon")), axis=1)
+        unit = "deg" if degrees else "rad"
+        conv = np.degrees if degrees else (lambda v: v)
+        return ([(f"attitude: {name}", conv(E[k]), unit, None) for k, name in enumerate(rot.EULER_NAMES)]
+                + [(name, conv(X[4 + j]), unit, name) for j, name in enumerate(self.links.joint_names)])
+
     def auto_strategy(self):
         """``method="auto"``: path deformation from shape loops that meet the target
         (:class:`~acroplan.families.spatial.strategy.SpatialAuto`)."""
