@@ -32,7 +32,7 @@ import tempfile
 import time
 from pathlib import Path
 
-_STAGE = re.compile(r"([A-Za-z][A-Za-z :'-]{2,40}?): +(?:\d+%\||\d+:\d\d)")
+_STAGE = re.compile(r"([A-Za-z][A-Za-z :'.-]{2,40}?): +(?:\d+%\||\d+:\d\d)")  # "writing trajectory.csv" too
 
 
 def _gaps(times: list[float]) -> float:
