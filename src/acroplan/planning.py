@@ -36,6 +36,7 @@ from .core.family import prepare
 from .core.optimal import OBJECTIVES, EnergyOptimal, tau_vector, objective_strategy
 from .core.result import PlanResult, SegmentResult, Status
 from .core.budget import BudgetExceeded, budget
+from .core.budget import now as budget_clock
 from .core.strategies import STRATEGIES, Interval, IntervalOutcome, Strategy, resolve_strategy
 from .core.system import ControlAffineSystem, torque_model_of
 from .core.verify import VERIFY_TOL, check_name, resolve_verify, verify_plan
@@ -574,22 +575,26 @@ def plan(system: ControlAffineSystem, *, times, conditions: str | None = None, m
     >>> res.status
     'success'
     """
+    started = budget_clock()  # the time limit covers the family's preparation and the validation too
     prepare(system)  # its family's strategies, torque model and starts (core.family.prepare)
     req = PlanRequest.build(system, times=times, conditions=conditions, method=method, basis=basis,
                             n_coefficients=n_coefficients, limits=limits, u_max=u_max, state_bounds=state_bounds,
                             input_bounds=input_bounds, verify=verify, tol=tol, max_evaluations=max_evaluations,
                             time_limit=time_limit, start_rate=start_rate, end_rate=end_rate, degrees=degrees,
                             objective=objective, tau_max=tau_max, capacity=capacity, **waypoints)
-    return solve(req, progress=progress)
+    return solve(req, progress=progress, started=started)
 
 
-def solve(req: PlanRequest, *, progress=None) -> PlanResult:
+def solve(req: PlanRequest, *, progress=None, started: float | None = None) -> PlanResult:
     """Plan a validated :class:`PlanRequest` (what :func:`plan` does after validation), within its
-    time budget, reporting to ``progress`` (:func:`acroplan.core.progress.resolve`)."""
+    time budget, reporting to ``progress`` (:func:`acroplan.core.progress.resolve`). The budget
+    runs from ``started`` (a reading of :func:`acroplan.core.budget.now`; default: now): :func:`plan`
+    passes its own start, so that its time limit covers the family's preparation and the
+    validation too."""
     outer = progress_mod.current()
     prog = progress_mod.resolve(progress)
     owned = prog is not outer and not isinstance(progress, progress_mod.Progress)
-    with prog.active(), budget(req.time_limit):
+    with prog.active(), budget(req.time_limit, start=started):
         try:
             return _solve(req, prog)
         finally:

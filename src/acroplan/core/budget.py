@@ -15,7 +15,7 @@ import contextlib
 import contextvars
 import time
 
-__all__ = ["BudgetExceeded", "budget", "check", "remaining", "wait"]
+__all__ = ["BudgetExceeded", "budget", "check", "now", "remaining", "wait"]
 
 #: The clock of every budget (monotonic seconds). A module attribute, so that tests can replace it
 #: with a virtual clock and assert on counts of checks instead of wall-clock times.
@@ -34,12 +34,14 @@ class BudgetExceeded(RuntimeError):
 
 
 @contextlib.contextmanager
-def budget(seconds: float | None):
-    """Run the body with a deadline ``seconds`` from now (``None``: no deadline of its own). Budgets
-    nest: inside another budget the earlier deadline holds (the command line opens one around a
-    plan and its effort summary, and the plan opens its own)."""
+def budget(seconds: float | None, *, start: float | None = None):
+    """Run the body with a deadline ``seconds`` from now, or from ``start`` (a reading of
+    :func:`now`, taken when the work began) (``None``: no deadline of its own). Budgets nest:
+    inside another budget the earlier deadline holds (the command line opens one around a plan and
+    its effort summary, and the plan opens its own)."""
     outer = _DEADLINE.get()
-    inner = None if seconds is None else (_clock() + float(seconds), float(seconds))
+    inner = None if seconds is None else ((_clock() if start is None else float(start)) + float(seconds),
+                                          float(seconds))
     if outer is not None and (inner is None or outer[0] < inner[0]):
         inner = outer
     token = _DEADLINE.set(inner)
@@ -47,6 +49,11 @@ def budget(seconds: float | None):
         yield
     finally:
         _DEADLINE.reset(token)
+
+
+def now() -> float:
+    """The budget's clock (monotonic seconds): where a budget opened later starts (``start=``)."""
+    return _clock()
 
 
 def check() -> None:
