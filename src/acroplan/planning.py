@@ -393,11 +393,11 @@ def _check_compile_time(req: PlanRequest) -> None:
     est = backend.compile_estimate(req.system, type(req.basis), n)
     if est is None or est.seconds <= req.time_limit:
         return
-    raise InvalidInputError("time_limit", f"is {req.time_limit:g} s, and compiling the integrator of {est.what} with "
-                            f"{n} coefficients takes at least {est.seconds:.3g} s on a first run ({est.growth}; "
+    raise InvalidInputError("time_limit", f"is {req.time_limit:g} s, and the first compilation for {est.what} "
+                            f"({n} coefficients) takes at least {est.seconds:.3g} s ({est.growth}; "
                             "benchmarks/RESULTS.md), which the time limit covers",
-                            f"give time_limit = {math.ceil(est.seconds / 0.8):g} or more, or fewer links (the "
-                            "compiled integrator is then kept on disk: a second run compiles in seconds)")
+                            f"give time_limit = {math.ceil(est.seconds / 0.8):g} or more, or fewer links (what is "
+                            "compiled is then kept on disk: a second run loads it in seconds)")
 
 
 def _optimal_strategy(system, method, objective, tau_max):
