@@ -400,7 +400,7 @@ class _Search:
             c0 = _resize(prev.prob.c(prev.z).reshape(m, -1), n).ravel()
             run = self.new_run(n)
             before = 0
-            if run.solver == "sqp":  # the change to this size, predicted by one Newton step
+            if not run.inequalities:  # the change to this size, predicted by one Newton step
                 predicted = run.predicted_decrease(c0, Hc)
                 self.evaluations += run.prob.evaluations
                 before = run.prob.evaluations

@@ -190,6 +190,21 @@ class OptimalProblem:
         J = self.zmat(J.reshape(-1, self.N))
         return np.concatenate([(top - tau).ravel(), (top + tau).ravel()]), np.vstack([-J, J])
 
+    def ineq(self, z):
+        """The inequalities :math:`r(z) \\le 0` and their Jacobian: the rate and joint limits (linear
+        rows :math:`A_z z - b_z`) and the torque limits (:meth:`torque_rows`, negated)."""
+        rs, Rs = [], []
+        if self.lin is not None:
+            Az, bz = self.lin
+            rs.append(Az @ z - bz)
+            Rs.append(Az)
+        if self.tmax is not None:
+            vals, J = self.torque_rows(z)
+            keep = np.isfinite(vals)
+            rs.append(-vals[keep])
+            Rs.append(-J[keep])
+        return np.concatenate(rs), np.vstack(Rs)
+
     def curvature(self, c, Ac):
         """Constraint Hessians in ``c`` coordinates, shape (q, N, N), by forward differences of the
         endpoint Jacobian along every coordinate direction (N evaluations), symmetrised."""
@@ -252,7 +267,9 @@ class OptimalRun:
         self.fn = cost_for(cost, system, basis, x0, T)
         self.prob = OptimalProblem(system, basis, x0, x1, T, self.fn, B, d, max_evaluations, limits, torque_model, tau_max)
         self.tol = tol
-        self.solver = "sqp" if self.prob.lin is None and self.prob.tmax is None else "slsqp"
+        #: whether the problem has inequalities (rate, joint or torque limits)
+        self.inequalities = self.prob.lin is not None or self.prob.tmax is not None
+        self.solver = "sqp"
         self.z = None
         self.Hc = None  # constraint Hessians in c coordinates (the SQP's)
         self.its, self.why, self.failed = 0, "", ""
@@ -261,23 +278,19 @@ class OptimalRun:
         prob = self.prob
         z = prob.z(c0)
         try:
-            if self.solver == "sqp":
-                _, _, _, Ac = prob.h(z)
-                self.Hc = prob.curvature(prob.c(z), Ac) if curvature is None else curvature
-                Hz = np.stack([prob.zhess(M) for M in self.Hc])
+            _, _, _, Ac = prob.h(z)
+            self.Hc = prob.curvature(prob.c(z), Ac) if curvature is None else curvature
+            Hz = np.stack([prob.zhess(M) for M in self.Hc])
 
-                def refresh(zn):
-                    self.Hc = prob.curvature(prob.c(zn), prob.h(zn)[3])
-                    return np.stack([prob.zhess(M) for M in self.Hc])
+            def refresh(zn):
+                self.Hc = prob.curvature(prob.c(zn), prob.h(zn)[3])
+                return np.stack([prob.zhess(M) for M in self.Hc])
 
-                z, info = sqp(prob, z, Hz, tol=self.tol, kkt_tol=kkt_tol, refresh=refresh)
-                self.its += info["its"]
-                self.why = info["why"]
-            else:
-                z, its, msg = slsqp(prob, z)
-                self.its += its
-                self.why = "" if msg.startswith("Optimization terminated successfully") else msg
-            self.z = polish_endpoint(prob, z, self.tol) if polish or self.solver != "sqp" else z
+            z, info = sqp(prob, z, Hz, tol=self.tol, kkt_tol=kkt_tol, refresh=refresh,
+                          ineq=prob.ineq if self.inequalities else None)
+            self.its += info["its"]
+            self.why = info["why"]
+            self.z = polish_endpoint(prob, z, self.tol) if polish or self.inequalities else z
         except OutOfEvaluations:
             self.z, self.failed = z, f"the evaluation budget ({prob.max_evaluations}) was spent"
         except backend.IntegrationError as e:
@@ -286,12 +299,12 @@ class OptimalRun:
 
     def refine(self, kkt_tol):
         """More SQP iterations at this size from the current optimum, with its curvature."""
-        if self.solver != "sqp" or self.failed or self.Hc is None:
+        if self.failed or self.Hc is None:
             return self
         prob = self.prob
         try:
             Hz = np.stack([prob.zhess(M) for M in self.Hc])
-            z, info = sqp(prob, self.z, Hz, tol=self.tol, kkt_tol=kkt_tol)
+            z, info = sqp(prob, self.z, Hz, tol=self.tol, kkt_tol=kkt_tol, ineq=prob.ineq if self.inequalities else None)
             self.its += info["its"]
             self.why = info["why"]
             self.z = polish_endpoint(prob, z, self.tol)
@@ -325,7 +338,7 @@ class OptimalRun:
     def brief(self):
         """``(success, cost)`` of the current point, cheaply (no KKT residual, no message); the full
         :meth:`result` when it failed."""
-        if self.failed or self.solver != "sqp":
+        if self.failed or self.inequalities:
             r = self.result()
             return r.success, r.objective, r
         try:
