@@ -99,7 +99,8 @@ optimum going up the ladder:
   the basis when it has several pieces) and, as the second start, **path deformation from the
   minimum-norm input** (the text's method, :func:`~acroplan.core.continuation.solve_segment`, at
   most :data:`DEFORM_BUDGET` evaluations), optimised when distinct and promising (cost below
-  :data:`PROMISING` = 8 times).
+  :data:`PROMISING` = 8 times); a system whose class sets ``optimal_deform_start = False`` (the
+  spatial bodies) has no second start unless ``starts`` names it.
 
 Measured on 800 random acrobot segments (:func:`acroplan.zoo.random_segment`, seeds 5, 11, 21
 and 31): with ``starts=("auto", "deform")``, 11 problems end at a better optimum from the second
@@ -368,7 +369,8 @@ class _Search:
             n0 = feasible.pieces[0].basis.n  # start at the feasible plan's own size, where it is exact
             self.first = next((n for n in sizes if n >= n0), sizes[-1])
         use_family = explicit and "family" in st.starts
-        use_deform = not explicit or "deform" in st.starts
+        # a system may leave the second start out by default (``optimal_deform_start = False``)
+        use_deform = "deform" in st.starts if explicit else getattr(self.system, "optimal_deform_start", True)
 
         def candidates_at(n, bn):  # lazily: path deformation only once the auto start is done
             yield ("auto", _project(feasible.pieces, iv, bn), math.inf)
