@@ -10,7 +10,6 @@ import dataclasses
 import math
 
 import numpy as np
-from scipy.optimize import minimize
 
 from . import backend
 from .basis import InputBasis
@@ -61,7 +60,7 @@ class OptimalSolve:
         Endpoint error of the compiled integrator.
     evaluations, iterations : int
     solver : str
-        ``"sqp"`` or ``"slsqp"``.
+        ``"sqp"`` (the limits, when there are any, are its inequalities).
     sizes : tuple of (int, float)
         The ladder: (basis size, optimal cost) at each size solved; when the ladder stopped on a
         prediction, the last entry is the next size with the cost one Newton step predicts there
@@ -217,47 +216,6 @@ class OptimalProblem:
             M[:, :, k] = (self.endpoint(ck)[1] - Ac) / eps
         return 0.5 * (M + M.transpose(0, 2, 1))
 
-
-
-def slsqp(prob: OptimalProblem, z0, max_iter=300):
-    """SLSQP with the linear and torque inequalities, in coordinates ``w = L^T z`` where the cost's
-    model Hessian at the start is the identity (``L L^T``). Returns ``(z, iterations, message)``."""
-    f0, _, H0 = prob.f(z0)
-    ridge = 1e-12 * max(float(np.trace(H0)) / H0.shape[0], 1e-300)
-    L = np.linalg.cholesky(H0 + ridge * np.eye(H0.shape[0]))
-    Li = np.linalg.inv(L.T)  # z = Li w
-    scale = 1.0 + float(np.max(np.abs(prob.x1)))
-    bad = np.full(prob.system.ndx, 1e6)
-
-    def eq(w):
-        try:
-            return prob.h(Li @ w)[0] / scale
-        except backend.IntegrationError:
-            return bad
-
-    def eq_jac(w):
-        try:
-            return prob.h(Li @ w)[1] @ Li / scale
-        except backend.IntegrationError:
-            return np.zeros((prob.system.ndx, w.size))
-
-    cons = [{"type": "eq", "fun": eq, "jac": eq_jac}]
-    if prob.lin is not None:
-        Az, bz = prob.lin
-        AL = Az @ Li
-        cons.append({"type": "ineq", "fun": lambda w: bz - AL @ w, "jac": lambda w: -AL})
-    if prob.tmax is not None:
-        cons.append({"type": "ineq", "fun": lambda w: prob.torque_rows(Li @ w)[0],
-                     "jac": lambda w: prob.torque_rows(Li @ w)[1] @ Li})
-    unit = 1.0 + abs(f0)
-
-    def obj(w):
-        f, g, _ = prob.f(Li @ w)
-        return f / unit, (Li.T @ g) / unit
-
-    res = minimize(obj, L.T @ z0, jac=True, constraints=cons, method="SLSQP",
-                   options={"maxiter": max_iter, "ftol": 1e-15})
-    return Li @ res.x, int(res.nit), str(res.message)
 
 
 class OptimalRun:
@@ -422,7 +380,7 @@ def optimize_segment(system: ControlAffineSystem, basis: InputBasis, x0, x1, T: 
     tol : float
         Endpoint tolerance.
     kkt_tol : float
-        Target relative KKT residual of the SQP (no inequality).
+        Target relative KKT residual of the SQP.
     max_evaluations : int
         Endpoint evaluations at most.
 

@@ -203,7 +203,7 @@ def trunk_and_two_arms(L=(36.3075, 0.0, 0.0)) -> SpatialBody:
     licence), link for link as :func:`~acroplan.families.spatial.read_biomod` reads it (so without
     biorbd; ``tests/test_optimal_spatial.py`` compares the two): a 58.801 kg trunk (principal moments
     7.85829, 8.12771, 0.51802 kg m², centre of mass 0.0941 m above its frame) and two 3.106 kg arms
-    turning about their own :math:`y` axes at the shoulders :math:`(\mp 0.1875, 0.0205, 0.4719)` m
+    turning about their own :math:`y` axes at the shoulders :math:`(\\mp 0.1875, 0.0205, 0.4719)` m
     (``RightArm_RotY``, ``LeftArm_RotY``; each arm's centre of mass 0.233088 m down it, moments
     0.0910283, 0.0909983, 0.00292 kg m²), no joint limits; angular momentum ``L`` (kg m²/s,
     bioptim's example's about the somersault axis :math:`x` by default).
