@@ -22,7 +22,7 @@ from acroplan.families.spatial import collocation
 from acroplan.families.spatial import rotations as rot
 from acroplan.families.spatial.check import pinocchio_errors, pinocchio_momentum_map
 from acroplan.families.spatial.effort import SpatialTorque
-from acroplan.families.spatial.examples import TRUNK_TWIST_END, trunk_twist
+from acroplan.families.spatial.examples import TRUNK_TWIST_END, falling_cat_turn, trunk_twist
 from acroplan.families.spatial.zoo import trunk_and_two_arms
 
 pytest.importorskip("pinocchio")
@@ -31,9 +31,9 @@ pytest.importorskip("pinocchio")
 #: the trunk's integral of |tau|^2 (rates at rest at both ends) ...
 CASADI_TRUNK_TORQUE = 55.5175
 #: ... and its integral of |u|^2 (rates free at the ends)
-CASADI_TRUNK_ENERGY = None
+CASADI_TRUNK_ENERGY = 24.854
 #: the falling cat's integral of |u|^2 within its joint ranges (rates free at the ends)
-CASADI_CAT_ENERGY = None
+CASADI_CAT_ENERGY = 145.169
 
 
 def _ends(body, kw):
@@ -151,3 +151,39 @@ def test_torque_optimal_twist_is_optimal_checked_and_no_worse_than_casadi(trunk_
     # the arms at rest at both ends, as asked
     u = r.evaluate([r.times[0], r.times[-1]], effort=False).inputs
     assert np.abs(u).max() <= 1e-12
+
+
+def test_energy_optimal_twist_is_optimal_checked_and_no_worse_than_casadi():
+    """The rates free at the ends (held at zero, the energy's infimum is the free-ended one, never
+    reached: the ladder would not converge)."""
+    body, kw = trunk_twist()
+    kw = _free_ends(kw)
+    r = acroplan.plan(body, objective="energy", **kw)
+    _independent_checks(body, kw, r)
+    o = r.segments[0].optimality
+    assert o["solver"] == "sqp" and o["converged"] and o["kkt"] <= 1e-8, o
+    c = np.asarray(r.segments[0].basis_coefficients)
+    assert o["cost"] == pytest.approx((r.times[-1] - r.times[0]) * float(np.sum(c @ r.segments[0].basis.gram() * c)),
+                                      rel=1e-12)
+    assert o["cost"] <= 1.01 * CASADI_TRUNK_ENERGY, (o["cost"], CASADI_TRUNK_ENERGY)
+
+
+def test_energy_optimal_cat_keeps_its_joint_ranges_by_the_sqps_inequalities():
+    """The falling cat's energy optimum within its joint ranges: the ranges are inequalities of the
+    SQP itself (no SLSQP), they hold on the plan, and the cost is no worse than CasADi's."""
+    body, kw = falling_cat_turn()
+    kw = _free_ends(kw)
+    r = acroplan.plan(body, objective="energy", **kw)
+    _independent_checks(body, kw, r)
+    o = r.segments[0].optimality
+    assert o["solver"] == "sqp", o
+    # first-order optimal with the active ranges' multipliers (measured 2.1e-8: the target 1e-8 is
+    # not reached at 30 coefficients, and the segment says so)
+    assert o["kkt"] <= 1e-7, o
+    assert o["kkt_converged"] == (o["kkt"] <= 1e-8)
+    lim = body.default_limits()
+    smp = r.evaluate(np.linspace(r.times[0], r.times[-1], 1025), effort=False)
+    for j, name in enumerate(body.links.joint_names):
+        lo, hi = lim.bounds(name)
+        assert smp.states[4 + j].min() >= lo - 1e-12 and smp.states[4 + j].max() <= hi + 1e-12, name
+    assert o["cost"] <= 1.01 * CASADI_CAT_ENERGY, (o["cost"], CASADI_CAT_ENERGY)

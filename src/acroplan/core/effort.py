@@ -13,14 +13,14 @@ from . import budget
 from .errors import InvalidInputError
 from .progress import stage
 
-__all__ = ["JointEffort", "EFFORT_RULE", "PEAK_CANDIDATES", "effort_summary", "peak"]
+__all__ = ["JointEffort", "EFFORT_RULE", "PEAK_CANDIDATES", "ROOT_XTOL", "effort_summary", "peak", "peaks"]
 
 
 #: How :meth:`PlanResult.effort` integrates and takes maxima (also written in ``to_dict()["effort"]``).
 EFFORT_RULE = ("integrals of tau^2 and tau u: composite 32-point Gauss-Legendre on each segment, on at least 8 "
                "panels and one per radian of max|u| T (at most 4096); positive work: the same rule on each panel, "
-               "split at the sign changes of tau u (found between the nodes and panel edges, refined by Brent's "
-               "method to 1e-14 s); peaks: the local maxima on those points within 1% of the largest, each refined "
+               "split at the sign changes of tau u (found between the nodes and panel edges, refined by 32-fold "
+               "bracketing to 1e-14 s and a secant step); peaks: the local maxima on those points within 1% of the largest, each refined "
                "by a bounded scalar search; integral of u^2: exact (the basis Gram matrix)")
 
 
@@ -127,7 +127,10 @@ def effort_summary(result) -> dict[str, JointEffort]:
 
 
 def _segment_effort(result, seg, model, inputs, xg, wg, acc) -> None:
-    """Add one segment's integrals and peaks into the accumulators ``acc`` (by joint)."""
+    """Add one segment's integrals and peaks into the accumulators ``acc`` (by joint). The torque
+    model is called on batches of times (about fifteen calls a segment: the grid, the zooms of the
+    roots and of the peaks, the split panels), never point by point: a model that integrates (a
+    spatial body's momentum) costs as much for one time as for hundreds."""
     T = seg.t1 - seg.t0
     basis = result.basis_for(seg)
     G = basis.gram()
@@ -153,39 +156,106 @@ def _segment_effort(result, seg, model, inputs, xg, wg, acc) -> None:
     acc["tau2"] += np.einsum("jpk,k->j", tau_q**2, panel_w)
     panel_pow = np.einsum("jpk,k->jp", pow_q, panel_w)  # (p, P): the power's integral per panel
     acc["net"] += panel_pow.sum(axis=1)
+    _positive_work(motion, grid, edges, pow_g, panel_pow, xg, wg, acc["pos"])
+    acc["peak_tau"] = np.maximum(acc["peak_tau"], peaks(lambda x: motion(x)[0], grid, tau_g))
+    acc["peak_pow"] = np.maximum(acc["peak_pow"], peaks(lambda x: motion(x)[1], grid, pow_g))
+
+
+def peaks(f, grid, values) -> np.ndarray:
+    """:func:`peak` of every row of ``values`` (p, K) at once: ``f(xs)`` gives all rows (p, len(xs)),
+    and each zoom evaluates the brackets of every row's candidates in one call (the same points
+    and the same numbers as :func:`peak` row by row)."""
+    p = values.shape[0]
+    best = np.abs(values).max(axis=1)
+    brackets = []  # (row, a, b)
     for j in range(p):
-        _positive_work(motion, j, grid, edges, pow_g[j], panel_pow[j], xg, wg, acc["pos"])
-        acc["peak_tau"][j] = max(acc["peak_tau"][j], peak(lambda x, j=j: motion(x)[0][j], grid, tau_g[j]))
-        acc["peak_pow"][j] = max(acc["peak_pow"][j], peak(lambda x, j=j: motion(x)[1][j], grid, pow_g[j]))
+        v = np.abs(values[j])
+        top = float(v.max())
+        left = np.concatenate([[-np.inf], v[:-1]])
+        right = np.concatenate([v[1:], [-np.inf]])
+        cands = np.flatnonzero((v >= left) & (v >= right) & (v >= 0.99 * top))
+        for i in cands[np.argsort(-v[cands], kind="stable")][:PEAK_CANDIDATES]:
+            brackets.append((j, grid[max(i - 1, 0)], grid[min(i + 1, grid.size - 1)]))
+    for _ in range(4):
+        brackets = [(j, a, b) for j, a, b in brackets if b > a]
+        if not brackets:
+            break
+        xs = np.concatenate([np.linspace(a, b, 33) for _, a, b in brackets])
+        fx = np.abs(np.asarray(f(xs), dtype=float))
+        out = []
+        for k, (j, a, b) in enumerate(brackets):
+            pts, vals = xs[33 * k:33 * (k + 1)], fx[j, 33 * k:33 * (k + 1)]
+            i = int(np.argmax(vals))
+            best[j] = max(best[j], float(vals[i]))
+            out.append((j, pts[max(i - 1, 0)], pts[min(i + 1, 32)]))
+        brackets = out
+    return best
 
 
-def _positive_work(motion, j, grid, edges, pow_j, panel_pow_j, xg, wg, pos) -> None:
-    """Add joint ``j``'s positive work on one segment to ``pos[j]``: a panel where the power keeps its
-    sign gives max(its integral, 0); a panel where it changes sign is split at the roots (Brent)
-    and integrated piece by piece."""
-    from scipy.optimize import brentq
+#: Bracket width (seconds) at which the roots of the power are taken (:func:`_roots`).
+ROOT_XTOL = 1e-14
 
-    P = edges.size - 1
-    change = np.flatnonzero(np.sign(pow_j[:-1]) * np.sign(pow_j[1:]) < 0)
-    roots: dict[int, list] = {}
-    for i in change:
-        def f(x):
-            return float(motion(x)[1][j, 0])
 
-        fa, fb = f(grid[i]), f(grid[i + 1])
-        if fa * fb < 0:
-            r = brentq(f, grid[i], grid[i + 1], xtol=1e-14)
-        else:  # the power is within rounding of zero at an end (a point evaluation need not round as the
-            # batch did): that end is the root
-            r = grid[i] if abs(fa) <= abs(fb) else grid[i + 1]
-        roots.setdefault(min(int(i // 33), P - 1), []).append(r)
-    for k in range(P):
-        if k not in roots:
-            pos[j] += max(float(panel_pow_j[k]), 0.0)
-            continue
-        cuts = np.concatenate([[edges[k]], sorted(roots[k]), [edges[k + 1]]])
-        lens = np.diff(cuts)
-        keep = lens > 0
-        ts = (cuts[:-1][keep, None] + lens[keep, None] * xg[None, :]).ravel()
-        vals = motion(ts)[1][j].reshape(-1, 32) @ wg * lens[keep]
-        pos[j] += float(np.sum(np.maximum(vals, 0.0)))
+def _roots(motion, brackets):
+    """The roots of the powers in ``brackets`` ``[(tag, row, a, b, f(a), f(b))]`` (a sign change
+    each), all at once, as ``[(tag, row, root)]``: each round evaluates 33 points across every bracket in one call and keeps
+    the interval of the sign change (a 32-fold shrink), until the brackets are :data:`ROOT_XTOL`
+    wide; the root is then the secant's zero in the last bracket."""
+    out = []
+    live = list(brackets)
+    while live:
+        xs = np.concatenate([np.linspace(a, b, 33) for _, _, a, b, _, _ in live])
+        fx = motion(xs)[1]
+        nxt = []
+        for k, (tag, j, a, b, fa, fb) in enumerate(live):
+            pts, vals = xs[33 * k:33 * (k + 1)], fx[j, 33 * k:33 * (k + 1)].copy()
+            vals[0], vals[-1] = fa, fb
+            i = int(np.flatnonzero(np.sign(vals[:-1]) * np.sign(vals[1:]) <= 0)[0])
+            a, b, fa, fb = pts[i], pts[i + 1], vals[i], vals[i + 1]
+            if b - a <= ROOT_XTOL or not (a < 0.5 * (a + b) < b):
+                out.append((tag, j, a if fa == fb else a - fa * (b - a) / (fb - fa)))
+            else:
+                nxt.append((tag, j, a, b, fa, fb))
+        live = nxt
+    return out
+
+
+def _positive_work(motion, grid, edges, pow_g, panel_pow, xg, wg, pos) -> None:
+    """Add each joint's positive work on one segment to ``pos``: a panel where the power keeps its
+    sign gives max(its integral, 0); a panel where it changes sign is split at the roots (found for
+    every joint at once, :func:`_roots`) and integrated piece by piece (one call for all)."""
+    P, p = edges.size - 1, pow_g.shape[0]
+    brackets = []  # (panel, joint, a, b)
+    for j in range(p):
+        for i in np.flatnonzero(np.sign(pow_g[j, :-1]) * np.sign(pow_g[j, 1:]) < 0):
+            brackets.append((min(int(i // 33), P - 1), j, grid[i], grid[i + 1]))
+    roots: dict[tuple, list] = {}
+    if brackets:
+        # the ends again, as point evaluations (a point need not round as the batch did)
+        ends = motion(np.array([t for _, _, a, b in brackets for t in (a, b)]))[1]
+        live = []
+        for k, (panel, j, a, b) in enumerate(brackets):
+            fa, fb = float(ends[j, 2 * k]), float(ends[j, 2 * k + 1])
+            if fa * fb < 0:
+                live.append((panel, j, a, b, fa, fb))
+            else:  # the power is within rounding of zero at an end: that end is the root
+                roots.setdefault((j, panel), []).append(a if abs(fa) <= abs(fb) else b)
+        for panel, j, r in _roots(motion, live):
+            roots.setdefault((j, panel), []).append(r)
+    pieces = []  # (joint, lengths, times)
+    for j in range(p):
+        for k in range(P):
+            if (j, k) not in roots:
+                pos[j] += max(float(panel_pow[j, k]), 0.0)
+                continue
+            cuts = np.concatenate([[edges[k]], sorted(roots[(j, k)]), [edges[k + 1]]])
+            lens = np.diff(cuts)
+            keep = lens > 0
+            pieces.append((j, lens[keep], (cuts[:-1][keep, None] + lens[keep, None] * xg[None, :]).ravel()))
+    if pieces:
+        vals = motion(np.concatenate([ts for _, _, ts in pieces]))[1]
+        at = 0
+        for j, lens, ts in pieces:
+            v = vals[j, at:at + ts.size].reshape(-1, 32) @ wg * lens
+            pos[j] += float(np.sum(np.maximum(v, 0.0)))
+            at += ts.size
