@@ -13,13 +13,14 @@ from . import budget
 from .errors import InvalidInputError
 from .progress import stage
 
-__all__ = ["JointEffort", "EFFORT_RULE", "PEAK_CANDIDATES", "ROOT_XTOL", "effort_summary", "peak", "peaks"]
+__all__ = ["JointEffort", "EFFORT_RULE", "PEAK_CANDIDATES", "ROOT_XTOL", "ROOT_POINTS", "effort_summary", "peak",
+           "peaks"]
 
 
 #: How :meth:`PlanResult.effort` integrates and takes maxima (also written in ``to_dict()["effort"]``).
 EFFORT_RULE = ("integrals of tau^2 and tau u: composite 32-point Gauss-Legendre on each segment, on at least 8 "
                "panels and one per radian of max|u| T (at most 4096); positive work: the same rule on each panel, "
-               "split at the sign changes of tau u (found between the nodes and panel edges, refined by 32-fold "
+               "split at the sign changes of tau u (found between the nodes and panel edges, refined by 64-fold "
                "bracketing to 1e-14 s and a secant step); peaks: the local maxima on those points within 1% of the largest, each refined "
                "by a bounded scalar search; integral of u^2: exact (the basis Gram matrix)")
 
@@ -128,8 +129,8 @@ def effort_summary(result) -> dict[str, JointEffort]:
 
 def _segment_effort(result, seg, model, inputs, xg, wg, acc) -> None:
     """Add one segment's integrals and peaks into the accumulators ``acc`` (by joint). The torque
-    model is called on batches of times (about fifteen calls a segment: the grid, the zooms of the
-    roots and of the peaks, the split panels), never point by point: a model that integrates (a
+    model is called on batches of times (about a dozen calls a segment: the grid, the rounds of the
+    roots, the split panels, the zooms of the peaks), never point by point: a model that integrates (a
     spatial body's momentum) costs as much for one time as for hundreds."""
     T = seg.t1 - seg.t0
     basis = result.basis_for(seg)
@@ -157,66 +158,83 @@ def _segment_effort(result, seg, model, inputs, xg, wg, acc) -> None:
     panel_pow = np.einsum("jpk,k->jp", pow_q, panel_w)  # (p, P): the power's integral per panel
     acc["net"] += panel_pow.sum(axis=1)
     _positive_work(motion, grid, edges, pow_g, panel_pow, xg, wg, acc["pos"])
-    acc["peak_tau"] = np.maximum(acc["peak_tau"], peaks(lambda x: motion(x)[0], grid, tau_g))
-    acc["peak_pow"] = np.maximum(acc["peak_pow"], peaks(lambda x: motion(x)[1], grid, pow_g))
+    top = peaks(lambda x: np.vstack(motion(x)), grid, np.vstack([tau_g, pow_g]))  # both in one call a zoom
+    acc["peak_tau"] = np.maximum(acc["peak_tau"], top[:p])
+    acc["peak_pow"] = np.maximum(acc["peak_pow"], top[p:])
 
 
 def peaks(f, grid, values) -> np.ndarray:
-    """:func:`peak` of every row of ``values`` (p, K) at once: ``f(xs)`` gives all rows (p, len(xs)),
-    and each zoom evaluates the brackets of every row's candidates in one call (the same points
-    and the same numbers as :func:`peak` row by row)."""
-    p = values.shape[0]
-    best = np.abs(values).max(axis=1)
-    brackets = []  # (row, a, b)
-    for j in range(p):
-        v = np.abs(values[j])
-        top = float(v.max())
-        left = np.concatenate([[-np.inf], v[:-1]])
-        right = np.concatenate([v[1:], [-np.inf]])
-        cands = np.flatnonzero((v >= left) & (v >= right) & (v >= 0.99 * top))
-        for i in cands[np.argsort(-v[cands], kind="stable")][:PEAK_CANDIDATES]:
-            brackets.append((j, grid[max(i - 1, 0)], grid[min(i + 1, grid.size - 1)]))
+    """:func:`peak` of every row of ``values`` (r, K) at once: ``f(xs)`` gives all rows (r, len(xs)),
+    and each of the four zooms evaluates the brackets of every row's candidates in one call (the
+    same points as :func:`peak` row by row)."""
+    v = np.abs(values)
+    best = v.max(axis=1)
+    rows, lo, hi = [], [], []
+    for j in range(v.shape[0]):
+        left = np.concatenate([[-np.inf], v[j, :-1]])
+        right = np.concatenate([v[j, 1:], [-np.inf]])
+        cands = np.flatnonzero((v[j] >= left) & (v[j] >= right) & (v[j] >= 0.99 * best[j]))
+        for i in cands[np.argsort(-v[j, cands], kind="stable")][:PEAK_CANDIDATES]:
+            rows.append(j)
+            lo.append(grid[max(i - 1, 0)])
+            hi.append(grid[min(i + 1, grid.size - 1)])
+    rows, lo, hi = np.array(rows, dtype=int), np.array(lo, dtype=float), np.array(hi, dtype=float)
+    frac = np.linspace(0.0, 1.0, 33)
     for _ in range(4):
-        brackets = [(j, a, b) for j, a, b in brackets if b > a]
-        if not brackets:
+        keep = hi > lo
+        rows, lo, hi = rows[keep], lo[keep], hi[keep]
+        if not rows.size:
             break
-        xs = np.concatenate([np.linspace(a, b, 33) for _, a, b in brackets])
-        fx = np.abs(np.asarray(f(xs), dtype=float))
-        out = []
-        for k, (j, a, b) in enumerate(brackets):
-            pts, vals = xs[33 * k:33 * (k + 1)], fx[j, 33 * k:33 * (k + 1)]
-            i = int(np.argmax(vals))
-            best[j] = max(best[j], float(vals[i]))
-            out.append((j, pts[max(i - 1, 0)], pts[min(i + 1, 32)]))
-        brackets = out
+        xs = lo[:, None] + (hi - lo)[:, None] * frac[None, :]
+        xs[:, -1] = hi
+        fx = np.abs(np.asarray(f(xs.ravel()), dtype=float)).reshape(-1, rows.size, 33)[rows, np.arange(rows.size)]
+        i = np.argmax(fx, axis=1)
+        np.maximum.at(best, rows, fx[np.arange(rows.size), i])
+        lo, hi = xs[np.arange(rows.size), np.maximum(i - 1, 0)], xs[np.arange(rows.size), np.minimum(i + 1, 32)]
     return best
 
 
 #: Bracket width (seconds) at which the roots of the power are taken (:func:`_roots`).
 ROOT_XTOL = 1e-14
+#: Points across each bracket in a round of :func:`_roots` (a 64-fold shrink a round).
+ROOT_POINTS = 65
 
 
-def _roots(motion, brackets):
-    """The roots of the powers in ``brackets`` ``[(tag, row, a, b, f(a), f(b))]`` (a sign change
-    each), all at once, as ``[(tag, row, root)]``: each round evaluates 33 points across every bracket in one call and keeps
-    the interval of the sign change (a 32-fold shrink), until the brackets are :data:`ROOT_XTOL`
-    wide; the root is then the secant's zero in the last bracket."""
+def _roots(motion, rows, lo, hi):
+    """The roots of the powers ``motion(t)[1][rows]`` in the brackets ``[lo, hi]`` (a sign change
+    each on the grid), all at once: each round evaluates :data:`ROOT_POINTS` points across every
+    bracket in one call and keeps the interval of the first sign change, until the brackets are
+    :data:`ROOT_XTOL` wide; the root is then the secant's zero in the last bracket. A bracket whose
+    ends, evaluated again, show no sign change (the power within rounding of zero at an end: a
+    batch need not round as the grid's did) has that end, the smaller in magnitude, as its root.
+    Returns ``(index into the brackets, root)`` pairs."""
     out = []
-    live = list(brackets)
-    while live:
-        xs = np.concatenate([np.linspace(a, b, 33) for _, _, a, b, _, _ in live])
-        fx = motion(xs)[1]
-        nxt = []
-        for k, (tag, j, a, b, fa, fb) in enumerate(live):
-            pts, vals = xs[33 * k:33 * (k + 1)], fx[j, 33 * k:33 * (k + 1)].copy()
-            vals[0], vals[-1] = fa, fb
-            i = int(np.flatnonzero(np.sign(vals[:-1]) * np.sign(vals[1:]) <= 0)[0])
-            a, b, fa, fb = pts[i], pts[i + 1], vals[i], vals[i + 1]
-            if b - a <= ROOT_XTOL or not (a < 0.5 * (a + b) < b):
-                out.append((tag, j, a if fa == fb else a - fa * (b - a) / (fb - fa)))
-            else:
-                nxt.append((tag, j, a, b, fa, fb))
-        live = nxt
+    live = np.arange(rows.size)
+    frac = np.linspace(0.0, 1.0, ROOT_POINTS)
+    fa = fb = None
+    while live.size:
+        a, b = lo[live], hi[live]
+        xs = a[:, None] + (b - a)[:, None] * frac[None, :]
+        xs[:, -1] = b
+        k = np.arange(live.size)
+        vals = np.asarray(motion(xs.ravel())[1], dtype=float).reshape(-1, live.size, ROOT_POINTS)[rows[live], k]
+        if fa is None:  # the first round: the ends as this batch gives them
+            ends = np.sign(vals[:, 0]) * np.sign(vals[:, -1]) >= 0
+            for n in np.flatnonzero(ends):
+                out.append((int(live[n]), a[n] if abs(vals[n, 0]) <= abs(vals[n, -1]) else b[n]))
+            keep = ~ends
+            live, xs, vals, k = live[keep], xs[keep], vals[keep], np.arange(int(keep.sum()))
+        else:
+            vals[:, 0], vals[:, -1] = fa, fb
+        if not live.size:
+            break
+        i = np.argmax(np.sign(vals[:, :-1]) * np.sign(vals[:, 1:]) <= 0, axis=1)
+        a, b, fa, fb = xs[k, i], xs[k, i + 1], vals[k, i], vals[k, i + 1]
+        lo[live], hi[live] = a, b
+        done = (b - a <= ROOT_XTOL) | ~((a < 0.5 * (a + b)) & (0.5 * (a + b) < b))
+        for n in np.flatnonzero(done):
+            out.append((int(live[n]), a[n] if fa[n] == fb[n] else a[n] - fa[n] * (b[n] - a[n]) / (fb[n] - fa[n])))
+        live, fa, fb = live[~done], fa[~done], fb[~done]
     return out
 
 
@@ -225,23 +243,18 @@ def _positive_work(motion, grid, edges, pow_g, panel_pow, xg, wg, pos) -> None:
     sign gives max(its integral, 0); a panel where it changes sign is split at the roots (found for
     every joint at once, :func:`_roots`) and integrated piece by piece (one call for all)."""
     P, p = edges.size - 1, pow_g.shape[0]
-    brackets = []  # (panel, joint, a, b)
+    rows, panels, lo, hi = [], [], [], []
     for j in range(p):
         for i in np.flatnonzero(np.sign(pow_g[j, :-1]) * np.sign(pow_g[j, 1:]) < 0):
-            brackets.append((min(int(i // 33), P - 1), j, grid[i], grid[i + 1]))
+            rows.append(j)
+            panels.append(min(int(i // 33), P - 1))
+            lo.append(grid[i])
+            hi.append(grid[i + 1])
     roots: dict[tuple, list] = {}
-    if brackets:
-        # the ends again, as point evaluations (a point need not round as the batch did)
-        ends = motion(np.array([t for _, _, a, b in brackets for t in (a, b)]))[1]
-        live = []
-        for k, (panel, j, a, b) in enumerate(brackets):
-            fa, fb = float(ends[j, 2 * k]), float(ends[j, 2 * k + 1])
-            if fa * fb < 0:
-                live.append((panel, j, a, b, fa, fb))
-            else:  # the power is within rounding of zero at an end: that end is the root
-                roots.setdefault((j, panel), []).append(a if abs(fa) <= abs(fb) else b)
-        for panel, j, r in _roots(motion, live):
-            roots.setdefault((j, panel), []).append(r)
+    if rows:
+        found = _roots(motion, np.array(rows, dtype=int), np.array(lo, dtype=float), np.array(hi, dtype=float))
+        for n, r in found:
+            roots.setdefault((rows[n], panels[n]), []).append(float(r))
     pieces = []  # (joint, lengths, times)
     for j in range(p):
         for k in range(P):
