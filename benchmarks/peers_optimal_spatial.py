@@ -32,7 +32,7 @@ check afterwards, untimed):
             interval by interval) misses the end state by at most 1e-6.
 
 Run:  python benchmarks/peers_optimal_spatial.py [--problems trunk cat] [--objectives energy torque]
-      [--intervals 100] [--repeat 1]        (needs casadi and pinocchio: pip install ".[bench]")
+      [--intervals 100] [--repeat 1] [--acroplan-only]   (needs casadi and pinocchio: pip install ".[bench]")
 """
 
 from __future__ import annotations
@@ -184,6 +184,9 @@ def run(name, body, kw, objective, peer, args):
         ta.append(time.perf_counter() - t)
         ca_.append(time.process_time() - c)
         c = time.process_time()
+        if peer is None:
+            tc.append((math.nan, math.nan))
+            continue
         if objective == "energy":
             ok_c, dt_c, u = peer.solve(T, x0, x1c, guess=guess)
             cost_c = float(np.sum(u**2) * T / u.shape[1])
@@ -191,6 +194,11 @@ def run(name, body, kw, objective, peer, args):
             ok_c, dt_c, cost_c, a = peer.solve(T, x0, x1c, guess)
         tc.append((dt_c, time.process_time() - c))
     err_a = float(pinocchio_errors(body, x0, r.segments).max()) if r.success else float("nan")
+    if peer is None:
+        print(f"\n{name}, {objective}: acroplan {r.status} (check {err_a:.1e}); wall times "
+              f"{', '.join(f'{v:.3f}' for v in ta)} s, CPU {', '.join(f'{v:.3f}' for v in ca_)} s; min {min(ta):.3f} / "
+              f"{min(ca_):.3f} s, median {float(np.median(ta)):.3f} / {float(np.median(ca_)):.3f} s")
+        return
     if objective == "energy":
         err_c = state_error(resimulate_piecewise(body, x0, T, u), x1) if ok_c else float("nan")
     else:
@@ -216,6 +224,7 @@ def main():
     ap.add_argument("--objectives", nargs="+", default=["energy", "torque"], choices=["energy", "torque"])
     ap.add_argument("--intervals", type=int, default=100)
     ap.add_argument("--repeat", type=int, default=1)
+    ap.add_argument("--acroplan-only", action="store_true", help="time acroplan alone (no CasADi)")
     args = ap.parse_args()
     import casadi
 
@@ -227,9 +236,9 @@ def main():
             t0 = time.perf_counter()
             if objective == "energy":  # the rates free at the ends (module docstring)
                 kw_o = {k: v for k, v in kw.items() if k not in ("start_rate", "end_rate")}
-                peer = CasadiCat(body, args.intervals, rest_ends=False)
+                peer = None if args.acroplan_only else CasadiCat(body, args.intervals, rest_ends=False)
             else:
-                kw_o, peer = kw, CasadiTorque(body, args.intervals)
+                kw_o, peer = kw, None if args.acroplan_only else CasadiTorque(body, args.intervals)
             print(f"[{name}, {objective}: CasADi problem built in {time.perf_counter() - t0:.1f} s, once]")
             run(name, body, kw_o, objective, peer, args)
 
