@@ -48,32 +48,51 @@ CASADI_TOL = 1e-6
 ACROPLAN_TOL = 1e-9
 
 
+def casadi_rotation(q):
+    """:math:`R(q)` (3 x 3) of a CasADi quaternion ``q = (w, x, y, z)``."""
+    import casadi as ca
+
+    qw, qx, qy, qz = q[0], q[1], q[2], q[3]
+    return ca.vertcat(ca.horzcat(qw**2 + qx**2 - qy**2 - qz**2, 2 * (qx * qy - qw * qz), 2 * (qx * qz + qw * qy)),
+                      ca.horzcat(2 * (qx * qy + qw * qz), qw**2 - qx**2 + qy**2 - qz**2, 2 * (qy * qz - qw * qx)),
+                      ca.horzcat(2 * (qx * qz - qw * qy), 2 * (qy * qz + qw * qx), qw**2 - qx**2 - qy**2 + qz**2))
+
+
+def casadi_field(body):
+    """The body's field as a CasADi function ``f(x, u) -> x'`` of the state ``x = (q, s)`` (4 + m)
+    and the joint rates ``u`` (m), with ``I(s)``, ``A(s)`` the model's own symbolic expressions
+    (sympy lambdify)."""
+    import casadi as ca
+
+    m = body.n_inputs
+    x, p, I, A, _ = _symbolic_map(body.links.parents)  # noqa: E741
+    fn = sp.lambdify((x[4:], p), list(I) + [e for col in A for e in col],
+                     modules=[{"sin": ca.sin, "cos": ca.cos}], cse=True)
+    s = ca.SX.sym("s", m)
+    vals = fn([s[i] for i in range(m)], body._param_tuple)
+    Imat = ca.reshape(ca.vertcat(*vals[:9]), 3, 3).T
+    Amat = ca.horzcat(*[ca.vertcat(*vals[9 + 3 * j:12 + 3 * j]) for j in range(m)])
+    Lv = ca.DM(body.angular_momentum)
+    xs, us = ca.SX.sym("x", 4 + m), ca.SX.sym("u", m)
+    qw, qx, qy, qz = xs[0], xs[1], xs[2], xs[3]
+    R = casadi_rotation(xs)
+    Ifun = ca.Function("I", [s], [Imat, Amat])
+    Ii, Ai = Ifun(xs[4:])
+    om = ca.solve(Ii, ca.mtimes(R.T, Lv) - ca.mtimes(Ai, us))
+    Xi = ca.vertcat(ca.horzcat(-qx, -qy, -qz), ca.horzcat(qw, -qz, qy), ca.horzcat(qz, qw, -qx),
+                    ca.horzcat(-qy, qx, qw))
+    f = ca.Function("f", [xs, us], [ca.vertcat(0.5 * ca.mtimes(Xi, om), us)])
+    return f
+
+
 class CasadiCat:
     """Direct multiple shooting with N RK4 intervals for one body, built once."""
 
-    def __init__(self, body, N=100):
+    def __init__(self, body, N=100, rest_ends=True):
         import casadi as ca
 
         m = body.n_inputs
-        x, p, I, A, _ = _symbolic_map(body.links.parents)  # noqa: E741
-        fn = sp.lambdify((x[4:], p), list(I) + [e for col in A for e in col],
-                         modules=[{"sin": ca.sin, "cos": ca.cos}], cse=True)
-        s = ca.SX.sym("s", m)
-        vals = fn([s[i] for i in range(m)], body._param_tuple)
-        Imat = ca.reshape(ca.vertcat(*vals[:9]), 3, 3).T
-        Amat = ca.horzcat(*[ca.vertcat(*vals[9 + 3 * j:12 + 3 * j]) for j in range(m)])
-        Lv = ca.DM(body.angular_momentum)
-        xs, us = ca.SX.sym("x", 4 + m), ca.SX.sym("u", m)
-        qw, qx, qy, qz = xs[0], xs[1], xs[2], xs[3]
-        R = ca.vertcat(ca.horzcat(qw**2 + qx**2 - qy**2 - qz**2, 2 * (qx * qy - qw * qz), 2 * (qx * qz + qw * qy)),
-                       ca.horzcat(2 * (qx * qy + qw * qz), qw**2 - qx**2 + qy**2 - qz**2, 2 * (qy * qz - qw * qx)),
-                       ca.horzcat(2 * (qx * qz - qw * qy), 2 * (qy * qz + qw * qx), qw**2 - qx**2 - qy**2 + qz**2))
-        Ifun = ca.Function("I", [s], [Imat, Amat])
-        Ii, Ai = Ifun(xs[4:])
-        om = ca.solve(Ii, ca.mtimes(R.T, Lv) - ca.mtimes(Ai, us))
-        Xi = ca.vertcat(ca.horzcat(-qx, -qy, -qz), ca.horzcat(qw, -qz, qy), ca.horzcat(qz, qw, -qx),
-                        ca.horzcat(-qy, qx, qw))
-        f = ca.Function("f", [xs, us], [ca.vertcat(0.5 * ca.mtimes(Xi, om), us)])
+        f = casadi_field(body)
         opti = ca.Opti()
         X = opti.variable(4 + m, N + 1)
         U = opti.variable(m, N)
@@ -91,8 +110,9 @@ class CasadiCat:
         opti.subject_to(X[1:4, N] == x1[1:4])
         opti.subject_to(ca.dot(X[:4, N], x1[:4]) >= 0)
         opti.subject_to(X[4:, N] == x1[4:])
-        opti.subject_to(U[:, 0] == 0)
-        opti.subject_to(U[:, N - 1] == 0)
+        if rest_ends:  # the rates zero at both ends
+            opti.subject_to(U[:, 0] == 0)
+            opti.subject_to(U[:, N - 1] == 0)
         lim = body.default_limits()
         for j, name in enumerate(body.links.joint_names):
             lo, hi = lim.bounds(name) if lim is not None else (-math.inf, math.inf)
@@ -106,7 +126,9 @@ class CasadiCat:
         self.opti, self.X, self.U, self.N, self.m = opti, X, U, N, m
         self.par = dict(T=T, x0=x0, x1=x1)
 
-    def solve(self, T, x0, x1):
+    def solve(self, T, x0, x1, guess=None):
+        """IPOPT from the attitude on the geodesic (slerp) and the joints interpolated, or from
+        ``guess`` (4 + m, N + 1) states at the nodes; returns ``(success, seconds, u (m, N))``."""
         opti, N = self.opti, self.N
         for name, v in (("T", T), ("x0", x0), ("x1", x1)):
             opti.set_value(self.par[name], v)
@@ -116,7 +138,7 @@ class CasadiCat:
         for k, s in enumerate(np.linspace(0, 1, N + 1)):
             Xg[:4, k] = rot.qmul(q0, rot.exp(s * r))
             Xg[4:, k] = x0[4:] + s * (np.asarray(x1[4:]) - np.asarray(x0[4:]))
-        opti.set_initial(self.X, Xg)
+        opti.set_initial(self.X, Xg if guess is None else guess)
         opti.set_initial(self.U, np.zeros((self.m, N)))
         opti.set_initial(opti.lam_g, 0)
         t0 = time.perf_counter()

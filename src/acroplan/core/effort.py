@@ -13,14 +13,15 @@ from . import budget
 from .errors import InvalidInputError
 from .progress import stage
 
-__all__ = ["JointEffort", "EFFORT_RULE", "PEAK_CANDIDATES", "effort_summary", "peak"]
+__all__ = ["JointEffort", "EFFORT_RULE", "PEAK_CANDIDATES", "ROOT_XTOL", "ROOT_POINTS", "effort_summary", "peak",
+           "peaks"]
 
 
 #: How :meth:`PlanResult.effort` integrates and takes maxima (also written in ``to_dict()["effort"]``).
 EFFORT_RULE = ("integrals of tau^2 and tau u: composite 32-point Gauss-Legendre on each segment, on at least 8 "
                "panels and one per radian of max|u| T (at most 4096); positive work: the same rule on each panel, "
-               "split at the sign changes of tau u (found between the nodes and panel edges, refined by Brent's "
-               "method to 1e-14 s); peaks: the local maxima on those points within 1% of the largest, each refined "
+               "split at the sign changes of tau u (found between the nodes and panel edges, refined by 32-fold "
+               "bracketing to 1e-14 s and a secant step); peaks: the local maxima on those points within 1% of the largest, each refined "
                "by a bounded scalar search; integral of u^2: exact (the basis Gram matrix)")
 
 
@@ -127,7 +128,10 @@ def effort_summary(result) -> dict[str, JointEffort]:
 
 
 def _segment_effort(result, seg, model, inputs, xg, wg, acc) -> None:
-    """Add one segment's integrals and peaks into the accumulators ``acc`` (by joint)."""
+    """Add one segment's integrals and peaks into the accumulators ``acc`` (by joint). The torque
+    model is called on batches of times (about eight calls a segment: the grid, the rounds of the
+    roots with the zooms of the peaks, the split panels), never point by point: a model that integrates (a
+    spatial body's momentum) costs as much for one time as for hundreds."""
     T = seg.t1 - seg.t0
     basis = result.basis_for(seg)
     G = basis.gram()
@@ -153,39 +157,173 @@ def _segment_effort(result, seg, model, inputs, xg, wg, acc) -> None:
     acc["tau2"] += np.einsum("jpk,k->j", tau_q**2, panel_w)
     panel_pow = np.einsum("jpk,k->jp", pow_q, panel_w)  # (p, P): the power's integral per panel
     acc["net"] += panel_pow.sum(axis=1)
+    # the roots of the powers and the zooms of the peaks in lockstep: one call a round for both
+    rows, panels, lo, hi = _brackets(grid, pow_g, P)
+    found, top = _lockstep(motion, [(_root_rounds(rows, lo, hi), lambda tp: tp[1]),
+                                    (_peak_rounds(grid, np.vstack([tau_g, pow_g])), np.vstack)])
+    roots: dict[tuple, list] = {}
+    for n, r in found:
+        roots.setdefault((int(rows[n]), int(panels[n])), []).append(float(r))
+    _positive_work(motion, edges, roots, panel_pow, xg, wg, acc["pos"])
+    acc["peak_tau"] = np.maximum(acc["peak_tau"], top[:p])
+    acc["peak_pow"] = np.maximum(acc["peak_pow"], top[p:])
+
+
+def _lockstep(motion, searches):
+    """Run the searches ``[(generator, pick)]`` side by side: each round, every live generator
+    yields the times it needs, ``motion`` is called once on all of them, and each gets
+    ``pick((tau, power))`` at its own times. Returns the generators' results."""
+    out = [None] * len(searches)
+    live = {}
+    for k, (gen, _) in enumerate(searches):
+        try:
+            live[k] = next(gen)
+        except StopIteration as stop:
+            out[k] = stop.value
+    while live:
+        keys = list(live)
+        sizes = [live[k].size for k in keys]
+        tau, pw = motion(np.concatenate([live[k] for k in keys]))
+        at = 0
+        for k, n in zip(keys, sizes):
+            gen, pick = searches[k]
+            vals = pick((tau[:, at:at + n], pw[:, at:at + n]))
+            at += n
+            try:
+                live[k] = gen.send(vals)
+            except StopIteration as stop:
+                out[k] = stop.value
+                del live[k]
+    return out
+
+
+def _drive(f, gen):
+    """Run one search generator alone, ``f(xs)`` giving what it needs."""
+    return _lockstep(lambda xs: (f(xs), None), [(gen, lambda tp: tp[0])])[0]
+
+
+def peaks(f, grid, values) -> np.ndarray:
+    """:func:`peak` of every row of ``values`` (r, K) at once: ``f(xs)`` gives all rows (r, len(xs)),
+    and each of the four zooms evaluates the brackets of every row's candidates in one call (the
+    same points as :func:`peak` row by row)."""
+    return _drive(f, _peak_rounds(grid, values))
+
+
+def _peak_rounds(grid, values):
+    """:func:`peaks` as a search generator (:func:`_lockstep`): yields the times of a zoom, receives
+    the rows' values there, returns the peaks (r,)."""
+    v = np.abs(values)
+    best = v.max(axis=1)
+    rows, lo, hi = [], [], []
+    for j in range(v.shape[0]):
+        left = np.concatenate([[-np.inf], v[j, :-1]])
+        right = np.concatenate([v[j, 1:], [-np.inf]])
+        cands = np.flatnonzero((v[j] >= left) & (v[j] >= right) & (v[j] >= 0.99 * best[j]))
+        for i in cands[np.argsort(-v[j, cands], kind="stable")][:PEAK_CANDIDATES]:
+            rows.append(j)
+            lo.append(grid[max(i - 1, 0)])
+            hi.append(grid[min(i + 1, grid.size - 1)])
+    rows, lo, hi = np.array(rows, dtype=int), np.array(lo, dtype=float), np.array(hi, dtype=float)
+    frac = np.linspace(0.0, 1.0, 33)
+    for _ in range(4):
+        keep = hi > lo
+        rows, lo, hi = rows[keep], lo[keep], hi[keep]
+        if not rows.size:
+            break
+        xs = lo[:, None] + (hi - lo)[:, None] * frac[None, :]
+        xs[:, -1] = hi
+        got = yield xs.ravel()
+        fx = np.abs(np.asarray(got, dtype=float)).reshape(-1, rows.size, 33)[rows, np.arange(rows.size)]
+        i = np.argmax(fx, axis=1)
+        np.maximum.at(best, rows, fx[np.arange(rows.size), i])
+        lo, hi = xs[np.arange(rows.size), np.maximum(i - 1, 0)], xs[np.arange(rows.size), np.minimum(i + 1, 32)]
+    return best
+
+
+#: Bracket width (seconds) at which the roots of the power are taken (:func:`_roots`).
+ROOT_XTOL = 1e-14
+#: Points across each bracket in a round of :func:`_roots` (a 32-fold shrink a round).
+ROOT_POINTS = 33
+
+
+def _brackets(grid, pow_g, P):
+    """The grid intervals where a joint's power changes sign: ``(rows, panels, lo, hi)`` arrays."""
+    rows, panels, lo, hi = [], [], [], []
+    for j in range(pow_g.shape[0]):
+        for i in np.flatnonzero(np.sign(pow_g[j, :-1]) * np.sign(pow_g[j, 1:]) < 0):
+            rows.append(j)
+            panels.append(min(int(i // 33), P - 1))
+            lo.append(grid[i])
+            hi.append(grid[i + 1])
+    return (np.array(rows, dtype=int), np.array(panels, dtype=int), np.array(lo, dtype=float),
+            np.array(hi, dtype=float))
+
+
+def _roots(motion, rows, lo, hi):
+    """The roots of the powers ``motion(t)[1][rows]`` in the brackets ``[lo, hi]``
+    (:func:`_root_rounds`, run alone): ``[(index into the brackets, root)]``."""
+    return _drive(lambda xs: motion(xs)[1], _root_rounds(rows, lo, hi))
+
+
+def _root_rounds(rows, lo, hi):
+    """The roots of the powers of ``rows`` in the brackets ``[lo, hi]`` (a sign change each on the
+    grid), as a search generator (:func:`_lockstep`: yields times, receives every joint's power
+    there): each round takes :data:`ROOT_POINTS` points across every bracket and keeps the interval
+    of the first sign change, until the brackets are :data:`ROOT_XTOL` wide; the root is then the
+    secant's zero in the last bracket. A bracket whose ends, evaluated again, show no sign change
+    (the power within rounding of zero at an end: a batch need not round as the grid's did) has
+    that end, the smaller in magnitude, as its root. Returns ``[(index into the brackets, root)]``."""
+    out = []
+    lo, hi = lo.copy(), hi.copy()
+    live = np.arange(rows.size)
+    frac = np.linspace(0.0, 1.0, ROOT_POINTS)
+    fa = fb = None
+    while live.size:
+        a, b = lo[live], hi[live]
+        xs = a[:, None] + (b - a)[:, None] * frac[None, :]
+        xs[:, -1] = b
+        k = np.arange(live.size)
+        got = yield xs.ravel()
+        vals = np.asarray(got, dtype=float).reshape(-1, live.size, ROOT_POINTS)[rows[live], k]
+        if fa is None:  # the first round: the ends as this batch gives them
+            ends = np.sign(vals[:, 0]) * np.sign(vals[:, -1]) >= 0
+            for n in np.flatnonzero(ends):
+                out.append((int(live[n]), a[n] if abs(vals[n, 0]) <= abs(vals[n, -1]) else b[n]))
+            keep = ~ends
+            live, xs, vals, k = live[keep], xs[keep], vals[keep], np.arange(int(keep.sum()))
+        else:
+            vals[:, 0], vals[:, -1] = fa, fb
+        if not live.size:
+            break
+        i = np.argmax(np.sign(vals[:, :-1]) * np.sign(vals[:, 1:]) <= 0, axis=1)
+        a, b, fa, fb = xs[k, i], xs[k, i + 1], vals[k, i], vals[k, i + 1]
+        lo[live], hi[live] = a, b
+        done = (b - a <= ROOT_XTOL) | ~((a < 0.5 * (a + b)) & (0.5 * (a + b) < b))
+        for n in np.flatnonzero(done):
+            out.append((int(live[n]), a[n] if fa[n] == fb[n] else a[n] - fa[n] * (b[n] - a[n]) / (fb[n] - fa[n])))
+        live, fa, fb = live[~done], fa[~done], fb[~done]
+    return out
+
+
+def _positive_work(motion, edges, roots, panel_pow, xg, wg, pos) -> None:
+    """Add each joint's positive work on one segment to ``pos``: a panel where the power keeps its
+    sign gives max(its integral, 0); a panel where it changes sign is split at its ``roots``
+    (``{(joint, panel): [times]}``) and integrated piece by piece (one call for all)."""
+    p, P = panel_pow.shape
+    pieces = []  # (joint, lengths, times)
     for j in range(p):
-        _positive_work(motion, j, grid, edges, pow_g[j], panel_pow[j], xg, wg, acc["pos"])
-        acc["peak_tau"][j] = max(acc["peak_tau"][j], peak(lambda x, j=j: motion(x)[0][j], grid, tau_g[j]))
-        acc["peak_pow"][j] = max(acc["peak_pow"][j], peak(lambda x, j=j: motion(x)[1][j], grid, pow_g[j]))
-
-
-def _positive_work(motion, j, grid, edges, pow_j, panel_pow_j, xg, wg, pos) -> None:
-    """Add joint ``j``'s positive work on one segment to ``pos[j]``: a panel where the power keeps its
-    sign gives max(its integral, 0); a panel where it changes sign is split at the roots (Brent)
-    and integrated piece by piece."""
-    from scipy.optimize import brentq
-
-    P = edges.size - 1
-    change = np.flatnonzero(np.sign(pow_j[:-1]) * np.sign(pow_j[1:]) < 0)
-    roots: dict[int, list] = {}
-    for i in change:
-        def f(x):
-            return float(motion(x)[1][j, 0])
-
-        fa, fb = f(grid[i]), f(grid[i + 1])
-        if fa * fb < 0:
-            r = brentq(f, grid[i], grid[i + 1], xtol=1e-14)
-        else:  # the power is within rounding of zero at an end (a point evaluation need not round as the
-            # batch did): that end is the root
-            r = grid[i] if abs(fa) <= abs(fb) else grid[i + 1]
-        roots.setdefault(min(int(i // 33), P - 1), []).append(r)
-    for k in range(P):
-        if k not in roots:
-            pos[j] += max(float(panel_pow_j[k]), 0.0)
-            continue
-        cuts = np.concatenate([[edges[k]], sorted(roots[k]), [edges[k + 1]]])
-        lens = np.diff(cuts)
-        keep = lens > 0
-        ts = (cuts[:-1][keep, None] + lens[keep, None] * xg[None, :]).ravel()
-        vals = motion(ts)[1][j].reshape(-1, 32) @ wg * lens[keep]
-        pos[j] += float(np.sum(np.maximum(vals, 0.0)))
+        for k in range(P):
+            if (j, k) not in roots:
+                pos[j] += max(float(panel_pow[j, k]), 0.0)
+                continue
+            cuts = np.concatenate([[edges[k]], sorted(roots[(j, k)]), [edges[k + 1]]])
+            lens = np.diff(cuts)
+            keep = lens > 0
+            pieces.append((j, lens[keep], (cuts[:-1][keep, None] + lens[keep, None] * xg[None, :]).ravel()))
+    if pieces:
+        vals = motion(np.concatenate([ts for _, _, ts in pieces]))[1]
+        at = 0
+        for j, lens, ts in pieces:
+            v = vals[j, at:at + ts.size].reshape(-1, 32) @ wg * lens
+            pos[j] += float(np.sum(np.maximum(v, 0.0)))
+            at += ts.size

@@ -36,25 +36,31 @@ margin 2e-3) and the torque limits on a grid of :data:`TORQUE_LIMIT_GRID` points
 
 Solvers
 -------
-* **No inequality (the common case): an SQP of our own.** The model Hessian is the cost's (exact
-  for the energy, :math:`2T(I_m\\otimes G)`; Gauss-Newton for the torque cost) plus the
-  constraints' curvature :math:`\\sum_i \\lambda_i \\nabla^2 h_i`, whose Hessians are taken by forward
-  differences of the endpoint Jacobian at the first basis size (``len(z)`` evaluations; again, at
-  most :data:`MAX_REFRESH` times, after a step the model predicted poorly), carried over padded
-  with zeros to the next sizes, and corrected by symmetric rank-one updates from the secant of the
-  Lagrangian's gradient. A step solves the KKT system
+* **An SQP of our own.** The model Hessian is the cost's (exact for the energy,
+  :math:`2T(I_m\\otimes G)`; Gauss-Newton for the torque cost) plus the constraints' curvature
+  :math:`\\sum_i \\lambda_i \\nabla^2 h_i`, whose Hessians are taken by forward differences of the
+  endpoint Jacobian at the first basis size (``len(z)`` evaluations; again, at most
+  :data:`MAX_REFRESH` times, after a step the model predicted poorly), carried over padded with
+  zeros to the next sizes, and corrected by symmetric rank-one updates from the secant of the
+  Lagrangian's gradient. Without inequalities a step solves the KKT system
   :math:`Wp + A^\\top\\lambda = -\\nabla f,\\ Ap = -h`; when :math:`W` is not positive definite
   on :math:`\\ker A` the reduced Hessian's eigenvalues are replaced by their magnitudes (at least
   1e-6 of the largest). Steps are accepted on the :math:`\\ell_1` merit function
-  :math:`f + \\rho\\|h\\|_1` (:math:`\\rho = 2\\|\\lambda\\|_\\infty`), with a second-order
-  correction back onto the constraints at every trial (the Maratos effect), and a cap on the step
-  length in the cost's metric that follows the steps taken (so no trial input is wild: the
-  integrator's cost grows with the input). From a warm start it takes two to five iterations
-  per basis size (measured on random acrobot segments).
-* **With rate, joint or torque limits: scipy's SLSQP** on the same problem, in coordinates where the
-  cost's model Hessian is the identity (SLSQP's own first guess), then minimum-norm Newton steps
-  on the endpoint as :func:`~acroplan.core.limits.solve_with_limits`; success needs the limits to
-  hold exactly (:func:`~acroplan.core.limits.violation`) and the torque limits on 1025 points.
+  :math:`f + \\rho(\\|h\\|_1 + \\sum_i \\max(0, r_i))` (:math:`\\rho` twice the largest multiplier),
+  with a second-order correction back onto the constraints at every trial (the Maratos effect),
+  and a cap on the step length in the cost's metric that follows the steps taken (so no trial
+  input is wild: the integrator's cost grows with the input). From a warm start it takes two to
+  five iterations per basis size (measured on random acrobot segments).
+* **With rate, joint or torque limits** the same SQP takes the limits :math:`r(z) \\le 0` as the
+  inequalities of its quadratic programs (:func:`acroplan.core.sqp.qp_step`: the equations
+  eliminated, the reduced Hessian made positive definite as above, then a least-distance program
+  solved by non-negative least squares), the active limits' multipliers in the merit function, the
+  KKT residual and the curvature updates; the optimum is then brought onto the endpoint by
+  minimum-norm Newton steps as :func:`~acroplan.core.limits.solve_with_limits`, and success needs
+  the limits to hold exactly (:func:`~acroplan.core.limits.violation`) and the torque limits on
+  1025 points. (Before issue #22 the limits went to scipy's SLSQP, where the falling cat's energy
+  optimum took 160 s; ``benchmarks/RESULTS.md`` has the figure now.) A size whose linearised limits
+  no step can keep (a start far outside them) fails, and the next size is tried.
 
 First-order optimality is reported as the relative KKT residual
 
@@ -80,7 +86,7 @@ the current size is converged and is the one reported; otherwise the next size i
 (warm-started there) and the solved change decides. The prediction is accurate to ~10% and
 slightly above the solved change (measured on 40 random acrobot segments, and tested), so it stops
 no earlier than solving would; a model that is not convex there (a symmetric optimum) gives no
-prediction and the size is solved. Under limits (SLSQP) every size is solved. With
+prediction and the size is solved. Under limits every size is solved. With
 ``n_coefficients`` given, that one size is used.
 
 Starts
@@ -99,7 +105,8 @@ optimum going up the ladder:
   the basis when it has several pieces) and, as the second start, **path deformation from the
   minimum-norm input** (the text's method, :func:`~acroplan.core.continuation.solve_segment`, at
   most :data:`DEFORM_BUDGET` evaluations), optimised when distinct and promising (cost below
-  :data:`PROMISING` = 8 times).
+  :data:`PROMISING` = 8 times); a system whose class sets ``optimal_deform_start = False`` (the
+  spatial bodies) has no second start unless ``starts`` names it.
 
 Measured on 800 random acrobot segments (:func:`acroplan.zoo.random_segment`, seeds 5, 11, 21
 and 31): with ``starts=("auto", "deform")``, 11 problems end at a better optimum from the second
@@ -368,7 +375,8 @@ class _Search:
             n0 = feasible.pieces[0].basis.n  # start at the feasible plan's own size, where it is exact
             self.first = next((n for n in sizes if n >= n0), sizes[-1])
         use_family = explicit and "family" in st.starts
-        use_deform = not explicit or "deform" in st.starts
+        # a system may leave the second start out by default (``optimal_deform_start = False``)
+        use_deform = "deform" in st.starts if explicit else getattr(self.system, "optimal_deform_start", True)
 
         def candidates_at(n, bn):  # lazily: path deformation only once the auto start is done
             yield ("auto", _project(feasible.pieces, iv, bn), math.inf)
@@ -400,7 +408,7 @@ class _Search:
             c0 = _resize(prev.prob.c(prev.z).reshape(m, -1), n).ravel()
             run = self.new_run(n)
             before = 0
-            if run.solver == "sqp":  # the change to this size, predicted by one Newton step
+            if not run.inequalities:  # the change to this size, predicted by one Newton step
                 predicted = run.predicted_decrease(c0, Hc)
                 self.evaluations += run.prob.evaluations
                 before = run.prob.evaluations
@@ -483,8 +491,8 @@ class EnergyOptimal(Strategy):
         Torque limits :math:`|\\tau_j| \\le \\bar\\tau_j` per joint (one number for all, one per
         joint, or a dict by the model's ``joint_names``), imposed on a grid of
         :data:`TORQUE_LIMIT_GRID` points with a margin of :data:`TORQUE_MARGIN` and checked on 1025
-        points; together with the rate and joint limits of :func:`plan` they make the problem one
-        for SLSQP.
+        points; together with the rate and joint limits of :func:`plan` they are the SQP's
+        inequalities (module docstring).
     kkt_tol : float
         Target relative KKT residual of the reported optimum (default :data:`KKT_TOL`).
     feasible : Strategy, optional

@@ -10,7 +10,6 @@ import dataclasses
 import math
 
 import numpy as np
-from scipy.optimize import minimize
 
 from . import backend
 from .basis import InputBasis
@@ -61,7 +60,7 @@ class OptimalSolve:
         Endpoint error of the compiled integrator.
     evaluations, iterations : int
     solver : str
-        ``"sqp"`` or ``"slsqp"``.
+        ``"sqp"`` (the limits, when there are any, are its inequalities).
     sizes : tuple of (int, float)
         The ladder: (basis size, optimal cost) at each size solved; when the ladder stopped on a
         prediction, the last entry is the next size with the cost one Newton step predicts there
@@ -190,6 +189,21 @@ class OptimalProblem:
         J = self.zmat(J.reshape(-1, self.N))
         return np.concatenate([(top - tau).ravel(), (top + tau).ravel()]), np.vstack([-J, J])
 
+    def ineq(self, z):
+        """The inequalities :math:`r(z) \\le 0` and their Jacobian: the rate and joint limits (linear
+        rows :math:`A_z z - b_z`) and the torque limits (:meth:`torque_rows`, negated)."""
+        rs, Rs = [], []
+        if self.lin is not None:
+            Az, bz = self.lin
+            rs.append(Az @ z - bz)
+            Rs.append(Az)
+        if self.tmax is not None:
+            vals, J = self.torque_rows(z)
+            keep = np.isfinite(vals)
+            rs.append(-vals[keep])
+            Rs.append(-J[keep])
+        return np.concatenate(rs), np.vstack(Rs)
+
     def curvature(self, c, Ac):
         """Constraint Hessians in ``c`` coordinates, shape (q, N, N), by forward differences of the
         endpoint Jacobian along every coordinate direction (N evaluations), symmetrised."""
@@ -204,47 +218,6 @@ class OptimalProblem:
 
 
 
-def slsqp(prob: OptimalProblem, z0, max_iter=300):
-    """SLSQP with the linear and torque inequalities, in coordinates ``w = L^T z`` where the cost's
-    model Hessian at the start is the identity (``L L^T``). Returns ``(z, iterations, message)``."""
-    f0, _, H0 = prob.f(z0)
-    ridge = 1e-12 * max(float(np.trace(H0)) / H0.shape[0], 1e-300)
-    L = np.linalg.cholesky(H0 + ridge * np.eye(H0.shape[0]))
-    Li = np.linalg.inv(L.T)  # z = Li w
-    scale = 1.0 + float(np.max(np.abs(prob.x1)))
-    bad = np.full(prob.system.ndx, 1e6)
-
-    def eq(w):
-        try:
-            return prob.h(Li @ w)[0] / scale
-        except backend.IntegrationError:
-            return bad
-
-    def eq_jac(w):
-        try:
-            return prob.h(Li @ w)[1] @ Li / scale
-        except backend.IntegrationError:
-            return np.zeros((prob.system.ndx, w.size))
-
-    cons = [{"type": "eq", "fun": eq, "jac": eq_jac}]
-    if prob.lin is not None:
-        Az, bz = prob.lin
-        AL = Az @ Li
-        cons.append({"type": "ineq", "fun": lambda w: bz - AL @ w, "jac": lambda w: -AL})
-    if prob.tmax is not None:
-        cons.append({"type": "ineq", "fun": lambda w: prob.torque_rows(Li @ w)[0],
-                     "jac": lambda w: prob.torque_rows(Li @ w)[1] @ Li})
-    unit = 1.0 + abs(f0)
-
-    def obj(w):
-        f, g, _ = prob.f(Li @ w)
-        return f / unit, (Li.T @ g) / unit
-
-    res = minimize(obj, L.T @ z0, jac=True, constraints=cons, method="SLSQP",
-                   options={"maxiter": max_iter, "ftol": 1e-15})
-    return Li @ res.x, int(res.nit), str(res.message)
-
-
 class OptimalRun:
     """The optimisation at one basis size: solve from a start, refine, report."""
 
@@ -252,7 +225,9 @@ class OptimalRun:
         self.fn = cost_for(cost, system, basis, x0, T)
         self.prob = OptimalProblem(system, basis, x0, x1, T, self.fn, B, d, max_evaluations, limits, torque_model, tau_max)
         self.tol = tol
-        self.solver = "sqp" if self.prob.lin is None and self.prob.tmax is None else "slsqp"
+        #: whether the problem has inequalities (rate, joint or torque limits)
+        self.inequalities = self.prob.lin is not None or self.prob.tmax is not None
+        self.solver = "sqp"
         self.z = None
         self.Hc = None  # constraint Hessians in c coordinates (the SQP's)
         self.its, self.why, self.failed = 0, "", ""
@@ -261,23 +236,19 @@ class OptimalRun:
         prob = self.prob
         z = prob.z(c0)
         try:
-            if self.solver == "sqp":
-                _, _, _, Ac = prob.h(z)
-                self.Hc = prob.curvature(prob.c(z), Ac) if curvature is None else curvature
-                Hz = np.stack([prob.zhess(M) for M in self.Hc])
+            _, _, _, Ac = prob.h(z)
+            self.Hc = prob.curvature(prob.c(z), Ac) if curvature is None else curvature
+            Hz = np.stack([prob.zhess(M) for M in self.Hc])
 
-                def refresh(zn):
-                    self.Hc = prob.curvature(prob.c(zn), prob.h(zn)[3])
-                    return np.stack([prob.zhess(M) for M in self.Hc])
+            def refresh(zn):
+                self.Hc = prob.curvature(prob.c(zn), prob.h(zn)[3])
+                return np.stack([prob.zhess(M) for M in self.Hc])
 
-                z, info = sqp(prob, z, Hz, tol=self.tol, kkt_tol=kkt_tol, refresh=refresh)
-                self.its += info["its"]
-                self.why = info["why"]
-            else:
-                z, its, msg = slsqp(prob, z)
-                self.its += its
-                self.why = "" if msg.startswith("Optimization terminated successfully") else msg
-            self.z = polish_endpoint(prob, z, self.tol) if polish or self.solver != "sqp" else z
+            z, info = sqp(prob, z, Hz, tol=self.tol, kkt_tol=kkt_tol, refresh=refresh,
+                          ineq=prob.ineq if self.inequalities else None)
+            self.its += info["its"]
+            self.why = info["why"]
+            self.z = polish_endpoint(prob, z, self.tol) if polish or self.inequalities else z
         except OutOfEvaluations:
             self.z, self.failed = z, f"the evaluation budget ({prob.max_evaluations}) was spent"
         except backend.IntegrationError as e:
@@ -286,12 +257,12 @@ class OptimalRun:
 
     def refine(self, kkt_tol):
         """More SQP iterations at this size from the current optimum, with its curvature."""
-        if self.solver != "sqp" or self.failed or self.Hc is None:
+        if self.failed or self.Hc is None:
             return self
         prob = self.prob
         try:
             Hz = np.stack([prob.zhess(M) for M in self.Hc])
-            z, info = sqp(prob, self.z, Hz, tol=self.tol, kkt_tol=kkt_tol)
+            z, info = sqp(prob, self.z, Hz, tol=self.tol, kkt_tol=kkt_tol, ineq=prob.ineq if self.inequalities else None)
             self.its += info["its"]
             self.why = info["why"]
             self.z = polish_endpoint(prob, z, self.tol)
@@ -325,7 +296,7 @@ class OptimalRun:
     def brief(self):
         """``(success, cost)`` of the current point, cheaply (no KKT residual, no message); the full
         :meth:`result` when it failed."""
-        if self.failed or self.solver != "sqp":
+        if self.failed or self.inequalities:
             r = self.result()
             return r.success, r.objective, r
         try:
@@ -409,7 +380,7 @@ def optimize_segment(system: ControlAffineSystem, basis: InputBasis, x0, x1, T: 
     tol : float
         Endpoint tolerance.
     kkt_tol : float
-        Target relative KKT residual of the SQP (no inequality).
+        Target relative KKT residual of the SQP.
     max_evaluations : int
         Endpoint evaluations at most.
 

@@ -1,13 +1,29 @@
 """The SQP of the optimal strategies (:mod:`~acroplan.core.optimal`), on a problem in reduced
 coordinates :math:`z`:
 
-.. math::  \\min_z f(z) \\quad\\text{s.t.}\\quad h(z) = 0 .
+.. math::  \\min_z f(z) \\quad\\text{s.t.}\\quad h(z) = 0 ,\\qquad r(z) \\le 0 .
 
-A problem gives ``f(z) -> (f, gradient, model Hessian)`` and ``h(z) -> (h, Jacobian, ...)``; the
-module docstring of :mod:`~acroplan.core.optimal` describes the method (steps of the KKT system
-with the Lagrangian's modelled curvature, the :math:`\\ell_1` merit function, second-order
-corrections, the step cap). :func:`kkt_multipliers` gives the least-squares multipliers and the
-relative KKT residual the strategies report.
+A problem gives ``f(z) -> (f, gradient, model Hessian)`` and ``h(z) -> (h, Jacobian, ...)``, and
+the inequalities ``r(z) -> (r, Jacobian)`` when it has any; the module docstring of
+:mod:`~acroplan.core.optimal` describes the method (steps of the KKT system with the Lagrangian's
+modelled curvature, the :math:`\\ell_1` merit function, second-order corrections, the step cap).
+:func:`kkt_multipliers` gives the least-squares multipliers and the relative KKT residual the
+strategies report.
+
+The step with inequalities (:func:`qp_step`) solves the quadratic program
+
+.. math::  \\min_p\\ g^\\top p + \\tfrac12 p^\\top W p \\quad\\text{s.t.}\\quad A p = -h ,\\quad
+           R p \\le -r :
+
+the equations are eliminated (:math:`p = Y p_Y + Z y`, :math:`A^\\top = [Y\\ Z] [R_A; 0]`,
+:math:`p_Y = -R_A^{-\\top} h`), the reduced Hessian :math:`Z^\\top W Z = V \\mathrm{diag}(e) V^\\top` made
+positive definite by the magnitudes of its eigenvalues (at least 1e-6 of the largest), and with
+:math:`y = y^* + V \\mathrm{diag}(e)^{-1/2} w` (:math:`y^*` the unconstrained minimiser) the program is
+the least-distance program :math:`\\min \\|w\\|` s.t. :math:`E w \\le f`, solved by non-negative least
+squares (:func:`acroplan.core.linalg.least_norm_step`). The inequalities' multipliers are those of
+that program, :math:`w + E^\\top\\mu = 0`, :math:`\\mu \\ge 0` (non-negative least squares on the rows
+active at :math:`w`); the equations' by least squares from :math:`Wp + g + A^\\top\\lambda + R^\\top\\mu = 0`.
+Rows far from their bound are left out and added back when the step breaks them.
 """
 
 from __future__ import annotations
@@ -18,8 +34,9 @@ import numpy as np
 from scipy.optimize import nnls
 
 from . import backend
+from .linalg import least_norm_step
 
-__all__ = ["solve_small", "kkt_multipliers", "kkt_step", "sqp", "polish_endpoint", "MAX_REFRESH"]
+__all__ = ["solve_small", "kkt_multipliers", "kkt_step", "qp_step", "sqp", "polish_endpoint", "MAX_REFRESH"]
 
 #: New forward-difference constraint Hessians after a step the model predicted poorly (line
 #: search backtracked), at most this many times per solve.
@@ -100,83 +117,166 @@ def kkt_step(W, g, h, A, H, convex_only=False):
     return p, -np.linalg.solve(R, Y.T @ (W @ p + g))
 
 
-def sqp(prob, z, Hz, *, tol, kkt_tol, max_iter=40, refresh=None, max_refresh=None):
-    """The equality-constrained SQP (module docstring) from ``z`` with constraint Hessians ``Hz``
-    (q, Nz, Nz); ``refresh(z)`` gives new ones (forward differences) after a step the model
-    predicted poorly. Returns ``(z, info)``."""
-    f, g, H = prob.f(z)
-    h, A, _, _ = prob.h(z)
-    lam, kkt = kkt_multipliers(g, A)
-    N, q = z.size, A.shape[0]
+def qp_step(W, g, h, A, R, r):
+    """The step of the quadratic program with inequalities (module docstring): ``(p, lambda, mu)``,
+    or ``None`` when ``A`` is rank-deficient or no step keeps the linearised inequalities."""
+    N, q = W.shape[0], A.shape[0]
+    if q >= N:
+        return None
+    Q, RA = np.linalg.qr(A.T, mode="complete")
+    Y, Zr, RA = Q[:, :q], Q[:, q:], RA[:q, :q]
+    dR = np.abs(np.diag(RA))
+    if dR.min() <= 1e-12 * max(1.0, dR.max()):
+        return None
+    pY = Y @ -np.linalg.solve(RA.T, h)
+    Wr = Zr.T @ W @ Zr
+    e, V = np.linalg.eigh(0.5 * (Wr + Wr.T))
+    e = np.maximum(np.abs(e), 1e-6 * max(float(np.abs(e).max()), 1e-300))
+    gr = Zr.T @ (g + W @ pY)
+    ystar = -(V @ ((V.T @ gr) / e))
+    p_free = pY + Zr @ ystar
+    RZ = R @ Zr
+    E = RZ @ (V / np.sqrt(e)[None, :])
+    f = -r - R @ p_free
+    scale = 1.0 + float(np.abs(r).max(initial=0.0))
+    rows = np.flatnonzero(f < 0.25 * scale)  # those the free step breaks or nearly reaches
+    w = np.zeros(e.size)
+    for _ in range(8):
+        if rows.size:
+            w, ok = least_norm_step(np.zeros((0, e.size)), np.zeros(0), E[rows], f[rows])
+            if not ok:
+                return None
+        broken = np.flatnonzero(E @ w > f + 1e-9 * scale)
+        new = np.setdiff1d(broken, rows)
+        if new.size == 0:
+            break
+        rows = np.union1d(rows, new)
+    else:
+        return None
+    y = ystar + V @ (w / np.sqrt(e))
+    p = pY + Zr @ y
+    mu = np.zeros(R.shape[0])
+    act = rows[E[rows] @ w >= f[rows] - 1e-9 * scale] if rows.size else rows
+    if act.size:
+        mu[act] = nnls(E[act].T, -w)[0]
+    lam = -np.linalg.solve(RA, Y.T @ (W @ p + g + R.T @ mu))
+    return p, lam, mu
+
+
+def _violation(h, r) -> float:
+    """:math:`\\|h\\|_1 + \\sum_i \\max(0, r_i)`, the constraint violation of the merit function."""
+    out = sum(map(abs, h.tolist()))
+    if r is not None and r.size:
+        out += float(np.maximum(r, 0.0).sum())
+    return out
+
+
+class _Point:
+    """The SQP's functions at one point: cost, gradient, model Hessian, constraints and their Jacobians."""
+
+    __slots__ = ("z", "f", "g", "H", "h", "A", "r", "R")
+
+    def __init__(self, prob, z, ineq):
+        self.z = z
+        self.f, self.g, self.H = prob.f(z)
+        self.h, self.A = prob.h(z)[:2]
+        self.r, self.R = ineq(z) if ineq is not None else (None, None)
+
+    def merit(self, rho) -> float:
+        return self.f + rho * _violation(self.h, self.r)
+
+    def active(self, tol=1e-7):
+        """The inequality rows active within ``tol`` (relative to the bound's scale), for the KKT residual."""
+        if self.r is None:
+            return None
+        return self.R[self.r >= -tol * (1.0 + np.abs(self.r))]
+
+
+def _line_search(prob, x, p, rho, slope, alpha, ineq):
+    """Backtracking on the merit function from ``x`` along ``p``, with a second-order correction back
+    onto the equations at every trial (the Maratos effect). Returns ``(point, alpha, trial)`` or
+    ``None``."""
+    merit0 = x.merit(rho)
+    for trial in range(14):
+        try:
+            xt = _Point(prob, x.z + alpha * p, ineq)
+        except backend.IntegrationError:
+            alpha *= 0.25
+            continue
+        if xt.merit(rho) <= merit0 + 1e-4 * alpha * slope:
+            return xt, alpha, trial
+        try:
+            xc = _Point(prob, xt.z - xt.A.T @ solve_small(xt.A @ xt.A.T, xt.h), ineq)
+            if xc.merit(rho) <= merit0 + 1e-4 * alpha * slope:
+                return xc, alpha, trial
+        except (backend.IntegrationError, np.linalg.LinAlgError):
+            pass
+        alpha *= 0.5
+    return None
+
+
+def sqp(prob, z, Hz, *, tol, kkt_tol, max_iter=40, refresh=None, max_refresh=None, ineq=None):
+    """The SQP (module docstring) from ``z`` with constraint Hessians ``Hz`` (q, Nz, Nz);
+    ``refresh(z)`` gives new ones (forward differences) after a step the model predicted poorly;
+    ``ineq(z) -> (r, R)`` the inequalities :math:`r(z) \\le 0` and their Jacobian, when there are any.
+    Returns ``(z, info)``."""
+    x = _Point(prob, z, ineq)
+    lam, kkt = kkt_multipliers(x.g, x.A, x.active())
+    N, q = z.size, x.A.shape[0]
     Hz2 = Hz.reshape(q, N * N)
     D = np.zeros((N, N))
     rho = 0.0
-    radius = 2.0 * max(math.sqrt(max(float(z @ H @ z), 0.0)), 1e-3)
+    radius = 2.0 * max(math.sqrt(max(float(z @ x.H @ z), 0.0)), 1e-3)
     its, why, refreshed = 0, "", 0
     max_refresh = MAX_REFRESH if max_refresh is None else max_refresh
     while its < max_iter:
-        if kkt <= kkt_tol and max(map(abs, h.tolist())) <= tol:
+        if kkt <= kkt_tol and max(map(abs, x.h.tolist())) <= tol and (x.r is None or x.r.max(initial=-1.0) <= 0.0):
             break
         its += 1
         W = (lam @ Hz2).reshape(N, N)
-        W += H
+        W += x.H
         W += D
-        out = kkt_step(W, g, h, A, H)
+        if ineq is None:
+            out = kkt_step(W, x.g, x.h, x.A, x.H)
+            mu = None
+        else:
+            out = qp_step(W, x.g, x.h, x.A, x.R, x.r)
+            mu = None if out is None else out[2]
         if out is None:
-            why = "the endpoint Jacobian is singular"
+            why = "the endpoint Jacobian is singular" if ineq is None else "no step keeps the linearised limits"
             break
-        p, lam_qp = out
-        rho = max(rho, 2.0 * max(map(abs, lam_qp.tolist())) + 1e-12)
-        h1 = sum(map(abs, h.tolist()))
-        merit0 = f + rho * h1
-        slope = float(g @ p) - rho * h1
-        if slope > -1e-15 * (abs(f) + rho * h1):  # nothing left to gain at this precision
+        p, lam_qp = out[0], out[1]
+        rho = max(rho, 2.0 * max(map(abs, lam_qp.tolist())) + 1e-12,
+                  2.0 * float(mu.max(initial=0.0)) + 1e-12 if mu is not None else 0.0)
+        v = _violation(x.h, x.r)
+        slope = float(x.g @ p) - rho * v
+        if slope > -1e-15 * (abs(x.f) + rho * v):  # nothing left to gain at this precision
             break
-        step = math.sqrt(max(float(p @ H @ p), 0.0))
-        alpha = min(1.0, radius / step) if step > 0 else 1.0
-        accepted = None
-        for trial in range(14):
-            zt = z + alpha * p
-            try:
-                ht, At, _, _ = prob.h(zt)
-            except backend.IntegrationError:
-                alpha *= 0.25
-                continue
-            ft = prob.f(zt)
-            if ft[0] + rho * sum(map(abs, ht.tolist())) <= merit0 + 1e-4 * alpha * slope:
-                accepted = (zt, ht, At, ft)
-                break
-            try:  # second-order correction: back onto the constraints (the Maratos effect)
-                zc = zt - At.T @ solve_small(At @ At.T, ht)
-                hc, Ac, _, _ = prob.h(zc)
-                fc = prob.f(zc)
-                if fc[0] + rho * sum(map(abs, hc.tolist())) <= merit0 + 1e-4 * alpha * slope:
-                    accepted = (zc, hc, Ac, fc)
-                    break
-            except (backend.IntegrationError, np.linalg.LinAlgError):
-                pass
-            alpha *= 0.5
-        if accepted is None:
+        step = math.sqrt(max(float(p @ x.H @ p), 0.0))
+        found = _line_search(prob, x, p, rho, slope, min(1.0, radius / step) if step > 0 else 1.0, ineq)
+        if found is None:
             why = "no step decreased the merit function"
             break
-        zt, ht, At, (ft, gt, Ht) = accepted
-        s = zt - z
+        xt, alpha, trial = found
+        s = xt.z - x.z
         # the cap on the step (in the cost's metric) follows the steps taken
         radius = max(radius, 2.0 * alpha * step) if trial == 0 else max(alpha * step, 0.25 * radius, 1e-12)
         if refresh is not None and trial > 0 and refreshed < max_refresh:  # a poor model: new Hessians
             refreshed += 1
-            Hz2 = refresh(zt).reshape(q, N * N)
+            Hz2 = refresh(xt.z).reshape(q, N * N)
             D[:] = 0.0
         else:  # symmetric rank-one correction of the modelled curvature, from the Lagrangian's secant
-            r = (gt - g) + (At - A).T @ lam_qp - (Ht + (lam_qp @ Hz2).reshape(N, N) + D) @ s
-            den = float(r @ s)
-            if abs(den) > 1e-8 * math.sqrt(float(r @ r) * float(s @ s)) > 0:
-                D += np.outer(r, r) / den
-        z, f, g, H, h, A = zt, ft, gt, Ht, ht, At
-        lam, kkt = kkt_multipliers(g, A)
-        if float(s @ s) <= 1e-30 * (1.0 + float(z @ z)):
+            y = (xt.g - x.g) + (xt.A - x.A).T @ lam_qp - (xt.H + (lam_qp @ Hz2).reshape(N, N) + D) @ s
+            if mu is not None:
+                y += (xt.R - x.R).T @ mu
+            den = float(y @ s)
+            if abs(den) > 1e-8 * math.sqrt(float(y @ y) * float(s @ s)) > 0:
+                D += np.outer(y, y) / den
+        x = xt
+        lam, kkt = kkt_multipliers(x.g, x.A, x.active())
+        if float(s @ s) <= 1e-30 * (1.0 + float(x.z @ x.z)):
             break
-    return z, dict(lam=lam, kkt=kkt, its=its, why=why)
+    return x.z, dict(lam=lam, kkt=kkt, its=its, why=why)
 
 
 def polish_endpoint(prob, z, tol):

@@ -133,6 +133,8 @@ def _gauss(N: int):
 # ---------------------------------------------------------------------- the compiled momentum map
 _MAPS: dict = {}
 _LOCAL = threading.local()
+#: The momentum solves remembered per thread (:func:`_first_momentum`).
+MOMENTUM_MEMO = 4
 
 
 def _build(body, light=False):
@@ -682,18 +684,45 @@ def _cut(seg, starts, widths, d, points):
     return all_st[order], np.concatenate([widths[keep], wd])[order], _take(dd, order)
 
 
+def _first_momentum(seg):
+    """:func:`_momentum` on the first layout (:func:`_layout`) of ``seg``, remembered for the last
+    few inputs of this thread: an optimiser asks for the endpoint (:func:`endpoint`) and for the
+    torques (:func:`momentum_samples`) at the same coefficients, and both start from this solve.
+    It depends on the inputs alone, so the cache changes no number. The arrays are shared: read
+    them, never write them."""
+    key = (seg.basis, seg.T, seg.x0.tobytes(), seg.c.tobytes())
+    memo = getattr(_LOCAL, "momentum", None)
+    if memo is None:
+        memo = _LOCAL.momentum = []
+    for body, k, v in memo:
+        if body is seg.body and k == key:
+            return v
+    v = _momentum(seg, *_layout(seg))
+    for a in (v[0], v[1], *v[2].values(), v[3], v[4], *(f for lu in v[5] for f in lu)):
+        a.setflags(write=False)
+    memo.insert(0, (seg.body, key, v))
+    del memo[MOMENTUM_MEMO:]
+    return v
+
+
 def _solve(seg, points=None):
     """Layout and solution, splitting panels until the attitude is resolved too, and cut at
     ``points`` when given (:func:`_cut`). Returns ``(ys, widths, data, Omega, Y, Phi, Z,
     momentum)``: ``ys`` (P + 1, 4) the attitude at the panels' boundaries, ``momentum`` is
     ``(Lam, J, LU)`` or ``None`` at :math:`L = 0`."""
-    starts, widths, d = _layout(seg)
+    first = points is None and seg.drift
+    if not first:
+        starts, widths, d = _layout(seg)
     if points is not None:
         starts, widths, d = _cut(seg, starts, widths, d, points)
     while True:
         mom = None
         if seg.drift:
-            starts, widths, d, *mom = _momentum(seg, starts, widths, d)
+            if first:  # the first pass's momentum, shared with momentum_samples
+                starts, widths, d, *mom = _first_momentum(seg)
+                first = False
+            else:
+                starts, widths, d, *mom = _momentum(seg, starts, widths, d)
             Om = d["w"] + (d["W"] @ mom[0][..., None])[..., 0]
         else:
             Om = d["w"]
@@ -859,8 +888,7 @@ def momentum_samples(body, basis, x0, T, c, s, *, jacobian: bool = False):
     if not seg.drift:
         lam = np.zeros((3, K))
         return (lam, np.zeros((K, 3, m * n))) if jacobian else lam
-    starts, widths, d = _layout(seg)
-    starts, widths, d, Lam, Jb, LU = _momentum(seg, starts, widths, d)
+    starts, widths, d, Lam, Jb, LU = _first_momentum(seg)
     P, N = widths.size, seg.N
     Om = d["w"] + (d["W"] @ Lam[..., None])[..., 0]  # (P, N, 3)
     F = np.cross(Lam, Om)

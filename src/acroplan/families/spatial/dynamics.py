@@ -60,6 +60,7 @@ and the six entries of :math:`J^0_l`; per non-root link :math:`j_l`, :math:`a_l`
 from __future__ import annotations
 
 import copy
+import functools
 import threading
 
 import numpy as np
@@ -375,14 +376,41 @@ def joint_torques(links, s, u, du, lam, *, derivatives: bool = False):
     """
     struct = structure(links)
     fn = _compiled(struct, derivatives)
-    x = np.concatenate([np.atleast_2d(np.asarray(a, dtype=float)) for a in (s, u, du, lam)])
+    x = np.ascontiguousarray(np.concatenate([np.atleast_2d(np.asarray(a, dtype=float)) for a in (s, u, du, lam)]))
     nx, K = x.shape
     m = (nx - 3) // 3
-    params = np.asarray(parameters(links), dtype=float)[:, None]
+    params = _parameters(links)
     if not derivatives:
-        return fn(np.ascontiguousarray(x), pars=np.ascontiguousarray(np.repeat(params, K, axis=1)))
-    pars = np.ascontiguousarray(np.repeat(params, K, axis=1))
-    x = np.ascontiguousarray(x)
+        return _chunked(fn, x, params)
     # the torques by the same compiled code with or without the derivatives (the same numbers)
-    tau = _compiled(struct, False)(x, pars=pars)
-    return tau, np.ascontiguousarray(fn(x, pars=pars).reshape(m, nx, K).transpose(0, 2, 1))
+    tau = _chunked(_compiled(struct, False), x, params)
+    return tau, np.ascontiguousarray(_chunked(fn, x, params).reshape(m, nx, K).transpose(0, 2, 1))
+
+
+#: Points per call of a compiled torque function (its parameters repeated once per size, cached).
+CHUNK = 256
+
+
+@functools.lru_cache(maxsize=64)
+def _parameters(links) -> tuple:
+    return parameters(links)
+
+
+@functools.lru_cache(maxsize=32)
+def _repeated(params: tuple, K: int) -> np.ndarray:
+    """The parameters repeated for ``K`` points, C-contiguous (what ``cfunc`` wants), read-only."""
+    out = np.repeat(np.asarray(params, dtype=float)[:, None], K, axis=1)
+    out.setflags(write=False)
+    return out
+
+
+def _chunked(fn, x, params) -> np.ndarray:
+    """``fn`` at the columns of ``x`` (C-contiguous), :data:`CHUNK` columns a call."""
+    K = x.shape[1]
+    if K <= CHUNK:
+        return fn(x, pars=_repeated(params, K))
+    out = np.empty((fn.nouts, K))
+    for a in range(0, K, CHUNK):
+        b = min(K, a + CHUNK)
+        out[:, a:b] = fn(np.ascontiguousarray(x[:, a:b]), pars=_repeated(params, b - a))
+    return out

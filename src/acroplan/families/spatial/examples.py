@@ -32,9 +32,10 @@ import numpy as np
 
 from . import rotations as rot
 from .model import SpatialBody
-from .zoo import astronaut, cat_frame, falling_cat, twisting_diver
+from .zoo import astronaut, cat_frame, falling_cat, trunk_and_two_arms, twisting_diver
 
-__all__ = ["falling_cat_turn", "astronaut_yaw", "astronaut_somersault", "twisting_somersault", "EXAMPLES"]
+__all__ = ["falling_cat_turn", "astronaut_yaw", "astronaut_somersault", "twisting_somersault", "trunk_twist",
+           "TRUNK_TWIST_END", "EXAMPLES"]
 
 
 def falling_cat_turn() -> tuple[SpatialBody, dict]:
@@ -110,6 +111,34 @@ def twisting_somersault(L: float = 60.0, T: float = 2.0) -> tuple[SpatialBody, d
     z = [0.0] * 3
     kw = dict(times=[0.0, T / 2, T], conditions="free", start_rate=0.0, end_rate=0.0, left_flex=z, left_abd=z,
               right_flex=z, right_abd=z, time_limit=300.0, **rot.attitude_states(att))
+    return body, kw
+
+
+#: the end attitude of :func:`trunk_twist`: the arm motion of its docstring integrated from the
+#: identity (DOP853, rtol 1e-13, piecewise at the motion's corners; ``tests/test_optimal_spatial.py``
+#: integrates it again)
+TRUNK_TWIST_END = (-0.00765515498770528, -0.01601173660553089, 0.02212993316167489, -0.9995975634980555)
+
+
+def trunk_twist() -> tuple[SpatialBody, dict]:
+    """bioptim's free-floating example body (:func:`~acroplan.families.spatial.zoo.trunk_and_two_arms`,
+    :math:`L = (36.3075, 0, 0)` kg m²/s) does one somersault and a half twist in 1.5 s, from the arms
+    up (``RightArm_RotY`` 2.9, ``LeftArm_RotY`` -2.9 rad) to the arms down (0, 0), the rates zero at
+    both ends: the task of bioptim's ``torque_driven_free_floating_base.py`` at its longest time.
+
+    The end attitude (:data:`TRUNK_TWIST_END`; Yeadon angles 362.6°, 1.8°, 179.1° unwrapped along
+    the motion) is reachable by construction: it is where an asymmetric drop of the arms takes the
+    body, the right arm by a cubic smoothstep over the first 35% of the time and the left arm over
+    10% to 45%.
+
+    Returns
+    -------
+    (SpatialBody, dict)
+    """
+    body = trunk_and_two_arms()
+    kw = dict(times=[0.0, 1.5], conditions="free", start_rate=0.0, end_rate=0.0, RightArm_RotY=[2.9, 0.0],
+              LeftArm_RotY=[-2.9, 0.0], time_limit=300.0,
+              **rot.attitude_states([[1.0, 0.0, 0.0, 0.0], list(TRUNK_TWIST_END)]))
     return body, kw
 
 

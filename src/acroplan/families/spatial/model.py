@@ -699,6 +699,12 @@ class SpatialBody(TreeBody, ControlAffineSystem):
         return ([(f"attitude: {name}", conv(E[k]), unit, None) for k, name in enumerate(rot.EULER_NAMES)]
                 + [(name, conv(X[4 + j]), unit, name) for j, name in enumerate(self.links.joint_names)])
 
+    #: The optimal strategies' second start, path deformation from the minimum-norm input
+    #: (:mod:`acroplan.core.optimal`, Starts), is left out for spatial bodies: at L = 0 that input
+    #: (u = 0) is a singular control, and at L != 0 its deformation integrates wild trial inputs
+    #: (bioptim's trunk with two arms: 10 evaluations, 10 s, no feasible start; issue #22).
+    optimal_deform_start = False
+
     def auto_strategy(self):
         """``method="auto"``: path deformation from shape loops that meet the target
         (:class:`~acroplan.families.spatial.strategy.SpatialAuto`)."""

@@ -22,7 +22,8 @@ from .links import SpatialLink
 from .model import SpatialBody
 
 __all__ = ["random_body", "random_segment", "SpatialSegment", "box_inertia", "cylinder_inertia", "falling_cat",
-           "cat_frame", "two_joint_cat", "long_axis_turn", "astronaut", "twisting_diver"]
+           "cat_frame", "two_joint_cat", "long_axis_turn", "astronaut", "twisting_diver",
+           "trunk_and_two_arms"]
 
 
 def box_inertia(mass: float, a: float, b: float, c: float) -> tuple[float, float, float]:
@@ -195,6 +196,27 @@ def twisting_diver(L: float = 0.0) -> SpatialBody:
     """
     body = astronaut(arm_mass=3.2)
     return SpatialBody(body.links, L=(float(L), 0.0, 0.0))
+
+
+def trunk_and_two_arms(L=(36.3075, 0.0, 0.0)) -> SpatialBody:
+    """bioptim's free-floating example body (``trunk_and_2arm.bioMod``, pyomeca/bioptim, MIT
+    licence), link for link as :func:`~acroplan.families.spatial.read_biomod` reads it (so without
+    biorbd; ``tests/test_optimal_spatial.py`` compares the two): a 58.801 kg trunk (principal moments
+    7.85829, 8.12771, 0.51802 kg m², centre of mass 0.0941 m above its frame) and two 3.106 kg arms
+    turning about their own :math:`y` axes at the shoulders :math:`(\\mp 0.1875, 0.0205, 0.4719)` m
+    (``RightArm_RotY``, ``LeftArm_RotY``; each arm's centre of mass 0.233088 m down it, moments
+    0.0910283, 0.0909983, 0.00292 kg m²), no joint limits; angular momentum ``L`` (kg m²/s,
+    bioptim's example's about the somersault axis :math:`x` by default).
+
+    Returns
+    -------
+    SpatialBody
+    """
+    arm = dict(mass=3.106, inertia=(0.0910283, 0.0909983, 0.00292), com=(0.0, 0.0, -0.233088), axis=(0.0, 1.0, 0.0))
+    links = [SpatialLink("Pelvis", None, 58.801, (7.85829, 8.12771, 0.51802), com=(0.0, 0.0, 0.0941)),
+             SpatialLink("RightArm", "Pelvis", joint=(-0.1875, 0.0205, 0.4719), joint_name="RightArm_RotY", **arm),
+             SpatialLink("LeftArm", "Pelvis", joint=(0.1875, 0.0205, 0.4719), joint_name="LeftArm_RotY", **arm)]
+    return SpatialBody(links, L=tuple(float(v) for v in L))
 
 
 def random_body(rng, n_links: int, L=(0.0, 0.0, 0.0), *, tree: bool = False) -> SpatialBody:

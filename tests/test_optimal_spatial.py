@@ -1,0 +1,189 @@
+"""Optimal plans of spatial bodies (issue #22): bioptim's free-floating trunk with two arms, one
+somersault and a half twist (``examples.trunk_twist``), torque- and energy-optimal, and the falling
+cat's energy optimum within its joint ranges (the limits as the SQP's inequalities).
+
+Every optimum is re-checked independently: the endpoint by Pinocchio's centroidal map
+(``pinocchio_errors``, 1e-9), the angular momentum along the plan by Pinocchio's map, the torque
+cost by Pinocchio's inverse dynamics on the Taylor integrator's attitude (not the compiled
+recursion on the collocation the optimiser used). The costs are compared with CasADi + IPOPT's
+optima on the same problems, recorded from ``python benchmarks/peers_optimal_spatial.py``
+(benchmarks/RESULTS.md): acroplan's must be at most 1% above them.
+"""
+
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+import acroplan
+from acroplan.core.objectives import gauss
+from acroplan.families.spatial import collocation
+from acroplan.families.spatial import rotations as rot
+from acroplan.families.spatial.check import pinocchio_errors, pinocchio_momentum_map
+from acroplan.families.spatial.effort import SpatialTorque
+from acroplan.families.spatial.examples import TRUNK_TWIST_END, falling_cat_turn, trunk_twist
+from acroplan.families.spatial.zoo import trunk_and_two_arms
+
+pytest.importorskip("pinocchio")
+
+#: CasADi + IPOPT's optima (100 RK4 intervals, benchmarks/peers_optimal_spatial.py, RESULTS.md):
+#: the trunk's integral of |tau|^2 (rates at rest at both ends) ...
+CASADI_TRUNK_TORQUE = 55.5175
+#: ... and its integral of |u|^2 (rates free at the ends)
+CASADI_TRUNK_ENERGY = 24.854
+#: the falling cat's integral of |u|^2 within its joint ranges (rates free at the ends)
+CASADI_CAT_ENERGY = 145.169
+
+
+def _ends(body, kw):
+    names = body.state_names
+    return np.array([kw[k][0] for k in names]), np.array([kw[k][-1] for k in names])
+
+
+def _free_ends(kw):
+    return {k: v for k, v in kw.items() if k not in ("start_rate", "end_rate")}
+
+
+def _independent_checks(body, kw, r):
+    """The endpoint by Pinocchio, and the angular momentum along the plan by Pinocchio's map."""
+    x0, _ = _ends(body, kw)
+    assert r.success, r.message
+    assert float(pinocchio_errors(body, x0, r.segments).max()) <= 1e-9
+    t = np.linspace(r.times[0], r.times[-1], 41)
+    smp = r.evaluate(t, effort=False)
+    for x, u in zip(smp.states.T, smp.inputs.T):
+        omega = body.angular_velocity(x, u)
+        I, A = pinocchio_momentum_map(body, x[4:])  # noqa: E741
+        L = rot.to_matrix(x[:4] / np.linalg.norm(x[:4])) @ (I @ omega + A @ u)
+        assert np.abs(L - np.asarray(body.L)).max() <= 1e-9 * max(1.0, float(np.linalg.norm(body.L)))
+
+
+def test_the_trunk_is_bioptims_body():
+    """zoo.trunk_and_two_arms is read_biomod's body of bioptim's file, link for link."""
+    pytest.importorskip("biorbd")
+    import pathlib
+    import sys
+
+    sys.path.insert(0, str(pathlib.Path(__file__).parent))
+    from test_biomod import TRUNK_AND_2ARM
+
+    from acroplan.families.spatial import read_biomod
+
+    path = pathlib.Path(pytest.importorskip("tempfile").mkdtemp()) / "trunk_and_2arm.bioMod"
+    path.write_text(TRUNK_AND_2ARM, encoding="utf-8")
+    ref = read_biomod(path, angular_momentum=(36.3075, 0.0, 0.0))
+    body = trunk_and_two_arms()
+    assert body.links == ref.links and body.L == ref.L
+
+
+def test_the_twist_target_is_reached_by_its_arm_motion():
+    """TRUNK_TWIST_END is where the arm drops of examples.trunk_twist take the body (integrated again,
+    piecewise at the corners), one somersault and a half twist."""
+    body, kw = trunk_twist()
+    T = kw["times"][-1]
+
+    def rate(sig, start, width, amp):
+        x = (sig - start) / width
+        return 0.0 if (x <= 0 or x >= 1) else -amp * 6 * x * (1 - x) / (width * T)
+
+    def f(t, y):
+        sig = t / T
+        return body.rhs(y, np.array([rate(sig, 0.0, 0.35, 2.9), rate(sig, 0.1, 0.35, -2.9)]))
+
+    y = np.array([1.0, 0.0, 0.0, 0.0, 2.9, -2.9])
+    path = []
+    for a, b in zip([0, 0.1, 0.35, 0.45], [0.1, 0.35, 0.45, 1.0]):
+        sol = solve_ivp(f, (a * T, b * T), y, method="DOP853", rtol=1e-13, atol=1e-14, dense_output=True)
+        path.append(sol.sol(np.linspace(a * T, b * T, 200)))
+        y = sol.y[:, -1]
+    q = y[:4] / np.linalg.norm(y[:4])
+    angle = 2.0 * math.acos(min(1.0, abs(float(q @ np.asarray(TRUNK_TWIST_END)))))
+    assert angle < 1e-9 and np.abs(y[4:]).max() < 1e-12
+    euler = np.unwrap(np.radians(rot.to_euler(np.concatenate(path, axis=1)[:4])), axis=1)[:, -1]
+    assert np.degrees(euler) == pytest.approx([362.55, 1.81, 179.08], abs=0.01)
+
+
+def test_the_momentum_solve_is_shared_without_changing_a_number():
+    """The endpoint map and the torque model's momentum at the same coefficients share the first
+    momentum solve (collocation._first_momentum): the numbers are the same in either order and
+    with the memo emptied."""
+    body, kw = trunk_twist()
+    x0, _ = _ends(body, kw)
+    basis = acroplan.Legendre(8)
+    c = np.random.default_rng(3).normal(size=(2, 8)) * 0.5
+    s = gauss(4, 24)[0]
+    collocation._LOCAL.momentum = []
+    lam_alone, dlam_alone = collocation.momentum_samples(body, basis, x0, 1.5, c, s, jacobian=True)
+    collocation._LOCAL.momentum = []
+    y_alone, J_alone = collocation.endpoint(body, basis, x0, 1.5, c)
+    lam, dlam = collocation.momentum_samples(body, basis, x0, 1.5, c, s, jacobian=True)  # from the memo
+    assert np.array_equal(lam, lam_alone) and np.array_equal(dlam, dlam_alone)
+    collocation._LOCAL.momentum = []
+    collocation.momentum_samples(body, basis, x0, 1.5, c, s)
+    y, J = collocation.endpoint(body, basis, x0, 1.5, c)  # from the memo
+    assert np.array_equal(y, y_alone) and np.array_equal(J, J_alone)
+    y2, _ = collocation.endpoint(body, basis, x0, 1.5, c + 1e-3)  # another input: solved anew
+    assert not np.array_equal(y2, y)
+
+
+@pytest.fixture(scope="module")
+def trunk_torque():
+    body, kw = trunk_twist()
+    return body, kw, acroplan.plan(body, objective="torque", **kw)
+
+
+def test_torque_optimal_twist_is_optimal_checked_and_no_worse_than_casadi(trunk_torque):
+    body, kw, r = trunk_torque
+    _independent_checks(body, kw, r)
+    o = r.segments[0].optimality
+    assert o["solver"] == "sqp" and o["converged"] and o["kkt"] <= 1e-8, o
+    assert o["converged_in_basis"], o
+    # the cost again, by Pinocchio's inverse dynamics on the Taylor integrator's attitude (8 x 32 nodes)
+    seg = r.segments[0]
+    x0, _ = _ends(body, kw)
+    s, w = gauss(8, 32)
+    tau = SpatialTorque(body.links.joint_names).evaluate(body, seg.basis, x0, seg.t1 - seg.t0,
+                                                         seg.basis_coefficients, s).tau
+    cost = float((seg.t1 - seg.t0) * np.sum(w * np.sum(tau**2, axis=0)))
+    assert cost == pytest.approx(o["cost"], rel=1e-8)
+    assert o["cost"] <= 1.01 * CASADI_TRUNK_TORQUE, (o["cost"], CASADI_TRUNK_TORQUE)
+    # the arms at rest at both ends, as asked
+    u = r.evaluate([r.times[0], r.times[-1]], effort=False).inputs
+    assert np.abs(u).max() <= 1e-12
+
+
+def test_energy_optimal_twist_is_optimal_checked_and_no_worse_than_casadi():
+    """The rates free at the ends (held at zero, the energy's infimum is the free-ended one, never
+    reached: the ladder would not converge)."""
+    body, kw = trunk_twist()
+    kw = _free_ends(kw)
+    r = acroplan.plan(body, objective="energy", **kw)
+    _independent_checks(body, kw, r)
+    o = r.segments[0].optimality
+    assert o["solver"] == "sqp" and o["converged"] and o["kkt"] <= 1e-8, o
+    c = np.asarray(r.segments[0].basis_coefficients)
+    assert o["cost"] == pytest.approx((r.times[-1] - r.times[0]) * float(np.sum(c @ r.segments[0].basis.gram() * c)),
+                                      rel=1e-12)
+    assert o["cost"] <= 1.01 * CASADI_TRUNK_ENERGY, (o["cost"], CASADI_TRUNK_ENERGY)
+
+
+def test_energy_optimal_cat_keeps_its_joint_ranges_by_the_sqps_inequalities():
+    """The falling cat's energy optimum within its joint ranges: the ranges are inequalities of the
+    SQP itself (no SLSQP), they hold on the plan, and the cost is no worse than CasADi's."""
+    body, kw = falling_cat_turn()
+    kw = _free_ends(kw)
+    r = acroplan.plan(body, objective="energy", **kw)
+    _independent_checks(body, kw, r)
+    o = r.segments[0].optimality
+    assert o["solver"] == "sqp", o
+    # first-order optimal with the active ranges' multipliers (measured 2.1e-8: the target 1e-8 is
+    # not reached at 30 coefficients, and the segment says so)
+    assert o["kkt"] <= 1e-7, o
+    assert o["kkt_converged"] == (o["kkt"] <= 1e-8)
+    lim = body.default_limits()
+    smp = r.evaluate(np.linspace(r.times[0], r.times[-1], 1025), effort=False)
+    for j, name in enumerate(body.links.joint_names):
+        lo, hi = lim.bounds(name)
+        assert smp.states[4 + j].min() >= lo - 1e-12 and smp.states[4 + j].max() <= hi + 1e-12, name
+    assert o["cost"] <= 1.01 * CASADI_CAT_ENERGY, (o["cost"], CASADI_CAT_ENERGY)
