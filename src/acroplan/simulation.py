@@ -22,7 +22,7 @@ from .core.result import PlanResult, Status
 from .core.strategies import make_segment
 from .core.system import ControlAffineSystem
 from .core.verify import check_name, resolve_verify, verify_plan
-from .planning import _vector
+from .planning.request import checked_vector
 
 __all__ = ["simulate"]
 
@@ -117,8 +117,8 @@ def simulate(system: ControlAffineSystem, *, times, inputs, basis="legendre", n_
     missing = [name for name in system.state_names if name not in initial]
     if missing:
         raise InvalidInputError(missing[0], "is missing", f"give the initial value of every state {list(system.state_names)}")
-    x = np.array([_vector(name, [initial[name]], 1)[0] for name in system.state_names])
-    t = _vector("times", times)
+    x = np.array([checked_vector(name, [initial[name]], 1)[0] for name in system.state_names])
+    t = checked_vector("times", times)
     if t.size < 2 or any(b <= a for a, b in zip(t.tolist(), t.tolist()[1:])):
         raise InvalidInputError("times", "must hold at least 2 strictly increasing values", "give for example [0, 1]")
     if isinstance(n_coefficients, bool) or not isinstance(n_coefficients, (int, np.integer)) or n_coefficients < 1:

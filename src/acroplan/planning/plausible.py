@@ -1,0 +1,201 @@
+"""Whether a successful plan is a motion a body could make (:func:`plausibility`): its peak joint
+rate against the rate its waypoints imply, its torques and power against the body's capacity
+(:func:`beyond_capacity`); the warnings a result carries (:attr:`PlanResult.warnings`)."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from ..core.result import PlanResult
+from ..core.budget import BudgetExceeded
+
+from .request import PlanRequest
+
+__all__ = ["plausibility", "beyond_capacity", "waypoint_rate", "PLAUSIBLE_FACTOR", "EXACT_EFFORT_SEGMENTS",
+           "DENSE_SEGMENTS"]
+
+#: A success whose peak joint rate exceeds this many times the fastest rate its waypoints imply
+#: (:func:`waypoint_rate`) carries warnings (:func:`plausibility`).
+PLAUSIBLE_FACTOR = 10.0
+#: Up to this many segments, a warning's peak torque and power are the exact effort summary's
+#: (:meth:`PlanResult.effort`, about 20 ms a segment); beyond, sampled on the fastest segments.
+EXACT_EFFORT_SEGMENTS = 100
+#: Segments from which a plan's waypoints count as dense (the warning then suggests fewer).
+DENSE_SEGMENTS = 50
+
+def waypoint_rate(system, times, waypoints) -> tuple[float, int]:
+    """The fastest rate the waypoints imply, and the interval where: the largest finite difference
+    :math:`|\\Delta q_i| / (t_{k+1} - t_k)` over the intervals :math:`k` and the angles :math:`q_i`
+    (every angle state, the turn :math:`\\theta` included; a spatial body's attitude as the
+    rotation vector :meth:`~ControlAffineSystem.diff` gives), in rad/s. ``(0.0, 0)`` when the
+    system has no angle state or the waypoints do not move."""
+    X = np.asarray(waypoints, dtype=float)
+    T = np.diff(np.asarray(times, dtype=float))
+    if system.ndx == system.n_states:
+        idx = [i for i, name in enumerate(system.state_names) if name in system.angle_states]
+        if not idx:
+            return 0.0, 0
+        D = np.abs(np.diff(X[:, idx], axis=0))
+    else:  # an attitude on a manifold (unit quaternion): its rotation vector and the joint angles
+        D = np.abs(np.array([system.diff(X[k], X[k + 1]) for k in range(T.size)]))
+    rate = np.max(D, axis=1) / T
+    k = int(np.argmax(rate))
+    return float(rate[k]), k
+
+
+def plausibility(result: PlanResult, *, factor: float = PLAUSIBLE_FACTOR) -> tuple[str, ...]:
+    """Why a successful plan may not be a motion to use: the warnings :func:`plan` puts in
+    :attr:`PlanResult.warnings` (empty when nothing is suspect).
+
+    A plan is suspect when its peak joint rate (exact, :attr:`PlanResult.max_abs_u`) exceeds
+    ``factor`` times the fastest rate its waypoints imply (:func:`waypoint_rate`): the waypoints
+    are met, but by a motion far wilder than theirs (dense waypoints of a body with little
+    authority, free conditions that pass a growing oscillation from segment to segment). The
+    warnings then say: the peak rate, where, and the ratio; the peak torque and power when the
+    body gives torques (exact, :meth:`PlanResult.effort`, up to :data:`EXACT_EFFORT_SEGMENTS`
+    segments; beyond, a lower bound sampled on the 32 fastest segments, said so); and what to try
+    (fewer waypoints when they are dense, from :data:`DENSE_SEGMENTS` segments: the issue's 5,001
+    waypoints 0.02 s apart give 179 rad/s free and 92 rad/s spline, every 250th of them 0.28 rad/s;
+    ``conditions="spline"`` for free conditions). Only bodies whose inputs are all joint rates are checked,
+    and only the inputs without a rate limit (``u_max``, ``input_bounds``, a link table's or URDF's
+    velocity): a bounded input is within what the caller says the body can do.
+
+    A turn at zero angular momentum made by shape loops needs joint rates many times its turn's
+    (the bundled ``three-rods-turn`` 14 times, ``space-robot-turn`` 31 times): such plans pass when
+    their rates are bounded, as the bundled ones are; unbounded, they are flagged.
+    """
+    system, segs = result.system, result.segments
+    if not result.success or not segs or not system.rate_inputs or \
+            set(system.rate_inputs) != set(system.input_names) or \
+            not set(system.rate_inputs.values()) <= set(system.angle_states):
+        return ()
+    # an input with a rate limit is within what the caller says the body can do: not checked
+    free = [j for j, name in enumerate(system.input_names)
+            if result.limits is None or result.limits.input_bound(name) is None]
+    implied, k = waypoint_rate(system, result.times, result.waypoints)
+    if not free or implied <= 0.0:
+        return ()
+    from ..core.limits import input_extremes
+
+    def row_peaks(seg):
+        basis = result.basis_for(seg)
+        return [max(abs(v) for v in input_extremes(basis, seg.basis_coefficients[j])) for j in free]
+
+    if len(free) == system.n_inputs:
+        peaks = np.array([s.max_abs_u for s in segs])  # exact, and kept for the message and to_dict
+    else:
+        peaks = np.array([max(row_peaks(s)) for s in segs])
+    worst = int(np.argmax(peaks))
+    peak = float(peaks[worst])
+    if not peak > factor * implied:
+        return ()
+    seg = segs[worst]
+    name = system.input_names[free[int(np.argmax(row_peaks(seg)))]]
+    out = [f"peak joint rate {peak:.4g} rad/s ({name}, segment {seg.index}, t = {seg.t0:.4g} to {seg.t1:.4g} s) is "
+           f"{peak / implied:.0f} times the fastest rate the waypoints imply, {implied:.4g} rad/s (finite difference "
+           f"over [{result.times[k]:.4g}, {result.times[k + 1]:.4g}] s)"]
+    if result.has_torques:
+        out.append(_effort_warning(result, peaks))
+    K = len(result.times) - 1
+    tries = []
+    if K >= DENSE_SEGMENTS:
+        dt = np.diff(result.times)
+        tries.append(f"fewer waypoints, further apart (these are {K} segments of {np.median(dt):.3g} s: with so "
+                     "little time a segment can need a wild motion to keep the turn on its waypoints)")
+    if result.conditions == "free":
+        tries.append('conditions = "spline"')
+    out.append("try " + " or ".join(tries) if tries else
+               "check the waypoints (a turn the body can only make with such a motion), or add rate limits "
+               "(u_max, input_bounds) to plan within them")
+    return tuple(out)
+
+
+def _effort_warning(result: PlanResult, peaks) -> str:
+    """The warning's peak torque and power (exact, or a lower bound sampled on the fastest segments)."""
+    segs = result.segments
+    try:
+        if len(segs) <= EXACT_EFFORT_SEGMENTS:
+            effort = result.effort()
+            j = max(effort, key=lambda n: effort[n].peak_torque)
+            p = max(e.peak_power for e in effort.values())
+            return f"peak torque {effort[j].peak_torque:.4g} N m (joint {j}), peak power {p:.4g} W"
+        fastest = np.argsort(peaks)[-32:]
+        t = np.concatenate([np.linspace(segs[i].t0, segs[i].t1, 65) for i in sorted(fastest)])
+        tau, power = result.torques(t)
+        return (f"peak torque at least {np.max(np.abs(tau)):.4g} N m, peak power at least "
+                f"{np.max(np.abs(power)):.4g} W (sampled on the 32 fastest of {len(segs)} segments; exact in "
+                "result.effort())")
+    except BudgetExceeded as e:
+        return f"peak torque and power not computed: {e}"
+
+
+def beyond_capacity(result: PlanResult, capacity: dict | None) -> tuple[str, ...]:
+    """Warnings of a success beyond what the body can do (``capacity=`` of :func:`plan`): a peak
+    joint rate above its input's top rate (exact), a peak torque above its joint's strength (exact
+    up to :data:`EXACT_EFFORT_SEGMENTS` segments; beyond, a lower bound sampled on the 32 fastest
+    segments, which is enough to show it exceeded)."""
+    if not capacity or not result.success or not result.segments:
+        return ()
+    from ..core.limits import input_extremes
+
+    segs, system, out = result.segments, result.system, []
+    for name, (top, source) in capacity.get("rates", {}).items():
+        j = system.input_names.index(name)
+        if system.n_inputs == 1:
+            peak = max(s.max_abs_u for s in segs)
+        else:
+            peak = max(max(abs(v) for v in input_extremes(result.basis_for(s), s.basis_coefficients[j])) for s in segs)
+        if peak > top * (1.0 + 1e-9):
+            out.append(f"peak joint rate {peak:.4g} rad/s ({name}) is beyond what the body can do, {top:g} rad/s "
+                       f"({source})")
+    torques = capacity.get("torques") or {}
+    if torques and result.has_torques:
+        try:
+            if len(segs) <= EXACT_EFFORT_SEGMENTS:
+                effort = result.effort()
+                peaks, exact = {j: e.peak_torque for j, e in effort.items()}, True
+            else:
+                fastest = np.argsort([s.max_abs_u for s in segs])[-32:]
+                t = np.concatenate([np.linspace(segs[i].t0, segs[i].t1, 65) for i in sorted(fastest)])
+                tau, _ = result.torques(t)
+                peaks, exact = {j: float(np.max(np.abs(tau[:, k]))) for k, j in enumerate(_joint_names(result))}, False
+        except BudgetExceeded:
+            peaks, exact = {}, True
+        for joint, (top, source) in torques.items():
+            peak = peaks.get(joint)
+            if peak is not None and peak > top * (1.0 + 1e-9):
+                out.append(f"peak torque {'at least ' if not exact else ''}{peak:.4g} N m (joint {joint}) is beyond "
+                           f"the body's strength, {top:g} N m ({source})")
+    return tuple(out)
+
+
+def _joint_names(result: PlanResult) -> tuple[str, ...]:
+    """The torque model's joint names, in the order of :meth:`PlanResult.torques`'s columns."""
+    return result._torque_setup()[1]
+
+
+def _plausible(result: PlanResult, req: PlanRequest) -> PlanResult:
+    """``result`` with its warnings (:func:`plausibility`, :func:`beyond_capacity`), the message
+    saying so (a success only)."""
+    if not result.success:
+        return result
+    try:
+        rate = plausibility(result)
+        warnings = rate + beyond_capacity(result, req.capacity)
+    except BudgetExceeded:
+        return result
+    if not warnings:
+        return result
+    if rate:
+        ratio = rate[0].split(" is ", 1)[1].split(" times", 1)[0]
+        head = f"{rate[0].split(' (', 1)[0]}, {ratio}x what the waypoints imply"
+    else:
+        head = warnings[0].split(" (", 1)[0] + " beyond what the body can do"
+    out = dataclasses.replace(result, warnings=warnings, message=result.message + f"; IMPLAUSIBLE: {head} "
+                              f"({len(warnings)} warning{'s' if len(warnings) > 1 else ''}: result.warnings)")
+    object.__setattr__(out, "_effort", result._effort)  # the effort summary the warnings computed, kept
+    return out
+
+
