@@ -2,14 +2,19 @@
 somersaults (``acroplan twist-potential FILE``).
 
 The technique is the file's. A problem file of a twisting somersault (the bundled dives,
-``docs/human.md``) gives waypoints in Yeadon's somersault, tilt and twist; the question for a
+``docs/human.md``) gives waypoints in Yeadon's somersault, tilt and twist; they are read back as
+quaternions, which do not say how many turns lie between two waypoints, so the file is planned
+first and its waypoints' unwrapped Yeadon angles read from that plan (:func:`technique_of`). The
+question for a
 flight time :math:`T` and :math:`n` somersaults is asked of **the same technique scaled**: the
 waypoint times by :math:`T / T_f`, every waypoint's somersault angle by :math:`n / n_f`, its twist
 angle by :math:`X / X_f` (:math:`X` the twist target in turns), its tilt and the joint angles kept;
 the angular momentum :math:`L = I\\,\\omega` follows the somersault rate, :math:`L = L_f\\,(n / n_f)
 (T_f / T)` (the file's subscript :math:`f`). Each target is planned (``plan`` passed in, since a
 family does not import the front doors) under the file's joint ranges and rate limits (and torque
-limits when the file gives ``tau_max``).
+limits when the file gives ``tau_max``); a target is reached when the plan succeeds (checked by
+Pinocchio) **and** its motion turns the target's somersaults and twists (to :data:`COUNT_TOL`
+turns, unwrapped Yeadon angles): a plan that turns the other way between the waypoints is not.
 
 The bisection on :math:`X`: from the file's own twist count (or half a turn), doubling while the
 plan succeeds, then halving the bracket to ``resolution`` turns. It reports the most twist reached
@@ -31,13 +36,15 @@ import numpy as np
 from ...core.errors import InvalidInputError
 from . import rotations as rot
 
-__all__ = ["TwistCell", "file_technique", "scaled_problem", "twist_potential", "twist_potential_figure",
-           "DEFAULT_RESOLUTION", "MOST_TWISTS"]
+__all__ = ["TwistCell", "bisect_twist", "yeadon_turns", "technique_of", "scaled_problem", "twist_potential", "twist_potential_figure",
+           "DEFAULT_RESOLUTION", "MOST_TWISTS", "COUNT_TOL"]
 
 #: the bisection's resolution (turns of twist)
 DEFAULT_RESOLUTION = 0.25
 #: the doubling stops here (turns)
 MOST_TWISTS = 8.0
+#: a plan reaches a target when its somersault and twist counts are the target's to this (turns)
+COUNT_TOL = 1e-6
 
 
 @dataclasses.dataclass(frozen=True)
@@ -62,38 +69,59 @@ class TwistCell:
         return d
 
 
-def file_technique(problem) -> dict:
-    """The file's waypoints in Yeadon's angles: ``{"times", "somersault", "tilt", "twist"}`` (degrees,
-    unwrapped along the waypoints), its somersault and twist counts (turns) and flight time."""
+def yeadon_turns(result, times=None, samples: int = 4001):
+    """The pelvis's (root's) Yeadon angles along a planned motion, unwrapped on a dense sampling:
+    ``(t, somersault, tilt, twist)``, somersault and twist in turns from 0 at the start, tilt in
+    degrees; at ``times`` when given (read off the dense sampling's unwrapped angles)."""
+    t = np.linspace(result.times[0], result.times[-1], int(samples))
+    X = result.evaluate(t, effort=False).states
+    ang = np.radians(rot.to_euler(X[:4]))
+    som = np.unwrap(ang[0])
+    tw = np.unwrap(ang[2])
+    som, tw, tilt = (som - som[0]) / (2 * math.pi), (tw - tw[0]) / (2 * math.pi), np.degrees(ang[1])
+    if times is None:
+        return t, som, tilt, tw
+    idx = [int(np.argmin(np.abs(t - float(x)))) for x in times]
+    return np.asarray(times, dtype=float), som[idx], tilt[idx], tw[idx]
+
+
+def _counts(result) -> tuple[float, float]:
+    """(somersault, twist) turns at the end of a planned motion (:func:`yeadon_turns`)."""
+    _, som, _, tw = yeadon_turns(result)
+    return float(som[-1]), float(tw[-1])
+
+
+def technique_of(problem, result) -> dict:
+    """The file's technique: its waypoints in Yeadon's angles read from a plan of the file itself
+    (``result``; quaternion waypoints alone do not say how many turns lie between them):
+    ``{"times", "somersault", "tilt", "twist"}`` (degrees, from 0 at the first waypoint), and its
+    somersault and twist counts (turns) and flight time."""
     names = problem.system.state_names
     if tuple(names[:4]) != ("qw", "qx", "qy", "qz"):
         raise InvalidInputError("body", "is not a body in 3-D (its states do not start with the attitude qw, qx, "
                                 "qy, qz)", "give a problem file of a spatial body (model = \"3d\")")
-    Q = np.array([problem.waypoints[k] for k in ("qw", "qx", "qy", "qz")], dtype=float)
-    ang = rot.to_euler(Q)
-    som = np.degrees(np.unwrap(np.radians(ang[0])))
-    tw = np.degrees(np.unwrap(np.radians(ang[2])))
-    times = np.asarray(problem.times, dtype=float)
-    return {"times": times, "somersault": som - som[0], "tilt": ang[1], "twist": tw - tw[0],
-            "somersaults": float(som[-1] - som[0]) / 360.0, "twists": float(tw[-1] - tw[0]) / 360.0,
-            "T": float(times[-1] - times[0])}
+    times, som, tilt, tw = yeadon_turns(result, problem.times)
+    return {"times": times, "somersault": 360.0 * som, "tilt": tilt, "twist": 360.0 * tw,
+            "somersaults": float(som[-1]), "twists": float(tw[-1]), "T": float(times[-1] - times[0])}
 
 
-def scaled_problem(problem, flight_time: float, somersaults: float, twists: float):
-    """``(body, plan keywords)`` of the file's technique scaled (module docstring)."""
+def scaled_problem(problem, technique: dict, flight_time: float, somersaults: float, twists: float):
+    """``(body, plan keywords)`` of the file's ``technique`` (:func:`technique_of`) scaled (module
+    docstring): ``somersaults`` and ``twists`` in turns (their magnitudes; the directions the
+    file's)."""
     from .model import SpatialBody
 
-    tech = file_technique(problem)
+    tech = technique
     if abs(tech["somersaults"]) < 1e-9:
         raise InvalidInputError("plan.attitude", "turns no somersault from the first to the last waypoint",
                                 "give a problem file of a somersault (the bundled back-full-twist)")
     ks = abs(somersaults) / abs(tech["somersaults"])
     if abs(tech["twists"]) > 1e-9:   # the file's twist profile, scaled (its direction kept)
-        tw = tech["twist"] * (abs(twists) / abs(tech["twists"]))
+        tw = np.asarray(tech["twist"]) * (abs(twists) / abs(tech["twists"]))
     else:                             # no twist in the file: the twist grows with the somersault
-        tw = tech["somersault"] / tech["somersault"][-1] * 360.0 * twists
-    som = tech["somersault"] * ks
-    times = (tech["times"] - tech["times"][0]) * (flight_time / tech["T"])
+        tw = np.asarray(tech["somersault"]) / tech["somersault"][-1] * 360.0 * twists
+    som = np.asarray(tech["somersault"]) * ks
+    times = (np.asarray(tech["times"]) - tech["times"][0]) * (flight_time / tech["T"])
     atts = [{"euler_deg": [float(s), float(t), float(w)]} for s, t, w in zip(som, tech["tilt"], tw)]
     kw = problem.plan_kwargs()
     kw.update(times=[float(t) for t in times], **rot.attitude_states(atts))
@@ -107,7 +135,18 @@ def twist_potential(problem, plan, *, flight_times=None, somersaults=None, resol
                     time_limit: float | None = None, progress=None) -> list[TwistCell]:
     """The table of the most twist (module docstring): one :class:`TwistCell` per flight time and
     somersault count (default the file's)."""
-    tech = file_technique(problem)
+    kw = problem.plan_kwargs()
+    if kw.get("conditions") is None:
+        kw.pop("conditions")
+    if time_limit is not None:
+        kw["time_limit"] = time_limit
+    if progress is not None:
+        progress("the file's own dive (its technique)")
+    res = plan(problem.system, **kw)
+    if str(getattr(res.status, "value", res.status)) != "success":
+        raise InvalidInputError("plan", f"the file's own dive could not be planned ({res.status}): the technique is "
+                                "read from its plan", "give a problem file whose plan succeeds (acroplan plan)")
+    tech = technique_of(problem, res)
     F = [tech["T"]] if flight_times is None else [float(t) for t in flight_times]
     S = [abs(tech["somersaults"])] if somersaults is None else [float(n) for n in somersaults]
     if not (resolution > 0 and math.isfinite(resolution)):
@@ -116,59 +155,81 @@ def twist_potential(problem, plan, *, flight_times=None, somersaults=None, resol
     cells = []
     for n in S:
         for T in F:
-            cells.append(_cell(problem, plan, T, n, resolution, time_limit, progress))
+            cells.append(_cell(problem, tech, plan, T, n, resolution, time_limit, progress))
     return cells
 
 
-def _cell(problem, plan, T, n, resolution, time_limit, progress):
-    start = time.perf_counter()
-    tech = file_technique(problem)
-    tries: list[tuple[float, str]] = []
-    reasons = {}
+def bisect_twist(reachable, start: float, resolution: float = DEFAULT_RESOLUTION, most: float = MOST_TWISTS):
+    """The bisection of the module docstring on ``reachable(x) -> bool`` (``x`` turns of twist):
+    from ``start``, doubling while reachable (up to ``most``), then halving the bracket to
+    ``resolution`` (targets on multiples of it). Returns ``(lo, hi, tries)``: the most twist
+    reached (0.0 when none), the least target not reached (``None`` when every one up to ``most``
+    was), and ``[(x, reached), ...]`` in the order tried."""
+    tries = []
 
-    def reachable(x):
-        body, kw = scaled_problem(problem, T, n, x)
-        if time_limit is not None:
-            kw["time_limit"] = time_limit
-        if progress is not None:
-            progress(f"{n:g} somersaults in {T:g} s: {x:g} twists")
-        res = plan(body, **kw)
-        tries.append((float(x), str(res.status)))
-        reasons[x] = (str(res.status), getattr(res, "message", "") or "")
-        return res.status == "success", body
+    def ask(x):
+        ok = bool(reachable(x))
+        tries.append((float(x), ok))
+        return ok
 
-    x = max(resolution, round(abs(tech["twists"]) / resolution) * resolution) if abs(tech["twists"]) > 0 else 0.5
-    lo, hi, L = 0.0, None, None
-    ok, body = reachable(x)
-    L = body.L
-    if ok:
+    x = min(max(resolution, round(start / resolution) * resolution), most)
+    lo, hi = 0.0, None
+    if ask(x):
         lo = x
-        while hi is None and x < MOST_TWISTS:
-            x = min(2.0 * x, MOST_TWISTS)
-            ok, _ = reachable(x)
-            if ok:
+        while hi is None and x < most:
+            x = min(2.0 * x, most)
+            if ask(x):
                 lo = x
             else:
                 hi = x
     else:
         hi = x
-    while hi is not None and hi - lo > resolution + 1e-12:
+    while hi is not None and hi - lo > resolution * (1 + 1e-9):
         mid = round((lo + hi) / 2.0 / resolution) * resolution
-        if mid <= lo or mid >= hi:
+        if not lo < mid < hi:
             break
-        ok, _ = reachable(mid)
-        if ok:
+        if ask(mid):
             lo = mid
         else:
             hi = mid
+    return lo, hi, tries
+
+
+def _cell(problem, tech, plan, T, n, resolution, time_limit, progress):
+    start = time.perf_counter()
+    status: dict[float, tuple[str, str]] = {}
+    body_L = []
+    sign_s = math.copysign(1.0, tech["somersaults"])
+    sign_t = math.copysign(1.0, tech["twists"]) if abs(tech["twists"]) > 1e-9 else 1.0
+
+    def reachable(x):
+        body, kw = scaled_problem(problem, tech, T, n, x)
+        body_L[:] = [body.L]
+        if time_limit is not None:
+            kw["time_limit"] = time_limit
+        if progress is not None:
+            progress(f"{n:g} somersaults in {T:g} s: {x:g} twists")
+        res = plan(body, **kw)
+        st = str(getattr(res.status, "value", res.status))
+        message = getattr(res, "message", "") or ""
+        if st == "success":   # the quaternion waypoints do not fix the turns between them: count them
+            som, tw = _counts(res)
+            if abs(som - sign_s * n) > COUNT_TOL or abs(tw - sign_t * x) > COUNT_TOL:
+                st, message = "other_turns", f"planned, but {som:+.4f} somersaults and {tw:+.4f} twists"
+        status[float(x)] = (st, message)
+        return st == "success"
+
+    first = abs(tech["twists"]) if abs(tech["twists"]) > 0 else 0.5
+    lo, hi, tries = bisect_twist(reachable, first, resolution)
     if hi is None:
         stopped, reason = "resolution", f"every target up to {MOST_TWISTS:g} twists was reached"
     else:
-        status, message = reasons[hi]
-        stopped = "proven" if status == "infeasible" else "planner stopped"
-        reason = f"{hi:g} twists: {status}" + (f" ({message})" if message else "")
+        st, message = status[float(hi)]
+        stopped = "proven" if st == "infeasible" else "planner stopped"
+        reason = f"{hi:g} twists: {st}" + (f" ({message})" if message else "")
+    L = body_L[0] if body_L else problem.system.L
     return TwistCell(float(T), float(n), tuple(float(v) for v in L), float(lo), hi, stopped, reason, len(tries),
-                     time.perf_counter() - start, tuple(tries))
+                     time.perf_counter() - start, tuple((x, status[x][0]) for x, _ in tries))
 
 
 def twist_potential_figure(cells):

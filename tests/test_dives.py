@@ -1,0 +1,185 @@
+"""The 3-D human's twisting dives (issue #23): the strength data, the three bundled dives planned
+(success, Pinocchio's check, the somersault and twist counts as named from the attitude at the end
+in Yeadon's angles, the tilt taken out, rates within the limits and torques within the strength
+data), and the twist potential's bisection and command.
+
+Every number asserted is the data's (with its source), the dive's name (its counts), or a bound.
+"""
+
+import json
+import math
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+import acroplan
+from acroplan.families.human.spatial_body import JOINTS, spatial_from_yeadon
+from acroplan.families.human.strength import joint_strength, strength_data, torque_limits
+
+# one worker runs this module, so that its plans (one compiled 5-link body) are made once
+pytestmark = pytest.mark.xdist_group("test_dives")
+
+pytest.importorskip("yeadon")
+
+
+# ---------------------------------------------------------------------- strength as data
+def test_strength_data_have_sources_or_are_marked_estimates():
+    d = strength_data()
+    kinds = {dof.kind for dof in JOINTS.values()}
+    assert kinds <= set(d["torques"])
+    for kind, e in d["torques"].items():
+        assert ("value" in e) != ("per_kg" in e), kind
+        assert e["estimate"] or e["source"] in d["sources"], kind
+        assert isinstance(e["note"], str) and e["note"], kind
+    t = d["torques"]
+    # the sources' numbers: a static shoulder flexion of young men, Jackson's gymnast's hip flexion
+    # (limits.toml, one number in one place), Sarabon et al.'s knee flexion interval's middle
+    assert t["shoulder_flexion"]["value"] == 89.9 and not t["shoulder_flexion"]["estimate"]
+    assert t["hip_flexion"]["value"] == 157.3 and t["hip_flexion"]["source"] == "Jackson2010"
+    assert t["knee_flexion"]["per_kg"] == pytest.approx((1.15 + 1.62) / 2, abs=1e-12)
+    assert t["shoulder_abduction"]["estimate"] and t["spine_torsion"]["estimate"]
+
+
+def test_torque_limits_of_the_full_body_scale_with_mass():
+    body = spatial_from_yeadon(joints="full")
+    lim = torque_limits(body)
+    mass = sum(link.mass for link in body.links)
+    assert set(lim) == set(body.links.joint_names)
+    assert lim["left_knee_flexion"] == pytest.approx(1.385 * mass, rel=1e-12)
+    assert lim["right_elbow_flexion"] == pytest.approx(0.67 * mass, rel=1e-12)
+    assert lim["left_hip_flexion"] == 157.3 and lim["right_shoulder_flexion"] == 89.9
+    assert joint_strength("knee_flexion", 70.0) == pytest.approx(96.95, abs=1e-9)
+    with pytest.raises(acroplan.InvalidInputError):
+        joint_strength("neck", 70.0)
+
+
+# ---------------------------------------------------------------------- the dives
+#: name -> (somersaults, twists) as named (signed: backwards < 0; the twist's direction the file's)
+NAMED = {"back-full-twist": (-1.0, -1.0), "forward-double-twist": (1.5, 2.0), "back-double-full-out": (-2.0, -1.0)}
+
+
+@pytest.fixture(scope="module")
+def plans():
+    """Each dive planned once (the three share one compiled body: the same link table)."""
+    from acroplan.families.human.dives import dive
+
+    cache = {}
+
+    def get(name):
+        if name not in cache:
+            body, kw = dive(name)
+            cache[name] = acroplan.plan(body, **kw)
+        return cache[name]
+
+    return get
+
+
+@pytest.mark.parametrize("name", sorted(NAMED))
+def test_bundled_dive_is_planned_with_its_counts_within_the_limits(plans, name):
+    from acroplan.families.human.dives import dive_report
+
+    res = plans(name)
+    assert res.status == "success", res.message
+    assert res.verification == "family"                       # Pinocchio's centroidal momentum
+    assert max(s.verified_error for s in res.segments) < 1e-9
+    rep = dive_report(res)
+    somersaults, twists = NAMED[name]
+    assert abs(rep.somersaults - somersaults) < 1e-6, rep.summary()
+    assert abs(rep.twists - twists) < 1e-6, rep.summary()
+    assert abs(rep.tilt_end) < 1e-6 and rep.peak_tilt > 3.0    # tilted in the air, not at the landing
+    for joint, (peak, limit) in rep.rates.items():
+        assert peak <= limit * (1 + 1e-6), (joint, peak, limit)
+    for joint, t in rep.torques.items():
+        assert t["peak"] <= t["limit"], (joint, t)
+
+
+def test_the_dives_are_registered_examples():
+    from acroplan.io import examples as bundled
+
+    for name in NAMED:
+        assert name in bundled.names() and bundled.command(name) == "plan"
+        prob = bundled.load(name)
+        assert prob.system.links.joint_names == spatial_from_yeadon(joints="arms").links.joint_names
+
+
+# ---------------------------------------------------------------------- the twist potential
+def test_bisection_finds_the_edge_to_the_resolution():
+    from acroplan.families.spatial.potential import bisect_twist
+
+    for edge in (0.3, 1.0, 1.6, 2.74, 7.9):
+        lo, hi, tries = bisect_twist(lambda x: x <= edge, 1.0, 0.25)
+        assert lo <= edge < hi and hi - lo == pytest.approx(0.25)
+        assert all(ok == (x <= edge) for x, ok in tries)
+    lo, hi, _ = bisect_twist(lambda x: True, 1.0, 0.25, most=4.0)
+    assert lo == 4.0 and hi is None
+    lo, hi, _ = bisect_twist(lambda x: False, 1.0, 0.25)
+    assert lo == 0.0 and hi == 0.25
+
+
+def test_technique_from_the_plan_and_scaled(plans):
+    """The file's technique read from its plan (the counts between quaternion waypoints), then
+    scaled: the times, the somersault, the twist and L = I w follow; the tilt and the arms are kept."""
+    from acroplan.families.spatial import rotations as rot
+    from acroplan.families.spatial.potential import scaled_problem, technique_of
+    from acroplan.io import examples as bundled
+
+    prob = bundled.load("back-full-twist")
+    tech = technique_of(prob, plans("back-full-twist"))
+    assert tech["somersaults"] == pytest.approx(-1.0, abs=1e-6) and tech["twists"] == pytest.approx(-1.0, abs=1e-6)
+    assert tech["somersault"][1] == pytest.approx(-180.0, abs=0.1) and tech["twist"][1] == pytest.approx(-180.0, abs=0.1)
+    body, kw = scaled_problem(prob, tech, 2.0, 2.0, 1.5)
+    assert kw["times"] == pytest.approx([0.0, 1.0, 2.0])
+    assert body.L[0] == pytest.approx(prob.system.L[0] * 2.0 * 1.5 / 2.0, rel=1e-12)
+    mid = rot.to_euler(np.array([kw[k][1] for k in ("qw", "qx", "qy", "qz")]))
+    # half way: about -360 somersault (0 mod 360), the tilt kept (8 deg), twist about -270 (90 mod 360)
+    assert mid[1] == pytest.approx(8.0, abs=0.1)
+    assert math.remainder(mid[0] - 2 * tech["somersault"][1], 360.0) == pytest.approx(0.0, abs=1e-9)
+    assert math.remainder(mid[2] - 1.5 * tech["twist"][1], 360.0) == pytest.approx(0.0, abs=1e-9)
+    assert kw["right_shoulder_abduction"] == prob.waypoints["right_shoulder_abduction"]
+
+
+def test_twist_potential_refuses_a_body_without_it(tmp_path):
+    from acroplan.io.cli import main
+
+    res = CliRunner().invoke(main, ["twist-potential", "--example", "pike-dive"])
+    assert res.exit_code == 2 and "offers no twist potential" in res.output
+
+
+def test_twist_potential_command_writes_the_table(tmp_path, monkeypatch):
+    """The command end to end on the bundled back full, with the planner replaced by one that
+    reaches at most 1.6 twists (the bisection and the files, not the planning, are tested here)."""
+    from acroplan import planning
+    from acroplan.families.spatial import potential
+    from acroplan.io.cli import main
+
+    class Fake:
+        def __init__(self, x):
+            self.x = x
+            self.status = "success" if x <= 1.6 else "not_converged"
+            self.message = "" if x <= 1.6 else "not converged: the stages' reasons"
+
+    real = potential.scaled_problem
+
+    def scaled(problem, tech, T, n, x):
+        body, kw = real(problem, tech, T, n, x)
+        return body, {**kw, "_target": x}
+
+    tech = {"times": np.array([0.0, 0.75, 1.5]), "somersault": np.array([0.0, -180.0, -360.0]),
+            "tilt": np.array([0.0, 8.0, 0.0]), "twist": np.array([0.0, -180.0, -360.0]), "somersaults": -1.0,
+            "twists": -1.0, "T": 1.5}
+    monkeypatch.setattr(potential, "scaled_problem", scaled)
+    monkeypatch.setattr(potential, "technique_of", lambda problem, result: tech)
+    monkeypatch.setattr(potential, "_counts", lambda res: (-1.0, -res.x))
+    monkeypatch.setattr(planning, "plan", lambda body, **kw: Fake(kw.get("_target", 1.0)))
+    out = tmp_path / "tp"
+    res = CliRunner().invoke(main, ["twist-potential", "--example", "back-full-twist", "--flight-times", "1.2,1.6",
+                                    "--somersaults", "1", "--out", out, "--json"])
+    assert res.exit_code == 0, res.output
+    doc = json.loads((out / "twist-potential.json").read_text())
+    assert [c["flight_time"] for c in doc["cells"]] == [1.2, 1.6]
+    for c in doc["cells"]:
+        assert c["most"] == 1.5 and c["failed"] == 1.75 and c["stopped"] == "planner stopped"
+    rows = (out / "twist-potential.csv").read_text().splitlines()
+    assert rows[0].startswith("somersaults,flight_time,most_twists") and len(rows) == 3
+    assert (out / "twist-potential.png").stat().st_size > 1000
