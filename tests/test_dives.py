@@ -127,13 +127,15 @@ def test_technique_from_the_plan_and_scaled(plans):
     prob = bundled.load("back-full-twist")
     tech = technique_of(prob, plans("back-full-twist"))
     assert tech["somersaults"] == pytest.approx(-1.0, abs=1e-6) and tech["twists"] == pytest.approx(-1.0, abs=1e-6)
-    assert tech["somersault"][1] == pytest.approx(-180.0, abs=0.1) and tech["twist"][1] == pytest.approx(-180.0, abs=0.1)
+    # the waypoints' angles as the file gives them (-170, 8.5, -200 half way), the turns between them counted
+    assert tech["somersault"][1] == pytest.approx(-170.0, abs=1e-6) and tech["twist"][1] == pytest.approx(-200.0, abs=1e-6)
+    assert tech["tilt"][1] == pytest.approx(8.5, abs=1e-6)
     body, kw = scaled_problem(prob, tech, 2.0, 2.0, 1.5)
     assert kw["times"] == pytest.approx([0.0, 1.0, 2.0])
     assert body.L[0] == pytest.approx(prob.system.L[0] * 2.0 * 1.5 / 2.0, rel=1e-12)
     mid = rot.to_euler(np.array([kw[k][1] for k in ("qw", "qx", "qy", "qz")]))
-    # half way: about -360 somersault (0 mod 360), the tilt kept (8 deg), twist about -270 (90 mod 360)
-    assert mid[1] == pytest.approx(8.0, abs=0.1)
+    # half way: twice the somersault, 1.5 times the twist (mod 360), the tilt kept
+    assert mid[1] == pytest.approx(8.5, abs=1e-6)
     assert math.remainder(mid[0] - 2 * tech["somersault"][1], 360.0) == pytest.approx(0.0, abs=1e-9)
     assert math.remainder(mid[2] - 1.5 * tech["twist"][1], 360.0) == pytest.approx(0.0, abs=1e-9)
     assert kw["right_shoulder_abduction"] == prob.waypoints["right_shoulder_abduction"]
@@ -165,8 +167,8 @@ def test_twist_potential_command_writes_the_table(tmp_path, monkeypatch):
         body, kw = real(problem, tech, T, n, x)
         return body, {**kw, "_target": x}
 
-    tech = {"times": np.array([0.0, 0.75, 1.5]), "somersault": np.array([0.0, -180.0, -360.0]),
-            "tilt": np.array([0.0, 8.0, 0.0]), "twist": np.array([0.0, -180.0, -360.0]), "somersaults": -1.0,
+    tech = {"times": np.array([0.0, 0.75, 1.5]), "somersault": np.array([0.0, -170.0, -360.0]),
+            "tilt": np.array([0.0, 8.5, 0.0]), "twist": np.array([0.0, -200.0, -360.0]), "somersaults": -1.0,
             "twists": -1.0, "T": 1.5}
     monkeypatch.setattr(potential, "scaled_problem", scaled)
     monkeypatch.setattr(potential, "technique_of", lambda problem, result: tech)
@@ -174,7 +176,7 @@ def test_twist_potential_command_writes_the_table(tmp_path, monkeypatch):
     monkeypatch.setattr(planning, "plan", lambda body, **kw: Fake(kw.get("_target", 1.0)))
     out = tmp_path / "tp"
     res = CliRunner().invoke(main, ["twist-potential", "--example", "back-full-twist", "--flight-times", "1.2,1.6",
-                                    "--somersaults", "1", "--out", out, "--json"])
+                                    "--somersaults", "1", "--out", str(out), "--json"])
     assert res.exit_code == 0, res.output
     doc = json.loads((out / "twist-potential.json").read_text())
     assert [c["flight_time"] for c in doc["cells"]] == [1.2, 1.6]
@@ -183,3 +185,49 @@ def test_twist_potential_command_writes_the_table(tmp_path, monkeypatch):
     rows = (out / "twist-potential.csv").read_text().splitlines()
     assert rows[0].startswith("somersaults,flight_time,most_twists") and len(rows) == 3
     assert (out / "twist-potential.png").stat().st_size > 1000
+
+
+SIM_ARM = """[body]
+yeadon = "male1"
+model = "3d"
+joints = "arms"
+angular_momentum = [-50.0, 0.0, 0.0]
+
+[simulate]
+times = [0.0, 0.1, 0.5, 1.2]
+attitude_euler_deg = [0.0, 0.0, 0.0]
+left_shoulder_flexion = [0.0, 0.0, 0.0, 0.0]
+left_shoulder_abduction = ["pi", "pi", "pi", "pi"]
+right_shoulder_flexion = [0.0, 0.0, 0.0, 0.0]
+right_shoulder_abduction = ["pi", "pi", 0.0, 0.0]
+"""
+
+
+def test_simulate_writes_yeadons_angles_of_an_arm_motion(tmp_path):
+    """``acroplan simulate`` of a given arm motion (the right arm lowered sideways in a backward
+    layout somersault) writes the pelvis's Yeadon angles (angles.csv) and reports them at the end,
+    equal to the unwrapped angles of the result's own states; the asymmetric arm tilts and twists
+    the body (Yeadon 1993, Part III)."""
+    from acroplan.families.spatial import rotations as rot
+    from acroplan.io.cli import main
+    from acroplan.io.problem import load_simulation
+
+    path = tmp_path / "arm.toml"
+    path.write_text(SIM_ARM)
+    out = tmp_path / "sim"
+    res = CliRunner().invoke(main, ["simulate", str(path), "--out", str(out), "--no-plots", "--json"])
+    assert res.exit_code == 0, res.output
+    summary = json.loads(res.output)
+    rows = np.loadtxt(out / "angles.csv", delimiter=",", skiprows=1)
+    head = (out / "angles.csv").read_text().splitlines()[0]
+    assert head == "t,somersault_turns,tilt_deg,twist_turns"
+    result = load_simulation(path).run(verify=False)
+    t = np.linspace(0.0, 1.2, 20001)
+    ang = np.radians(rot.to_euler(result.evaluate(t, effort=False).states[:4]))
+    som = (np.unwrap(ang[0]) - ang[0][0]) / (2 * math.pi)
+    tw = (np.unwrap(ang[2]) - ang[2][0]) / (2 * math.pi)
+    end = summary["end_angles"]
+    assert end["somersault_turns"] == pytest.approx(som[-1], abs=1e-9) == rows[-1, 1]
+    assert end["twist_turns"] == pytest.approx(tw[-1], abs=1e-9) == rows[-1, 3]
+    assert end["tilt_deg"] == pytest.approx(np.degrees(ang[1][-1]), abs=1e-9)
+    assert som[-1] < -0.5 and abs(tw[-1]) > 0.5 and np.max(np.abs(rows[:, 2])) > 3.0

@@ -77,4 +77,5 @@ FAMILY = Family(
     compile_seconds=_compile_seconds,
     twist_potential=hook(f"{__package__}.potential:twist_potential"),
     twist_potential_figure=hook(f"{__package__}.potential:twist_potential_figure"),
+    attitude_angles=hook(f"{__package__}.potential:attitude_angles"),
 )

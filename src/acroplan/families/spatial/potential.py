@@ -36,7 +36,7 @@ import numpy as np
 from ...core.errors import InvalidInputError
 from . import rotations as rot
 
-__all__ = ["TwistCell", "bisect_twist", "yeadon_turns", "technique_of", "scaled_problem", "twist_potential", "twist_potential_figure",
+__all__ = ["TwistCell", "bisect_twist", "yeadon_turns", "attitude_angles", "technique_of", "scaled_problem", "twist_potential", "twist_potential_figure",
            "DEFAULT_RESOLUTION", "MOST_TWISTS", "COUNT_TOL"]
 
 #: the bisection's resolution (turns of twist)
@@ -83,6 +83,16 @@ def yeadon_turns(result, times=None, samples: int = 4001):
         return t, som, tilt, tw
     idx = [int(np.argmin(np.abs(t - float(x)))) for x in times]
     return np.asarray(times, dtype=float), som[idx], tilt[idx], tw[idx]
+
+
+def attitude_angles(result, t) -> dict:
+    """Yeadon's angles of the root at the times ``t`` (the spatial family's ``attitude_angles``
+    hook, ``acroplan simulate``'s ``angles.csv``): ``somersault_turns``, ``tilt_deg``,
+    ``twist_turns``, unwrapped on a dense sampling from 0 at the start."""
+    tt, som, tilt, tw = yeadon_turns(result)
+    t = np.asarray(t, dtype=float)
+    return {"somersault_turns": np.interp(t, tt, som), "tilt_deg": np.interp(t, tt, tilt),
+            "twist_turns": np.interp(t, tt, tw)}
 
 
 def _counts(result) -> tuple[float, float]:
