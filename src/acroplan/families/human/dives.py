@@ -99,16 +99,18 @@ def dive_report(result, samples: int = 2001, torques: bool = True) -> DiveReport
     """The counts, tilt, rates and torques of a planned (or simulated) motion of a 3-D human."""
     from .strength import strength_report
 
+    from ..spatial.potential import sampled_states
+
     t = np.linspace(result.times[0], result.times[-1], int(samples))
-    ev = result.evaluate(t, effort=False)
-    X = ev.states
+    X = sampled_states(result, t)
     ang = np.radians(rot.to_euler(X[:4]))
     som = np.unwrap(ang[0])
     tw = np.unwrap(ang[2])
     som, tw = (som - som[0]) / (2 * math.pi), (tw - tw[0]) / (2 * math.pi)
     tilt = np.degrees(ang[1])
     body = result.system
-    U = np.asarray(ev.inputs, dtype=float)
+    U = np.concatenate([np.asarray(result.evaluate(c, effort=False).inputs, dtype=float)
+                        for c in np.array_split(t, max(1, -(-len(t) // 500)))], axis=1)
     rates = {}
     for i, link in enumerate(link for link in body.links if link.parent is not None):
         rates[link.joint_name] = (float(np.max(np.abs(U[i]))), math.inf if link.velocity is None else

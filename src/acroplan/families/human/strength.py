@@ -12,9 +12,10 @@ joint kind             N m         source                                       
 =====================  ==========  ================================================  ==========
 shoulder flexion       89.9        mean of young men, static at 0 deg (flexion the    no
                                    weaker way: Ivey et al. 1985)
-shoulder abduction     24.0        half the men's adduction peak (48.0 N m, Clin.     yes
-                                   Biomech. 1989), by Ivey's ratio 2:1
-shoulder rotation      16.0        a third of that adduction peak                     yes
+shoulder abduction     56.2        from the static flexion by Ivey et al.'s ratios    yes
+                                   (extension 5:4 flexion, adduction 2:1 abduction,
+                                   adduction above extension)
+shoulder rotation      37.5        two thirds of that (Ivey: internal 3:2 external)   yes
 elbow flexion          0.67 / kg   Lategan & Kruger 2003 (extension, the weaker)      no
 hip flexion            157.3       Jackson 2010 via Millard et al. 2019               no
                                    (``limits.toml``)
@@ -91,7 +92,7 @@ def torque_limits(body) -> dict[str, float]:
     >>> from acroplan.families.human.spatial_body import spatial_from_yeadon
     >>> from acroplan.families.human.strength import torque_limits
     >>> torque_limits(spatial_from_yeadon(joints="arms"))["right_shoulder_abduction"]
-    24.0
+    56.2
     """
     mass = float(sum(link.mass for link in body.links))
     out = {}

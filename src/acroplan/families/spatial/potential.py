@@ -36,7 +36,7 @@ import numpy as np
 from ...core.errors import InvalidInputError
 from . import rotations as rot
 
-__all__ = ["TwistCell", "bisect_twist", "yeadon_turns", "attitude_angles", "technique_of", "scaled_problem", "twist_potential", "twist_potential_figure",
+__all__ = ["TwistCell", "bisect_twist", "yeadon_turns", "sampled_states", "attitude_angles", "technique_of", "scaled_problem", "twist_potential", "twist_potential_figure",
            "DEFAULT_RESOLUTION", "MOST_TWISTS", "COUNT_TOL"]
 
 #: the bisection's resolution (turns of twist)
@@ -74,7 +74,7 @@ def yeadon_turns(result, times=None, samples: int = 4001):
     ``(t, somersault, tilt, twist)``, somersault and twist in turns from 0 at the start, tilt in
     degrees; at ``times`` when given (read off the dense sampling's unwrapped angles)."""
     t = np.linspace(result.times[0], result.times[-1], int(samples))
-    X = result.evaluate(t, effort=False).states
+    X = sampled_states(result, t)
     ang = np.radians(rot.to_euler(X[:4]))
     som = np.unwrap(ang[0])
     tw = np.unwrap(ang[2])
@@ -83,6 +83,14 @@ def yeadon_turns(result, times=None, samples: int = 4001):
         return t, som, tilt, tw
     idx = [int(np.argmin(np.abs(t - float(x)))) for x in times]
     return np.asarray(times, dtype=float), som[idx], tilt[idx], tw[idx]
+
+
+def sampled_states(result, t, block: int = 500) -> np.ndarray:
+    """``result.evaluate(t).states`` in blocks of at most ``block`` times (the collocation cuts its
+    panels at the times asked, and refuses more than 2048 on one segment)."""
+    t = np.asarray(t, dtype=float)
+    parts = [result.evaluate(c, effort=False).states for c in np.array_split(t, max(1, -(-len(t) // block)))]
+    return np.concatenate(parts, axis=1)
 
 
 def attitude_angles(result, t) -> dict:
