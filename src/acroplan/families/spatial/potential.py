@@ -262,8 +262,9 @@ def twist_potential_figure(cells):
         row = sorted((c for c in cells if c.somersaults == n), key=lambda c: c.flight_time)
         t = [c.flight_time for c in row]
         ax.plot(t, [c.most for c in row], "o-", label=f"{n:g} somersault{'s' if n != 1 else ''}: most reached")
+        why = sorted({c.stopped for c in row if c.failed is not None})
         ax.plot([c.flight_time for c in row if c.failed is not None], [c.failed for c in row if c.failed is not None],
-                "x", color=ax.lines[-1].get_color(), label=f"{n:g}: least not reached (planner stopped)")
+                "x", color=ax.lines[-1].get_color(), label=f"{n:g}: least not reached ({', '.join(why)})")
     ax.set_xlabel("flight time (s)")
     ax.set_ylabel("twists (turns)")
     ax.grid(alpha=0.3)
