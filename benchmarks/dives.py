@@ -1,5 +1,5 @@
 """The 3-D human's bundled twisting dives (issue #23): each planned (``acroplan.plan`` of
-``acroplan.families.human.dives.dive(name)``, the Pinocchio check included), its time, its counts
+``acroplan.examples.load(name)``, the Pinocchio check included), its time, its counts
 in Yeadon's angles, its peak rate and torque against the data's limits.
 
 The first plan in the process includes compiling the 5-link body; ``--repeat 2`` plans each dive
@@ -16,7 +16,8 @@ import platform
 import time
 
 import acroplan
-from acroplan.families.human.dives import DIVES, dive, dive_report
+from acroplan.families.human.dives import DIVES, dive_report
+from acroplan.io import examples
 from acroplan.families.human.strength import torque_limits
 
 
@@ -29,7 +30,8 @@ def main() -> None:
     args = ap.parse_args()
     print(f"# {platform.processor() or platform.machine()}, python {platform.python_version()}")
     for name in args.dives:
-        body, kw = dive(name)
+        prob = examples.load(name)
+        body, kw = prob.system, prob.plan_kwargs()
         extra = {}
         if args.objective:
             extra["objective"] = args.objective

@@ -62,14 +62,14 @@ NAMED = {"back-full-twist": (-1.0, -1.0), "forward-double-twist": (1.5, 2.0), "b
 @pytest.fixture(scope="module")
 def plans():
     """Each dive planned once (the three share one compiled body: the same link table)."""
-    from acroplan.families.human.dives import dive
+    from acroplan.io import examples as bundled
 
     cache = {}
 
     def get(name):
         if name not in cache:
-            body, kw = dive(name)
-            cache[name] = acroplan.plan(body, **kw)
+            prob = bundled.load(name)
+            cache[name] = acroplan.plan(prob.system, **prob.plan_kwargs())
         return cache[name]
 
     return get

@@ -15,6 +15,10 @@ half-way or phase points, the landing) and the arms there; the angular momentum 
 \\omega` of the somersault rate (each file says how). :func:`dive_report` reads the counts from the
 planned motion's attitude (unwrapped Yeadon angles), its tilt, its peak joint rates against the
 rate limits and its peak torques against the strength data (:mod:`~.strength`).
+
+``acroplan.examples.load(name)`` reads a dive's problem file (the I/O layer; a family does not
+import it): ``prob = acroplan.examples.load("back-full-twist")``, then
+``acroplan.plan(prob.system, **prob.plan_kwargs())``.
 """
 
 from __future__ import annotations
@@ -27,7 +31,7 @@ import numpy as np
 
 from ..spatial import rotations as rot
 
-__all__ = ["DIVES", "dive_path", "dive", "DiveReport", "dive_report"]
+__all__ = ["DIVES", "dive_path", "DiveReport", "dive_report"]
 
 #: the bundled dives: name -> (file in data/, what it is)
 DIVES = {
@@ -46,15 +50,6 @@ def dive_path(name: str):
 
         raise InvalidInputError("dive", f"{name!r} is not a bundled dive", f"dives: {sorted(DIVES)}")
     return resources.files(__package__).joinpath(DIVES[name][0])
-
-
-def dive(name: str):
-    """``(body, plan keywords)`` of a bundled dive: ``acroplan.plan(body, **kw)`` plans it."""
-    from ...io.problem import parse_problem
-    import tomllib
-
-    prob = parse_problem(tomllib.loads(dive_path(name).read_text(encoding="utf-8")), name=name)
-    return prob.system, prob.plan_kwargs()
 
 
 @dataclasses.dataclass(frozen=True)
