@@ -10,6 +10,13 @@ y, z). With ``--warm`` each point is also compiled a second time from a fresh pr
 on-disk cache on (what a second run on the same machine costs).
 
     python benchmarks/compile_time.py --planar 2-10 --spatial 2-6 --sizes 6
+    python benchmarks/compile_time.py --planar "" --spatial "" --spatial-map 2-16
+
+``--spatial-map``: what a spatial plan compiles since issue #22 (Gauss collocation of the attitude):
+the momentum map of the topology, full and light (``collocation.compile_map``: the sympy map, then
+heyoka's ``cfunc``, whatever the basis size), and the compiled torques of the effort summary
+(``dynamics._compiled``, the column "torques"). The Taylor integrator of a spatial body (the
+``--spatial`` rows) is compiled only for the torques' attitude at a non-zero angular momentum.
 
 prints one line per point and a markdown table at the end.
 """
@@ -30,6 +37,7 @@ t0 = time.perf_counter()
 from acroplan.core import backend
 from acroplan.core.basis import Legendre
 kind, n, size, topology = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), sys.argv[4]
+kind, _, mode = kind.partition("-")
 t1 = time.perf_counter()
 parent = (lambda i: f"l{i - 1}") if topology == "chain" else (lambda i: "l0")  # a chain, or a star
 if kind == "planar":
@@ -46,6 +54,19 @@ else:
         SpatialLink(f"l{i}", parent(i), 1.0, (0.1, 0.2, 0.25), com=(0.3, 0.0, 0.0), joint=(0.6, 0.0, 0.0),
                     axis=axes[i % 3]) for i in range(1, n)]
     body = SpatialBody(links, L=(0.0, 0.0, 0.0))
+if mode == "map":  # what a spatial plan compiles (issue #22's back end): the momentum maps, the torques
+    # (and the processor seconds of the compile, threads included: what a busy machine does not inflate)
+    from acroplan.families.spatial import collocation, dynamics
+    body.symbolic_momentum_map()
+    t2, c2 = time.perf_counter(), time.process_time()
+    collocation.compile_map(body)
+    collocation.compile_map(body, light=True)
+    t3, c3 = time.perf_counter(), time.process_time()
+    dynamics._compiled(dynamics.structure(body.links), False)
+    t4 = time.perf_counter()
+    print(json.dumps({"import": t1 - t0, "symbolic": t2 - t1, "compile": t3 - t2, "compile_cpu": c3 - c2,
+                      "torques": t4 - t3}))
+    raise SystemExit
 body.symbolic()
 t2 = time.perf_counter()
 backend.compile_for(body, Legendre, size)
@@ -80,6 +101,8 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--planar", default="2-10", help="link counts of planar chains, as LO-HI")
     ap.add_argument("--spatial", default="2-6", help="link counts of spatial chains, as LO-HI")
+    ap.add_argument("--spatial-map", default="", help="link counts of spatial bodies whose momentum maps (and "
+                    "torques) are compiled, as spatial plans do since issue #22, as LO-HI")
     ap.add_argument("--sizes", default="6", help="basis sizes, comma separated")
     ap.add_argument("--warm", action="store_true", help="also time a second compile from the on-disk cache")
     ap.add_argument("--timeout", type=float, default=3600.0, help="seconds per point")
@@ -88,9 +111,10 @@ def main():
     args = ap.parse_args()
     sizes = [int(s) for s in args.sizes.split(",")]
     rows = []
-    for kind, counts in (("planar", _range(args.planar)), ("spatial", _range(args.spatial))):
+    for kind, counts in (("planar", _range(args.planar)), ("spatial", _range(args.spatial)),
+                         ("spatial-map", _range(args.spatial_map))):
         for n in counts:
-            for size in sizes:
+            for size in sizes if kind != "spatial-map" else sizes[:1]:
                 load = os.getloadavg()[0]
                 cold = measure(kind, n, size, "off", args.timeout, args.topology)
                 row = {"kind": kind, "topology": args.topology, "links": n, "size": size, "load": load, **cold}
@@ -101,14 +125,17 @@ def main():
                 rows.append(row)
                 print(json.dumps(row), flush=True)
     print()
-    print("| body | topology | links | size | symbolic (s) | compile (s) |" + (" warm (s) |" if args.warm else "")
-          + " load |")
-    print("|---|---|---|---|---|---|" + ("---|" if args.warm else "") + "---|")
+    print("| body | topology | links | size | symbolic (s) | compile (s) | compile, processor (s) | torques (s) |"
+          + (" warm (s) |" if args.warm else "") + " load |")
+    print("|---|---|---|---|---|---|---|---|" + ("---|" if args.warm else "") + "---|")
     for r in rows:
         c = "timeout" if r["compile"] is None else f"{r['compile']:.1f}"
         s = "" if r["symbolic"] is None else f"{r['symbolic']:.2f}"
+        tq = f"{r['torques']:.1f}" if r.get("torques") is not None else ""
+        cpu = f"{r['compile_cpu']:.1f}" if r.get("compile_cpu") is not None else ""
         w = f" {r['warm']:.2f} |" if args.warm and r.get("warm") is not None else (" |" if args.warm else "")
-        print(f"| {r['kind']} | {r['topology']} | {r['links']} | {r['size']} | {s} | {c} |{w} {r['load']:.1f} |")
+        size = "any" if r["kind"] == "spatial-map" else r["size"]
+        print(f"| {r['kind']} | {r['topology']} | {r['links']} | {size} | {s} | {c} | {cpu} | {tq} |{w} {r['load']:.1f} |")
 
 
 if __name__ == "__main__":

@@ -31,7 +31,7 @@ import sys
 import tempfile
 import time
 
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, given, seed, settings
 from hypothesis import strategies as st
 
 import acroplan
@@ -183,7 +183,8 @@ class Worker:
         self.proc.join(10)
 
 
-def fuzz_bodies(n: int, time_limit: float, margin: float) -> tuple[collections.Counter, dict]:
+def fuzz_bodies(n: int, time_limit: float, margin: float, seed_: int = 0,
+                log: pathlib.Path | None = None) -> tuple[collections.Counter, dict]:
     io = _module("test_reliability_io")
     counts: collections.Counter = collections.Counter()
     stats = {"longest": 0.0, "peak_bytes": 0, "by_kind": collections.Counter()}
@@ -195,6 +196,16 @@ def fuzz_bodies(n: int, time_limit: float, margin: float) -> tuple[collections.C
             return "acrobot", {"p.toml": io.toml_text(io._mutate(draw(st.lists(io.MUTATION, min_size=1, max_size=3))))}
         return draw(io.body_files())
 
+    logf = open(log, "a", encoding="utf-8") if log else None  # noqa: SIM115 - closed below
+
+    def outcome(key, kind, elapsed, peak):
+        counts[key] += 1
+        if logf:
+            logf.write(json.dumps({"outcome": key, "kind": kind, "seconds": round(elapsed, 2),
+                                   "peak_mb": round(peak / 1024**2)}) + "\n")
+            logf.flush()
+
+    @seed(seed_)
     @settings(max_examples=n, deadline=None, database=None, suppress_health_check=list(HealthCheck))
     @given(cases())
     def run(case):
@@ -212,7 +223,7 @@ def fuzz_bodies(n: int, time_limit: float, margin: float) -> tuple[collections.C
             elapsed = time.perf_counter() - t
             stats["longest"] = max(stats["longest"], elapsed)
             if got is None:
-                counts[f"FAIL: past the time limit + {margin:g} s ({kind})"] += 1
+                outcome(f"FAIL: past the time limit + {margin:g} s ({kind})", kind, elapsed, 0)
                 worker[0].kill()
                 worker[0] = Worker()
                 return
@@ -220,14 +231,14 @@ def fuzz_bodies(n: int, time_limit: float, margin: float) -> tuple[collections.C
             stats["peak_bytes"] = max(stats["peak_bytes"], peak)
             code, stdout, stderr, fd2, exc = got
             if peak > 2 * 1024**3:
-                counts[f"FAIL: over 2 GB ({kind})"] += 1
+                outcome(f"FAIL: over 2 GB ({kind})", kind, elapsed, peak)
             elif code not in (0, 2, 3, 4):
-                counts[f"FAIL: exit {code} ({kind}: {exc})"] += 1
+                outcome(f"FAIL: exit {code} ({kind}: {exc})", kind, elapsed, peak)
             elif fd2.strip():
-                counts[f"FAIL: printed on fd 2 ({kind}: {fd2.strip().splitlines()[0][:80]})"] += 1
+                outcome(f"FAIL: printed on fd 2 ({kind}: {fd2.strip().splitlines()[0][:80]})", kind, elapsed, peak)
             elif code == 2 and not (re.match(r"acroplan: error: \S.*?: \S", stderr)
                                     and len(stderr.strip().splitlines()) == 1):
-                counts[f"FAIL: exit 2 not one line naming a field ({kind})"] += 1
+                outcome(f"FAIL: exit 2 not one line naming a field ({kind})", kind, elapsed, peak)
             else:
                 bad_json = False
                 for f in out.rglob("*.json") if out.exists() else ():
@@ -236,17 +247,19 @@ def fuzz_bodies(n: int, time_limit: float, margin: float) -> tuple[collections.C
                     except ValueError:
                         bad_json = True
                 if bad_json:
-                    counts[f"FAIL: NaN in JSON ({kind})"] += 1
+                    outcome(f"FAIL: NaN in JSON ({kind})", kind, elapsed, peak)
                 elif sorted(p.name for p in d.iterdir()) not in (sorted(files), sorted([*files, "out"])):
-                    counts[f"FAIL: wrote outside OUT ({kind})"] += 1
+                    outcome(f"FAIL: wrote outside OUT ({kind})", kind, elapsed, peak)
                 else:
-                    counts[f"exit {code}"] += 1
+                    outcome(f"exit {code}", kind, elapsed, peak)
 
     try:
         run()
     finally:
         worker[0].conn.send(None)
         worker[0].proc.join(10)
+        if logf:
+            logf.close()
     return counts, stats
 
 
@@ -257,7 +270,8 @@ def main():
     ap.add_argument("--bodies", type=int, default=0, help="problem files of every body kind through acroplan plan")
     ap.add_argument("--time-limit", type=float, default=10.0, help="--time-limit of each plan of --bodies (s)")
     ap.add_argument("--margin", type=float, default=15.0, help="seconds past --time-limit a run may take")
-    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--seed", type=int, default=0, help="hypothesis seed (of --bodies; --api's random module)")
+    ap.add_argument("--log", type=pathlib.Path, help="append one JSON line per --bodies case to this file")
     args = ap.parse_args()
     for name, fn in (("API calls", lambda: fuzz_api(args.api, args.seed)), ("problem files", lambda: fuzz_files(args.files))):
         if (args.api if name == "API calls" else args.files) <= 0:
@@ -271,7 +285,7 @@ def main():
             print(f"  {k:32s} {v}")
     if args.bodies > 0:
         t = time.perf_counter()
-        counts, stats = fuzz_bodies(args.bodies, args.time_limit, args.margin)
+        counts, stats = fuzz_bodies(args.bodies, args.time_limit, args.margin, args.seed, args.log)
         total = sum(counts.values())
         fails = sum(v for k, v in counts.items() if k.startswith("FAIL"))
         print(f"body files: {total} cases in {time.perf_counter() - t:.0f} s, {fails} failures; longest run "

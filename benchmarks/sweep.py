@@ -169,5 +169,6 @@ def main():
                 if r is not base:
                     print(f"{r['engine']}: {r['rate'] / base['rate']:.0%} of plan_many's throughput", flush=True)
 
+
 if __name__ == "__main__":
     main()

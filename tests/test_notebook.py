@@ -111,3 +111,23 @@ def test_every_export_says_how_exact_it_is(pike_robot, pike_result):
     t = np.linspace(seg.t0, seg.t1, 257)
     power = np.polynomial.polynomial.polyval(t - seg.t0, seg.coefficients[0])
     assert seg.power_form_error == pytest.approx(np.max(np.abs(power - seg.input(t)[0])), rel=1e-12)
+
+
+def test_a_record_names_the_family_class_before_a_users_class_of_the_same_name():
+    """A notebook (or a docs page) may define its own ``Unicycle`` before the family's class is
+    first imported (the family packages load lazily): a record of ``type = "Unicycle"`` is still
+    the registered family's class."""
+    import sympy as sp
+
+    class Unicycle(acroplan.ControlAffineSystem):  # the user's, of the same name
+        state_names = ("x", "y", "psi")
+        input_names = ("v", "omega")
+        param_names = ()
+
+        @classmethod
+        def symbolic_fields(cls, x, p):
+            return sp.zeros(3, 1), sp.eye(3)[:, :2]
+
+    system = acroplan.Unicycle()
+    again = acroplan.ControlAffineSystem.from_dict(system.to_dict())
+    assert type(again) is type(system) and again == system and type(again) is not Unicycle

@@ -433,3 +433,105 @@ def test_issue_25_a_spatial_momentum_too_fast_for_the_guesses_is_refused(L):
     assert MAX_FREE_TURN == 96
     PlanRequest.build(fast, **{**kw, "method": "deform"})  # path deformation alone is not refused
     PlanRequest.build(dataclasses.replace(cat, L=(1.0, 0.0, 0.0)), **kw)  # 54 rad: planned (it succeeds)
+
+
+def test_issue_25_a_spatial_bodys_compiled_maps_are_waited_for_within_the_budget(monkeypatch):
+    """Since issue #22 a spatial plan compiles its topology's momentum maps (Gauss collocation of the
+    attitude, heyoka cfuncs) instead of a Taylor integrator, and compiled them in the caller's thread,
+    outside the time budget (fuzzed spatial files ran to 16.8 s under --time-limit 10). Counted, not
+    timed: the plan returns at its deadline while the compilation it started is blocked; that
+    compilation then finishes once in the background, and the next plan uses it."""
+    import threading
+
+    from acroplan.families.spatial import collocation
+    from acroplan.families.spatial.examples import falling_cat_turn
+
+    monkeypatch.setattr(collocation, "_MAPS", {})  # as in a process that never compiled them
+    monkeypatch.setattr(backend, "_ONCE", {})
+    release, started = threading.Event(), []
+    real_build = collocation._build
+
+    def blocked_build(body, light=False):
+        started.append(light)
+        release.wait(60)
+        return real_build(body, light=light)
+
+    monkeypatch.setattr(collocation, "_build", blocked_build)
+    cat, kw = falling_cat_turn()
+    res = acroplan.plan(cat, **{**kw, "time_limit": 0.2})
+    assert res.status == "not_converged" and "time budget of 0.2 s" in res.message, res.message
+    assert len(started) == 1 and not release.is_set() and not collocation._MAPS
+    release.set()
+    res = acroplan.plan(cat, **{**kw, "time_limit": 60})  # waits for the compilation under way
+    assert res.success, res.message
+    assert sorted(started) == [False, True] and set(collocation._MAPS) == {(cat.links.parents, False),
+                                                                          (cat.links.parents, True)}
+    assert backend.compiled_before(collocation.map_key(cat)) and backend.compiled_before(collocation.map_key(cat, True))
+
+
+def _spatial_star(n):
+    from acroplan.families.spatial.links import SpatialLink
+    from acroplan.families.spatial.model import SpatialBody
+
+    axes = [(1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)]
+    links = [SpatialLink("l0", None, 1.0, (0.1, 0.2, 0.25))] + [
+        SpatialLink(f"l{i}", "l0", 1.0, (0.1, 0.2, 0.25), com=(0.3, 0.0, 0.0), joint=(0.6, 0.0, 0.0), axis=axes[i % 3])
+        for i in range(1, n)]
+    return SpatialBody(links, L=(0.0, 0.0, 0.0))
+
+
+def test_issue_25_the_spatial_compile_estimate_is_that_of_the_momentum_maps(monkeypatch):
+    """Since issue #22 a spatial plan compiles its topology's momentum maps (Gauss collocation of the
+    attitude), not the Taylor integrator the estimate was measured on: the estimate is the maps'
+    (processor seconds of their compilation, whatever the number of coefficients, in proportion to
+    the links past the last measured), none once they are compiled; the Taylor integrator's marker
+    no longer stands for them."""
+    from acroplan.families.spatial import collocation
+    from acroplan.families.spatial.examples import falling_cat_turn
+    from acroplan.families.tree import compile_cost
+
+    monkeypatch.setattr(backend, "_marker", lambda key: None)  # a machine that never compiled them
+    monkeypatch.setattr(backend, "_ONCE", {})
+    table = compile_cost.MEASURED["spatial-map"]
+    last = max(table)
+    star = _spatial_star(16)
+    est = backend.compile_estimate(star, Legendre, 6)
+    assert est.seconds == pytest.approx(compile_cost.SAFETY * table[last] * 16 / last)
+    assert est.growth.startswith("its topology's compiled momentum maps, whatever the number of coefficients")
+    assert backend.compile_estimate(star, Legendre, 3) == est  # the maps do not depend on the basis size
+    kw = {name: [0.0, 0.1] for name in star.state_names[4:]}
+    kw.update(qw=[1.0, 1.0], qx=[0.0, 0.0], qy=[0.0, 0.0], qz=[0.0, 0.0])
+    with pytest.raises(acroplan.InvalidInputError, match=r"time_limit: is 1 s, and compiling the integrator of a "
+                       r"spatial body of 16 links .*\(its topology's compiled momentum maps"):
+        PlanRequest.build(star, times=[0, 1], conditions="free", time_limit=1, **kw)
+    # the bundled cat's maps: a fraction of a second claimed, far inside the default time limit
+    cat, cat_kw = falling_cat_turn()
+    small = backend.compile_estimate(cat, Legendre, 6)
+    assert small.seconds == pytest.approx(compile_cost.SAFETY * table[4]) and small.seconds < 1.0
+    # compiled (here, or on this machine: compile_once's marker): no estimate, not refused
+    monkeypatch.setattr(backend, "_ONCE", {collocation.map_key(star): None, collocation.map_key(star, True): None})
+    assert backend.compile_estimate(star, Legendre, 6) is None
+    PlanRequest.build(star, times=[0, 1], conditions="free", time_limit=1, **kw)
+
+
+def test_issue_25_bundled_examples_need_no_time_limit_of_their_own(monkeypatch):
+    """The bundled falling cat had time_limit = 300 s for the first compilation of its Taylor
+    integrator; its plan compiles the collocation's momentum maps now (seconds), and every bundled
+    example plans under the default limit, none refused up front on a machine that never compiled."""
+    from acroplan.io import examples as bundled
+    from acroplan.planning import TIME_LIMIT
+
+    monkeypatch.setattr(backend, "_marker", lambda key: None)  # a machine that never compiled them
+    monkeypatch.setattr(backend, "_ONCE", {})
+    planned = []
+    for name in bundled.names():
+        assert "time_limit" not in bundled.text(name), name
+        try:
+            prob = bundled.load(name)
+        except acroplan.InvalidInputError as e:  # a simulation, a nilpotentization
+            assert e.field == "example", e
+            continue
+        req = PlanRequest.build(prob.system, **prob.plan_kwargs())
+        assert req.time_limit == TIME_LIMIT == 60.0
+        planned.append(name)
+    assert {"falling-cat", "diver-somersault", "space-robot-turn", "pike-dive"} <= set(planned)

@@ -703,6 +703,16 @@ def test_issue_25_a_long_chain_urdf_is_refused_before_pinocchio_reads_it(tmp_pat
     assert not (tmp_path / "out").exists()
 
 
+def test_issue_25_a_long_chain_urdf_in_a_sweep_is_refused_before_pinocchio_reads_it(tmp_path, capfd):
+    """``acroplan sweep`` of a body with the 3,831-link chain was killed by SIGSEGV too (exit 139 on
+    639160b): exit 2, one line, no store."""
+    (tmp_path / "body.urdf").write_text(chain_urdf(3831))
+    text = PLANAR_FILE + "[sweep]\nchunk_size = 5\n[sweep.grid]\nT = [1.0, 2.0]\n"
+    res = run(["sweep", write(tmp_path, text), "--out", tmp_path / "o.zarr"])
+    one_line_error(res, "body.urdf: body.urdf has 3830 moving joints (3831 moving links), more than 16 links")
+    assert capfd.readouterr().err == ""
+    assert not list(tmp_path.glob("*o.zarr*"))
+
 
 @pytest.mark.parametrize("value, words", [
     ("nan", "has mass = nan, not a finite number"),
@@ -779,6 +789,45 @@ def test_issue_25_urdf_paths_the_system_cannot_open_are_exit_2(tmp_path, value, 
     text = PLANAR_FILE.replace('"body.urdf"', value)
     res = run(["plan", write(tmp_path, text), "--out", tmp_path / "out", "--no-plots"])
     one_line_error(res, words)
+
+
+def _cat_file(**options) -> str:
+    """The bundled falling cat's problem file, its rates at the ends left free, with these options."""
+    from acroplan.io import examples as bundled
+
+    text = re.sub(r"\n(start|end)_rate = .*", "", bundled.text("falling-cat"))
+    return text.replace("[options]\n", "[options]\n" + "".join(f"{k} = {v}\n" for k, v in options.items()))
+
+
+@pytest.mark.parametrize("L, words", [
+    ("1e3", "plan.times: segment 0 lasts 0.5 s, and the angular momentum L = (1000, 0, 0) turns the body by itself"),
+    ("1e4", "L = (10000, 0, 0) turns the body by itself at 1.085e+06 rad/s, 5.425e+05 rad in that segment"),
+    ("1e6", "L = (1e+06, 0, 0) turns the body by itself at 1.085e+08 rad/s, 5.425e+07 rad in that segment"),
+])
+def test_issue_25_a_fast_spatial_momentum_is_exit_2_through_the_cli(tmp_path, L, words):
+    """A spatial angular_momentum of 1e3-1e6 exited 1 through the command line too (LinAlgError: SVD
+    did not converge, after RuntimeWarnings of overflow; reproduced on 639160b): exit 2, one line."""
+    text = _cat_file().replace("angular_momentum = [0.0, 0.0, 0.0]", f"angular_momentum = [{L}, 0.0, 0.0]")
+    res = run(["plan", write(tmp_path, text), "--out", tmp_path / "out", "--no-plots"])
+    one_line_error(res, words, "put waypoints closer in time")
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("options", [{"objective": '"energy"'}, {"tau_max": "50.0"}, {"objective": '"torque"'}])
+def test_issue_25_spatial_n_coefficients_3_is_exit_2_through_the_cli(tmp_path, options):
+    """n_coefficients = 3 with objective = "energy" or tau_max on a spatial body exited 1 through the
+    command line (ValueError: matmul: ... size 6 is different from 3; reproduced on 639160b)."""
+    res = run(["plan", write(tmp_path, _cat_file(n_coefficients=3, **options)), "--out", tmp_path / "out",
+               "--no-plots"])
+    one_line_error(res, "options.n_coefficients: 3 coefficients leave the spatial planner's shape loops one "
+                   "coefficient short on segment 0", "give options.n_coefficients = 4 or more")
+
+
+def test_issue_25_a_spatial_urdf_path_of_5000_characters_is_exit_2(tmp_path):
+    """urdf = "x" * 5000 (an OSError: File name too long, exit 1) in a spatial body's file."""
+    res = run(["plan", write(tmp_path, SPATIAL_FILE.replace('"body.urdf"', '"' + "x" * 5000 + '"')), "--out",
+               tmp_path / "out", "--no-plots"])
+    one_line_error(res, "body.urdf: is a path of 5000 characters, more than 1024")
 
 
 def _outside_cases(tmp_path):

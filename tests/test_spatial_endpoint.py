@@ -19,6 +19,7 @@ from acroplan.families.spatial import rotations as rot
 from acroplan.families.spatial.examples import falling_cat_turn
 from acroplan.families.spatial.zoo import random_segment
 
+
 def tight_endpoint(body, basis, x0, T, c):
     """x(T) by heyoka's Taylor integrator of the model's fields (f + G u) in long double, tol 1e-19."""
     return backend.reference_endpoint(body, basis, x0, T, c)

@@ -150,8 +150,13 @@ def test_drawings(tmp_path):
         assert np.allclose(V @ np.diag(moments) @ V.T, body.links[i].inertia_matrix, atol=1e-12)
     p = random_segment(100, 3)
     res = acroplan.plan(p.body, conditions="free", verify=False, **p.plan_kwargs())
-    frames = drawing.animate(res, tmp_path / "a.gif", fps=4, dpi=30)
+    frames = drawing.animate(res, tmp_path / "a.gif", fps=4, dpi=30, speed=1.0)  # real time
     assert frames == int(np.ceil(p.T * 4)) + 1 and Image.open(tmp_path / "a.gif").n_frames == frames
+    # by default a motion shorter than MIN_SECONDS is played slower, so that it lasts that long
+    from acroplan.core.animation import MIN_SECONDS
+
+    frames = drawing.animate(res, tmp_path / "b.gif", fps=4, dpi=30)
+    assert frames == int(np.ceil(max(p.T, MIN_SECONDS) * 4)) + 1
     fig = drawing.attitude_figure(res)
     lines = fig.axes[0].get_lines()
     assert [ln.get_label() for ln in lines[:3]] == ["somersault", "tilt", "twist"]

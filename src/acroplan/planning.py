@@ -177,58 +177,14 @@ class PlanRequest:
         if not isinstance(system, ControlAffineSystem):
             raise InvalidInputError("system", f"must be a ControlAffineSystem, got {type(system).__name__}",
                                     "use for example acroplan.Acrobot(...)")
-        states = system.state_names
-        waypoints, shorthand = {}, {}
-        for key, value in named.items():
-            if key in states:
-                waypoints[key] = value
-            elif (key.endswith("_min") or key.endswith("_max")) and key[:-4] in states:
-                shorthand[key] = value
-            else:
-                known = list(_OPTIONS) + list(states) + [f"{n}_{e}" for n in states for e in ("min", "max")]
-                close = difflib.get_close_matches(key, known, n=1, cutoff=0.6)
-                raise InvalidInputError(key, f"is not an option of plan() nor a state of {type(system).__name__}",
-                                        (f"did you mean {close[0]!r}? " if close else "") +
-                                        f"states are {list(states)}; bounds are NAME_min / NAME_max")
-        t = _vector("times", times)
-        if t.size < 2:
-            raise InvalidInputError("times", f"needs at least 2 values, got {t.size}", "give start and end times")
-        tl = t.tolist()
-        if any(b <= a for a, b in zip(tl, tl[1:])):
-            raise InvalidInputError("times", "must be strictly increasing", "sort the waypoints by time")
-        if np.max(np.abs(t)) > MAX_TIME:
-            raise InvalidInputError("times", f"reach {np.max(np.abs(t)):.3g}; times beyond {MAX_TIME:g} are more than "
-                                    "the arithmetic carries", "count time from the start of the motion")
-        durations = np.diff(t)
-        for k, T in enumerate(durations):
-            if not MIN_DURATION <= T <= MAX_DURATION:
-                raise InvalidInputError("times", f"segment {k} lasts {T:.3g}; durations must lie in "
-                                        f"[{MIN_DURATION:g}, {MAX_DURATION:g}] (powers of T up to the 29th enter "
-                                        "the exported coefficients)", "rescale the units of time")
-        missing = [name for name in states if name not in waypoints]
-        if missing:
-            raise InvalidInputError(missing[0], "is missing", f"give one value per waypoint for every state "
-                                    f"{list(states)}")
+        waypoints, shorthand = _split_named(system, named)
+        t = _times(times)
         if not isinstance(degrees, bool):
             raise InvalidInputError("degrees", f"must be True or False, got {_short(degrees)}", "give a boolean")
-        X = np.stack([_waypoints(name, waypoints[name], t.size) for name in states], axis=1)
-        free = np.isnan(X)
-        if free.any() and system.ndx != system.n_states:
-            raise InvalidInputError(states[int(np.argwhere(free)[0][1])], "free waypoint states need a Euclidean "
-                                    f"state space, which {type(system).__name__} does not have",
-                                    "give every state at every waypoint")
-        angles = [i for i, name in enumerate(states) if name in system.angle_states]
+        X, free = _waypoint_matrix(system, t, waypoints)
         if degrees:  # every angle given in degrees: waypoints, bounds and rate limits
-            X[:, angles] = np.radians(X[:, angles])
-            shorthand = {k: (None if v is None else _deg(k, v, k[:-4] in system.angle_states))
-                         for k, v in shorthand.items()}
-            u_max = None if u_max is None else _deg("u_max", u_max, True)
-            state_bounds = None if not state_bounds else {
-                k: tuple(None if v is None else _deg(f"state_bounds.{k}", v, k in system.angle_states) for v in pair)
-                for k, pair in dict(state_bounds).items()}
-            input_bounds = None if not input_bounds else {
-                k: _deg(f"input_bounds.{k}", v, system.rate_inputs.get(k) in system.angle_states)
-                for k, v in dict(input_bounds).items()}
+            X, shorthand, u_max, state_bounds, input_bounds = _from_degrees(system, X, shorthand, u_max, state_bounds,
+                                                                            input_bounds)
         asked = objective is not None or tau_max is not None
         strategy, objective, torque_limits = _optimal_strategy(system, method, objective, tau_max)
         if conditions is None:  # optimal plans leave the end inputs free: pinned, the optimum is not attained
@@ -236,62 +192,153 @@ class PlanRequest:
         check_conditions(conditions, system)
         sizes = None if n_coefficients is None else (_whole("n_coefficients", n_coefficients, 6, MAX_COEFFICIENTS),)
         b = make_basis(basis, sizes[0] if sizes else DEFAULT_SIZE)
-        if not (isinstance(tol, (int, float)) and not isinstance(tol, bool) and math.isfinite(tol) and tol > 0):
-            raise InvalidInputError("tol", f"must be a positive number, got {tol!r}", "give for example 1e-10")
-        max_evaluations = _whole("max_evaluations", max_evaluations, 2000)
+        tol, max_evaluations, time_limit = _solver_options(tol, max_evaluations, time_limit)
         verify = resolve_verify(system, verify)
-        if time_limit is not None and not (isinstance(time_limit, (int, float, np.floating, np.integer))
-                                           and not isinstance(time_limit, bool) and 0 < time_limit < math.inf):
-            raise InvalidInputError("time_limit", f"must be a positive number of seconds or None, got "
-                                    f"{_short(time_limit)}", "give for example 60")
-        if limits is not None and not isinstance(limits, Limits):
-            raise InvalidInputError("limits", f"must be an acroplan.Limits, got {type(limits).__name__}",
-                                    "give Limits(...) or the keywords u_max, NAME_min, NAME_max")
-        if limits is not None and (u_max is not None or state_bounds or input_bounds or shorthand):
-            raise InvalidInputError("limits", "is given together with limit keywords",
-                                    "give either limits=Limits(...) or the keywords")
-        if limits is None:
-            given = Limits(state_bounds, input_bounds, u_max=u_max, **shorthand)
-            # the system's own limits (a URDF's joint ranges and rates) hold unless the call gives
-            # limits of its own; limits=Limits() (empty) switches them off
-            limits = given if given.active else (system.default_limits() or given)
-        limits.check_for(system)
-        for state in limits.bounded_states:
-            i = states.index(state)
-            lo, hi = limits.bounds(state)
-            for k, v in enumerate(X[:, i]):
-                if not np.isnan(v) and not lo <= v <= hi:
-                    raise InvalidInputError(state, f"waypoint {k} (t = {t[k]:g}) has {state} = {v:.12g}, outside "
-                                            f"the joint limits [{lo:.12g}, {hi:.12g}]",
-                                            "move the waypoint inside the limits or widen them")
-        rates = {}
-        for field, value in (("start_rate", start_rate), ("end_rate", end_rate)):
-            if value is None:
-                continue
-            if conditions == "spline":
-                raise InvalidInputError(field, "applies to conditions=\"free\" only (the spline already starts and "
-                                        "ends at rest)", "leave it out, or use conditions=\"free\"")
-            if isinstance(value, dict):
-                unknown = sorted(set(value) - set(system.input_names))
-                if unknown:
-                    raise InvalidInputError(f"{field}.{unknown[0]}", f"is not an input of {type(system).__name__}",
-                                            f"inputs are {list(system.input_names)}")
-                value = [value.get(name, 0.0) for name in system.input_names]
-            v = _vector(field, np.broadcast_to(np.asarray(value, dtype=float), (system.n_inputs,))
-                        if np.ndim(value) == 0 and not isinstance(value, (str, bool)) else value, system.n_inputs)
-            if degrees:
-                v = np.array([np.radians(x) if system.rate_inputs.get(n) in system.angle_states else x
-                              for n, x in zip(system.input_names, v)])
-            rates[field] = v
+        limits = _limits_of(system, limits, u_max, state_bounds, input_bounds, shorthand, X, t)
+        rates = _end_rates(system, conditions, degrees, start_rate=start_rate, end_rate=end_rate)
         req = cls(system=system, times=t, waypoints=X, free=free, conditions=conditions, strategy=strategy, basis=b,
-                  sizes=sizes, limits=limits, verify=verify, tol=float(tol), max_evaluations=max_evaluations,
-                  time_limit=None if time_limit is None else float(time_limit), start_rate=rates.get("start_rate"),
-                  end_rate=rates.get("end_rate"), degrees=degrees, objective=objective, torque_limits=torque_limits)
+                  sizes=sizes, limits=limits, verify=verify, tol=tol, max_evaluations=max_evaluations,
+                  time_limit=time_limit, start_rate=rates.get("start_rate"), end_rate=rates.get("end_rate"),
+                  degrees=degrees, objective=objective, torque_limits=torque_limits)
         fam = family_of(system)
         if fam is not None and fam.check_request is not None:
             fam.check_request(req)  # what the family's planners cannot take, refused at the boundary
         _check_compile_time(req)
         return req
+
+
+def _split_named(system, named: dict) -> tuple[dict, dict]:
+    """plan()'s other keywords: ``(waypoints, shorthand)``, the states' waypoint values by name and
+    the bound keywords ``NAME_min`` / ``NAME_max``; anything else is refused with the closest name."""
+    states = system.state_names
+    waypoints, shorthand = {}, {}
+    for key, value in named.items():
+        if key in states:
+            waypoints[key] = value
+        elif (key.endswith("_min") or key.endswith("_max")) and key[:-4] in states:
+            shorthand[key] = value
+        else:
+            known = list(_OPTIONS) + list(states) + [f"{n}_{e}" for n in states for e in ("min", "max")]
+            close = difflib.get_close_matches(key, known, n=1, cutoff=0.6)
+            raise InvalidInputError(key, f"is not an option of plan() nor a state of {type(system).__name__}",
+                                    (f"did you mean {close[0]!r}? " if close else "") +
+                                    f"states are {list(states)}; bounds are NAME_min / NAME_max")
+    return waypoints, shorthand
+
+
+def _times(times) -> np.ndarray:
+    """The waypoint times checked: at least two, strictly increasing, within the range the
+    arithmetic carries, each segment's duration in [MIN_DURATION, MAX_DURATION]."""
+    t = _vector("times", times)
+    if t.size < 2:
+        raise InvalidInputError("times", f"needs at least 2 values, got {t.size}", "give start and end times")
+    tl = t.tolist()
+    if any(b <= a for a, b in zip(tl, tl[1:])):
+        raise InvalidInputError("times", "must be strictly increasing", "sort the waypoints by time")
+    if np.max(np.abs(t)) > MAX_TIME:
+        raise InvalidInputError("times", f"reach {np.max(np.abs(t)):.3g}; times beyond {MAX_TIME:g} are more than "
+                                "the arithmetic carries", "count time from the start of the motion")
+    for k, T in enumerate(np.diff(t)):
+        if not MIN_DURATION <= T <= MAX_DURATION:
+            raise InvalidInputError("times", f"segment {k} lasts {T:.3g}; durations must lie in "
+                                    f"[{MIN_DURATION:g}, {MAX_DURATION:g}] (powers of T up to the 29th enter "
+                                    "the exported coefficients)", "rescale the units of time")
+    return t
+
+
+def _waypoint_matrix(system, t, waypoints: dict) -> tuple[np.ndarray, np.ndarray]:
+    """The waypoints as a matrix, shape (len(t), n_states), and where they are free (NaN)."""
+    states = system.state_names
+    missing = [name for name in states if name not in waypoints]
+    if missing:
+        raise InvalidInputError(missing[0], "is missing", f"give one value per waypoint for every state "
+                                f"{list(states)}")
+    X = np.stack([_waypoints(name, waypoints[name], t.size) for name in states], axis=1)
+    free = np.isnan(X)
+    if free.any() and system.ndx != system.n_states:
+        raise InvalidInputError(states[int(np.argwhere(free)[0][1])], "free waypoint states need a Euclidean "
+                                f"state space, which {type(system).__name__} does not have",
+                                "give every state at every waypoint")
+    return X, free
+
+
+def _from_degrees(system, X, shorthand, u_max, state_bounds, input_bounds):
+    """``degrees=True``: every angle (waypoints, bounds, rate limits) converted to radians."""
+    angles = [i for i, name in enumerate(system.state_names) if name in system.angle_states]
+    X = X.copy()
+    X[:, angles] = np.radians(X[:, angles])
+    shorthand = {k: (None if v is None else _deg(k, v, k[:-4] in system.angle_states)) for k, v in shorthand.items()}
+    u_max = None if u_max is None else _deg("u_max", u_max, True)
+    state_bounds = None if not state_bounds else {
+        k: tuple(None if v is None else _deg(f"state_bounds.{k}", v, k in system.angle_states) for v in pair)
+        for k, pair in dict(state_bounds).items()}
+    input_bounds = None if not input_bounds else {
+        k: _deg(f"input_bounds.{k}", v, system.rate_inputs.get(k) in system.angle_states)
+        for k, v in dict(input_bounds).items()}
+    return X, shorthand, u_max, state_bounds, input_bounds
+
+
+def _solver_options(tol, max_evaluations, time_limit) -> tuple[float, int, float | None]:
+    """``tol``, ``max_evaluations`` and ``time_limit`` checked."""
+    if not (isinstance(tol, (int, float)) and not isinstance(tol, bool) and math.isfinite(tol) and tol > 0):
+        raise InvalidInputError("tol", f"must be a positive number, got {tol!r}", "give for example 1e-10")
+    max_evaluations = _whole("max_evaluations", max_evaluations, 2000)
+    if time_limit is not None and not (isinstance(time_limit, (int, float, np.floating, np.integer))
+                                       and not isinstance(time_limit, bool) and 0 < time_limit < math.inf):
+        raise InvalidInputError("time_limit", f"must be a positive number of seconds or None, got "
+                                f"{_short(time_limit)}", "give for example 60")
+    return float(tol), max_evaluations, None if time_limit is None else float(time_limit)
+
+
+def _limits_of(system, limits, u_max, state_bounds, input_bounds, shorthand, X, t) -> Limits:
+    """The plan's :class:`Limits`: ``limits=`` or the limit keywords (not both), else the system's
+    own (a URDF's joint ranges and rates); every waypoint checked to lie inside them."""
+    if limits is not None and not isinstance(limits, Limits):
+        raise InvalidInputError("limits", f"must be an acroplan.Limits, got {type(limits).__name__}",
+                                "give Limits(...) or the keywords u_max, NAME_min, NAME_max")
+    if limits is not None and (u_max is not None or state_bounds or input_bounds or shorthand):
+        raise InvalidInputError("limits", "is given together with limit keywords",
+                                "give either limits=Limits(...) or the keywords")
+    if limits is None:
+        given = Limits(state_bounds, input_bounds, u_max=u_max, **shorthand)
+        # the system's own limits (a URDF's joint ranges and rates) hold unless the call gives
+        # limits of its own; limits=Limits() (empty) switches them off
+        limits = given if given.active else (system.default_limits() or given)
+    limits.check_for(system)
+    states = system.state_names
+    for state in limits.bounded_states:
+        i = states.index(state)
+        lo, hi = limits.bounds(state)
+        for k, v in enumerate(X[:, i]):
+            if not np.isnan(v) and not lo <= v <= hi:
+                raise InvalidInputError(state, f"waypoint {k} (t = {t[k]:g}) has {state} = {v:.12g}, outside "
+                                        f"the joint limits [{lo:.12g}, {hi:.12g}]",
+                                        "move the waypoint inside the limits or widen them")
+    return limits
+
+
+def _end_rates(system, conditions: str, degrees: bool, **given) -> dict[str, np.ndarray]:
+    """``start_rate`` and ``end_rate`` (``conditions="free"`` only) as vectors of the inputs, in rad/s."""
+    rates = {}
+    for field, value in given.items():
+        if value is None:
+            continue
+        if conditions == "spline":
+            raise InvalidInputError(field, "applies to conditions=\"free\" only (the spline already starts and "
+                                    "ends at rest)", "leave it out, or use conditions=\"free\"")
+        if isinstance(value, dict):
+            unknown = sorted(set(value) - set(system.input_names))
+            if unknown:
+                raise InvalidInputError(f"{field}.{unknown[0]}", f"is not an input of {type(system).__name__}",
+                                        f"inputs are {list(system.input_names)}")
+            value = [value.get(name, 0.0) for name in system.input_names]
+        v = _vector(field, np.broadcast_to(np.asarray(value, dtype=float), (system.n_inputs,))
+                    if np.ndim(value) == 0 and not isinstance(value, (str, bool)) else value, system.n_inputs)
+        if degrees:
+            v = np.array([np.radians(x) if system.rate_inputs.get(n) in system.angle_states else x
+                          for n, x in zip(system.input_names, v)])
+        rates[field] = v
+    return rates
 
 
 def _check_compile_time(req: PlanRequest) -> None:

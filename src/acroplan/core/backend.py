@@ -48,7 +48,7 @@ from .basis import InputBasis
 from .system import ControlAffineSystem
 
 __all__ = ["IntegrationError", "endpoint", "taylor_endpoint", "reference_endpoint", "sample", "taylor_sample",
-           "compile_for", "compiled_count", "compile_estimate", "CompileEstimate"]
+           "compile_for", "compile_once", "compiled_before", "compiled_count", "compile_estimate", "CompileEstimate"]
 
 #: Taylor integrator tolerance: machine precision for double.
 TOL = 1e-15
@@ -164,6 +164,56 @@ def compile_for(system: ControlAffineSystem, basis_cls: type[InputBasis], n: int
     return _TEMPLATES[key]
 
 
+_ONCE: dict[Hashable, object] = {}
+_ONCE_PENDING: dict[Hashable, _Build] = {}
+
+
+def _run_once(job: _Build, key, build) -> None:
+    try:
+        out = build()
+        with _BUILD_LOCK:
+            _ONCE[key] = out
+        _mark_compiled(key)
+    except BaseException as e:  # noqa: BLE001 - handed to the callers waiting for it
+        job.error = e
+    finally:
+        with _BUILD_LOCK:
+            _ONCE_PENDING.pop(key, None)
+        job.done.set()
+
+
+def compile_once(key: tuple, build):
+    """``build()`` (a compilation: a ``heyoka.cfunc`` a family compiles, say) once per ``key`` in
+    this process, as :func:`compile_for` compiles an integrator: in a thread of its own, waited for
+    within the caller's time budget (:class:`~acroplan.core.budget.BudgetExceeded` at its deadline,
+    the compilation going on in the background and kept for the next caller), one compilation
+    however many threads ask; once done it is marked on this machine (:func:`compiled_before`).
+    ``key``: a tuple of hashable values whose ``repr`` is the same in every process."""
+    if key in _ONCE:
+        return _ONCE[key]
+    with _BUILD_LOCK:
+        if key in _ONCE:
+            return _ONCE[key]
+        job = _ONCE_PENDING.get(key)
+        if job is None:
+            job = _ONCE_PENDING[key] = _Build()
+            threading.Thread(target=_run_once, args=(job, key, build), daemon=True,
+                             name=f"acroplan-compile-{key[0]}").start()
+    budget.wait(job.done)
+    if job.error is not None:
+        raise job.error
+    return _ONCE[key]
+
+
+def compiled_before(key: tuple) -> bool:
+    """Whether :func:`compile_once` compiled ``key`` in this process (or is compiling it), or on
+    this machine before (heyoka keeps the code on disk: a second process builds it in seconds)."""
+    if key in _ONCE or key in _ONCE_PENDING:
+        return True
+    marker = _marker(key)
+    return marker is not None and marker.exists()
+
+
 class CompileEstimate(NamedTuple):
     """A lower bound of a first compilation's seconds (:func:`compile_estimate`)."""
 
@@ -173,15 +223,19 @@ class CompileEstimate(NamedTuple):
 
 
 def _marker(key) -> Path | None:
-    """The file that says ``key`` was compiled on this machine (in heyoka's on-disk cache folder)."""
+    """The file that says ``key`` was compiled on this machine (in heyoka's on-disk cache folder):
+    an integrator's ``(structure key, basis class, size)``, or the key of :func:`compile_once`."""
     try:
         if not hy.llvm_state.get_diskcache_enabled():
             return None
         folder = Path(hy.llvm_state.get_diskcache_path()) / "acroplan-compiled"
     except Exception:  # noqa: BLE001 - no disk cache: no marker
         return None
-    structure, basis_cls, n = key
-    text = f"{structure!r}|{basis_cls.__module__}.{basis_cls.__qualname__}|{n}|heyoka {hy.__version__}"
+    if len(key) == 3 and isinstance(key[1], type):
+        structure, basis_cls, n = key
+        text = f"{structure!r}|{basis_cls.__module__}.{basis_cls.__qualname__}|{n}|heyoka {hy.__version__}"
+    else:
+        text = f"{key!r}|heyoka {hy.__version__}"
     return folder / hashlib.sha256(text.encode()).hexdigest()[:32]
 
 

@@ -58,7 +58,12 @@ missing hook means the family does not offer that job, and the layer asking says
    animation (``gif``, and ``mp4`` when not ``None`` and ffmpeg is there) and the strobe figure of
    the motion an output folder holds (``solution``: its ``solution.json``; ``load()``: the
    :class:`~acroplan.core.result.PlanResult` it records); returns the number of frames.
-   ``animate(result, path, **kw) -> int`` (optional): the animation of a result.
+   ``animate(result, path, **kw) -> int`` (optional): the animation of a result
+   (:meth:`PlanResult.animate <acroplan.core.result.PlanResult.animate>`); ``view(result, path,
+   samples=None, **kw) -> path`` (optional): an interactive 3-D view in the browser, one HTML page
+   (:meth:`PlanResult.view <acroplan.core.result.PlanResult.view>`, ``acroplan view``; ``samples``:
+   an output folder's sampled states, ``(t, X)``); with ``path=None`` the figure itself (shown
+   inline in a notebook).
 9. ``cli_verify`` (str or None): the check the command line asks for (``"ode"``: the DOP853
    re-simulation, which the acrobot affords at any size); ``None``: the family's own check where
    it has one.
@@ -101,11 +106,12 @@ from __future__ import annotations
 
 import dataclasses
 import importlib
+import sys
 import threading
 from pathlib import Path
 from typing import Any, Callable, Mapping
 
-__all__ = ["Family", "Example", "ReadContext", "register_family", "families", "family_of", "family_named",
+__all__ = ["Family", "Example", "ReadContext", "lazy_package", "register_family", "families", "family_of", "family_named",
            "reader_for", "hook", "prepare", "prepare_all", "system_classes", "ENTRY_POINT_GROUP"]
 
 #: The entry point group a family is registered under.
@@ -206,6 +212,7 @@ class Family:
     commands: Mapping[str, str] = dataclasses.field(default_factory=dict)
     draw: Callable[..., int] | None = None
     animate: Callable[..., int] | None = None
+    view: Callable[..., Any] | None = None
     limits_in_body: bool = False
     cli_verify: str | None = None
     torque_hint: tuple[str, str] | None = None
@@ -330,11 +337,61 @@ def prepare(system) -> None:
     _PREPARED_TYPES.add(cls)
 
 
+def lazy_package(package: str, names: Mapping[str, str]):
+    """A family package's ``__getattr__`` and ``__dir__`` (PEP 562): each public name of ``names``
+    (name -> module of the package) is imported on its first use, and with it the family's
+    :attr:`Family.setup` modules (its ``family.py`` ``FAMILY``), so that importing the package, or
+    its light descriptor, imports no numerics.
+
+    Examples
+    --------
+    In a family's ``__init__.py``::
+
+        _NAMES = {"PlanarBody": "model", "read_urdf": "urdf"}
+        __all__ = list(_NAMES)
+        __getattr__, __dir__ = lazy_package(__name__, _NAMES)
+    """
+    module = sys.modules[package]
+
+    def __getattr__(name: str):
+        if name not in names:
+            raise AttributeError(f"module {package!r} has no attribute {name!r}")
+        value = getattr(importlib.import_module(f"{package}.{names[name]}"), name)
+        try:
+            fam = importlib.import_module(f"{package}.family").FAMILY
+        except ModuleNotFoundError as e:  # a package that registers no family
+            if e.name != f"{package}.family":
+                raise
+            fam = None
+        if fam is not None:
+            for setup in fam.setup:  # what the family registers (prepare)
+                importlib.import_module(setup)
+        setattr(module, name, value)
+        return value
+
+    def __dir__():
+        return sorted(set(vars(module)) | set(names))
+
+    return __getattr__, __dir__
+
+
 def prepare_all() -> None:
     """:func:`prepare` every registered family (what a look-up by name needs: a sweep's derived
     quantity or factory)."""
     for fam in families():
         _prepare_family(fam)
+
+
+def registered_class(name: str) -> type | None:
+    """The registered family's system class named ``name`` (imported), or ``None``: what a record's
+    ``system.type`` names, before any other class of the same name (a user's, defined in a notebook
+    before the family's class was first imported)."""
+    for fam in families():
+        if name in fam.type_names():
+            for cls in fam.classes():
+                if cls.__name__ == name:
+                    return cls
+    return None
 
 
 def system_classes() -> dict[str, type]:

@@ -77,7 +77,9 @@ def plot_input(result, samples=None, *, ax=None):
     for tk in result.times:
         ax.axvline(tk, color="0.75", lw=0.8, ls="--", zorder=0)
     ax.set_xlabel("t [s]")
-    ax.set_ylabel("u = dφ/dt [rad/s]" if samples.input_names == ("u",) else "input")
+    units = {_input_unit(result.system, name) for name in samples.input_names}
+    unit = units.pop() if len(units) == 1 else ""
+    ax.set_ylabel("u = dφ/dt [rad/s]" if samples.input_names == ("u",) else (f"input [{unit}]" if unit else "input"))
     ax.set_title("Input u(t)" if samples.input_names == ("u",) else "Inputs")
     ax.grid(alpha=0.3)
     limits = getattr(result, "limits", None)
@@ -91,49 +93,94 @@ def plot_input(result, samples=None, *, ax=None):
     return fig if own else ax
 
 
-_LABELS = {"theta": "θ [rad]", "phi": "φ [rad]"}
+_SYMBOLS = {"theta": "θ", "phi": "φ"}
 
 
-def _state_panel(ax, result, samples, i, name, color):
-    ax.plot(samples.t, samples.states[i], lw=1.6, color=color, label=name)
-    ax.plot(result.times, result.waypoints[:, i], "o", mfc="white", color="k", ms=5)
-    lo_v, hi_v = float(np.min(samples.states[i])), float(np.max(samples.states[i]))
+def _input_unit(system, name: str) -> str:
+    """An input's unit: a rate of a state (``rate_inputs``) has the state's unit per second."""
+    state = getattr(system, "rate_inputs", {}).get(name)
+    unit = system.state_unit(state) if state is not None else ""
+    return f"{unit}/s" if unit else ""
+
+
+def _label(name: str, unit: str) -> str:
+    """An axis label: the state's name (θ, φ for the acrobot's) and its unit in brackets."""
+    return f"{_SYMBOLS.get(name, name)} [{unit}]" if unit else _SYMBOLS.get(name, name)
+
+
+def _panels(result, samples, degrees: bool):
+    """The panels of the states figure: ``(label, unit, values at samples.t, values at the
+    waypoints, state or None)`` each, from the system's :meth:`display_states
+    <acroplan.core.system.ControlAffineSystem.display_states>` (a spatial body's attitude as
+    Yeadon's angles). A panel that is not a state itself (an attitude angle) has its waypoints
+    moved by whole turns to the curve's branch (the unwrapped angle), so that a waypoint reached
+    sits on its curve."""
+    system = result.system
+    shown = system.display_states(samples.states, degrees=degrees)
+    wps = system.display_states(np.asarray(result.waypoints, dtype=float).T, degrees=degrees)
+    out = []
+    for (name, values, unit, state), (_, wp, _, _) in zip(shown, wps):
+        wp = np.array(wp, dtype=float)
+        if state is None and unit in ("rad", "deg"):
+            turn = 360.0 if unit == "deg" else 2 * np.pi
+            at = np.interp(result.times, samples.t, values)
+            ok = np.isfinite(wp)
+            wp[ok] += turn * np.round((at[ok] - wp[ok]) / turn)
+        out.append((name, unit, np.asarray(values, dtype=float), wp, state))
+    return out
+
+
+def _state_panel(ax, result, samples, panel, color):
+    name, unit, values, wp, state = panel
+    ax.plot(samples.t, values, lw=1.6, color=color, label=name)
+    ax.plot(result.times, wp, "o", mfc="white", color="k", ms=5)
+    lo_v, hi_v = float(np.min(values)), float(np.max(values))
+    to_unit = np.degrees if unit == "deg" else (lambda v: v)
     limits = getattr(result, "limits", None)
-    if limits is not None and name in limits.bounded_states:
-        for v in limits.bounds(name):
+    if state is not None and limits is not None and state in limits.bounded_states:
+        label = f"{name} limits"
+        for v in limits.bounds(state):
             if np.isfinite(v):
-                ax.axhline(v, color="C3", lw=1.0, ls=":", label=f"{name} limit")
-    for v, label in result.system.reference_lines(name, lo_v, hi_v):
-        ax.axhline(v, color="0.6", lw=0.7, ls="--", zorder=0)
-        ax.annotate(label, (1.0, v), xycoords=("axes fraction", "data"), xytext=(2, 0),
-                    textcoords="offset points", va="center", fontsize=7, color="0.4", annotation_clip=False)
+                ax.axhline(to_unit(v), color="C3", lw=1.0, ls=":", label=label)
+                label = None  # (each item once in the legend)
+    if state is not None:
+        raw = (np.radians(lo_v), np.radians(hi_v)) if unit == "deg" else (lo_v, hi_v)
+        for v, label in result.system.reference_lines(state, *raw):
+            ax.axhline(to_unit(v), color="0.6", lw=0.7, ls="--", zorder=0)
+            ax.annotate(label, (1.0, to_unit(v)), xycoords=("axes fraction", "data"), xytext=(2, 0),
+                        textcoords="offset points", va="center", fontsize=7, color="0.4", annotation_clip=False)
 
 
-def plot_states(result, samples=None, *, ax=None):
-    """Fig. 2 style: one panel per state (θ above φ for the acrobot), waypoints marked (white
-    dots), state limits dotted, and the family's reference values dashed (the acrobot's straight
-    and folded body). Given ``ax``, every state is drawn on that one panel and ``ax`` returned."""
+def plot_states(result, samples=None, *, ax=None, degrees: bool = False):
+    """Fig. 2 style: one panel per state (θ above φ for the acrobot; a spatial body's attitude as
+    Yeadon's somersault, tilt and twist, then its joints), waypoints marked (white dots), state
+    limits dotted, and the family's reference values dashed (the acrobot's straight and folded
+    body); every axis with its unit. ``degrees``: angles in degrees. Given ``ax``, every state is
+    drawn on that one panel and ``ax`` returned."""
     plt = pyplot()
     samples = samples if samples is not None else result.sample(effort=False)
-    names = samples.state_names
+    panels = _panels(result, samples, degrees)
     if ax is not None:
-        for i, name in enumerate(names):
-            _state_panel(ax, result, samples, i, name, f"C{i}")
+        for i, panel in enumerate(panels):
+            _state_panel(ax, result, samples, panel, f"C{i}")
         ax.set_xlabel("t [s]")
-        ax.set_ylabel("state")
+        units = sorted({p[1] for p in panels})
+        ax.set_ylabel(f"states [{units[0]}]" if len(units) == 1 and units[0] else "states")
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
         return ax
-    n = len(names)
-    fig, axes = plt.subplots(n, 1, figsize=(7, 2.6 * n), sharex=True, constrained_layout=True)
+    n = len(panels)
+    fig, axes = plt.subplots(n, 1, figsize=(7, max(2.6 * n, 3.0) if n <= 8 else 1.7 * n), sharex=True,
+                             constrained_layout=True)
     axes = np.atleast_1d(axes)
-    for i, (axi, name) in enumerate(zip(axes, names)):
-        _state_panel(axi, result, samples, i, name, f"C{i}")
-        axi.set_ylabel(_LABELS.get(name, name))
+    for i, (axi, panel) in enumerate(zip(axes, panels)):
+        _state_panel(axi, result, samples, panel, f"C{i}")
+        axi.set_ylabel(_label(panel[0], panel[1]))
         axi.grid(alpha=0.3)
         handles, labels = axi.get_legend_handles_labels()
         if len(handles) > 1:
             axi.legend(loc="best", fontsize=8)
+    names = tuple(p[0] for p in panels)
     axes[0].set_title("States (white dots: waypoints)" + (": θ (upper), φ (lower)" if names == ("theta", "phi")
                                                            else ""))
     axes[-1].set_xlabel("t [s]")
@@ -144,11 +191,13 @@ def plot_states(result, samples=None, *, ax=None):
 FIGURES = ("input", "states", "continuation", "effort")
 
 
-def plot_result(result, which=None, *, per_segment: int = 200, effort: bool = False) -> Figures:
+def plot_result(result, which=None, *, per_segment: int = 200, effort: bool = False, degrees: bool = False
+                ) -> Figures:
     """The figures of a plan (a :class:`Figures`): by default ``input`` (Fig. 1), ``states`` (Fig. 2)
     and ``continuation`` (only when a segment was planned by path deformation), and ``effort``
     with ``effort=True``; ``which`` (a name or a sequence of names of :data:`FIGURES`) draws those
-    alone. Reports the stage ``"figures"`` (:mod:`acroplan.core.progress`)."""
+    alone; ``degrees``: the states' angles in degrees. Reports the stage ``"figures"``
+    (:mod:`acroplan.core.progress`)."""
     from .progress import stage
 
     if which is None:
@@ -169,9 +218,10 @@ def plot_result(result, which=None, *, per_segment: int = 200, effort: bool = Fa
             for name in names:
                 if name == "continuation":
                     figs[name] = plot_continuation(result)
+                elif name == "states":
+                    figs[name] = plot_states(result, samples, degrees=degrees)
                 else:
-                    figs[name] = {"input": plot_input, "states": plot_states, "effort": plot_effort}[name](
-                        result, samples)
+                    figs[name] = {"input": plot_input, "effort": plot_effort}[name](result, samples)
                 st.update(detail=name)
         except BaseException:
             figs.close()

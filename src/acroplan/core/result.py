@@ -773,6 +773,46 @@ class PlanResult:
                                     "animate hook)", "draw it yourself from result.sample()")
         return animate_result(self, fam.animate, path, **kwargs)
 
+    def view(self, path=None, **kwargs):
+        """An interactive 3-D view of the motion in the browser, drawn by the system's family (its
+        ``view`` hook: a spatial body's, :mod:`acroplan.families.spatial.view`): one
+        self-contained HTML page (plotly, its JavaScript inline) with play, pause and a time slider,
+        the body as shaded solids, the root's axes, the angular momentum vector, and the attitude
+        and joint angles beside it.
+
+        Parameters
+        ----------
+        path : str or pathlib.Path, optional
+            The page to write. Without it: in a notebook the figure is returned (shown inline,
+            interactive); elsewhere the page is written to ``view.html`` in the current folder.
+        **kwargs
+            The family's options (``frames``: how many, default 120; ``title``).
+
+        Returns
+        -------
+        pathlib.Path, or a plotly Figure in a notebook without ``path``
+
+        Raises
+        ------
+        InvalidInputError
+            The result has no planned segments, or the family offers no view (planar bodies and
+            the acrobot: ``animate`` them).
+        """
+        from pathlib import Path
+
+        from .family import family_of
+        from .progress import in_notebook
+
+        if not self.segments:
+            raise InvalidInputError("result", "has no planned segments to view", "plan a motion first")
+        fam = family_of(self.system)
+        if fam is None or fam.view is None:
+            raise InvalidInputError("system", f"{type(self.system).__name__} has no 3-D view (its family offers no "
+                                    "view hook)", "use result.animate() for its animation")
+        if path is None and in_notebook():
+            return fam.view(self, None, **kwargs)  # (the figure: the hook's contract)
+        return Path(fam.view(self, Path("view.html" if path is None else path), **kwargs))
+
     def to_pandas(self, per_segment: int = 200):
         """A dense sample as a pandas DataFrame: columns ``t``, the states and the inputs, and
         ``tau_<joint>``, ``power_<joint>`` per joint when the system has a torque model

@@ -43,7 +43,7 @@ from typing import Any, Callable, ClassVar, Hashable
 import numpy as np
 import sympy as sp
 
-from .family import prepare, system_classes
+from .family import prepare, registered_class, system_classes
 
 __all__ = ["ControlAffineSystem", "Infeasibility", "register_torque_model", "TORQUE_MODELS", "torque_model_of",
            "joint_inputs"]
@@ -363,6 +363,28 @@ class ControlAffineSystem(abc.ABC):
         a :class:`~acroplan.core.limits.Limits`, or ``None`` (the default: no limits)."""
         return None
 
+    def state_unit(self, state: str) -> str:
+        """The unit of ``state`` on figures: ``"rad"`` for the :attr:`angle_states`, ``""`` for the
+        others by default (abstract coordinates); a family overrides it."""
+        return "rad" if state in self.angle_states else ""
+
+    def display_states(self, X, *, degrees: bool = False) -> list[tuple[str, np.ndarray, str, str | None]]:
+        """What a figure of the states draws (:func:`~acroplan.core.plotting.plot_states`): one
+        ``(label, values, unit, state)`` per panel from states ``X`` (shape (n, N), columns at
+        times), ``state`` the state it shows or ``None`` for a coordinate made from several (its
+        limits and reference lines are the state's). By default each state as it is
+        (``degrees``: angles in ``"rad"`` shown in degrees); a family with better coordinates
+        overrides it (a spatial body's attitude as Yeadon's angles)."""
+        X = np.asarray(X, dtype=float)
+        out = []
+        for i, name in enumerate(self.state_names):
+            unit = self.state_unit(name)
+            if degrees and unit == "rad":
+                out.append((name, np.degrees(X[i]), "deg", name))
+            else:
+                out.append((name, X[i], unit, name))
+        return out
+
     def reference_lines(self, state: str, lo: float, hi: float) -> list[tuple[float, str]]:
         """Values of ``state`` worth marking on plots between ``lo`` and ``hi``, with labels (the
         acrobot's straight and folded body). None by default."""
@@ -456,12 +478,15 @@ class ControlAffineSystem(abc.ABC):
 
         if cls is ControlAffineSystem:
             kind = data.get("type") if isinstance(data, dict) else None
-            if kind not in _TYPES:
-                system_classes()  # the registered families' classes, imported
-            if kind not in _TYPES:
+            # a registered family's class of that name first, else a class defined so far
+            target = registered_class(kind) if isinstance(kind, str) else None
+            if target is None:
+                target = _TYPES.get(kind)
+            if target is None:
+                system_classes()  # (every registered family imported, for the message)
                 raise InvalidInputError("system.type", f"unknown system type {kind!r}",
                                         f"known types are {sorted(_TYPES)} (import the family first)")
-            return _TYPES[kind].from_dict(data)
+            return target.from_dict(data)
         return cls(**dict(data.get("params", {})))
 
     # ------------------------------------------------------------------ the body's parameters (sweeps)

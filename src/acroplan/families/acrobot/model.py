@@ -39,8 +39,6 @@ from .reach import reachable_set
 __all__ = ["Acrobot", "PhysicalParameters"]
 
 
-
-
 def _finite(field: str, value) -> float:
     v = finite_number(field, value)
     if abs(v) > MAX_MAGNITUDE:
@@ -363,6 +361,10 @@ class Acrobot(ControlAffineSystem):
                     lo, hi = max(lo, x2[0] - N.high), min(hi, x2[0] - N.low)
             x1[0] = 0.5 * (lo + hi)
         return x1
+
+    def state_unit(self, state):
+        """theta and phi are angles: ``"rad"``."""
+        return "rad"
 
     def reference_lines(self, state, lo, hi):
         """The straight body (phi = pi mod 2 pi) and the folded body (phi = 0 mod 2 pi) on plots of phi."""

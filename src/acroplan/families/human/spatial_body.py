@@ -315,6 +315,10 @@ class HumanSegments:
     joint : dict of str to numpy.ndarray, shape (3,)
         Each non-root segment's origin (its proximal joint centre) in its parent's frame (m).
     source : str
+    shapes : dict of str to tuple
+        The solids each segment is drawn with, in its frame (:attr:`SpatialLink.shapes
+        <acroplan.families.spatial.links.SpatialLink.shapes>`): yeadon's stadium solids and
+        semi-ellipsoids; empty for de Leva's segments (drawn as boxes).
     """
 
     mass: dict
@@ -322,6 +326,7 @@ class HumanSegments:
     inertia: dict
     joint: dict
     source: str = ""
+    shapes: dict = dataclasses.field(default_factory=dict)
 
     @property
     def total_mass(self) -> float:
@@ -388,6 +393,7 @@ def yeadon_segments(human=None, *, density_set: str = "Dempster") -> HumanSegmen
         inertia = {k: np.asarray(s.rel_inertia, dtype=float).reshape(3, 3) for k, s in seg.items()}
         joint = {k: (np.asarray(seg[k].pos, dtype=float) - np.asarray(seg[p].pos, dtype=float)).reshape(3)
                  for k, p, _ in SEGMENTS if p is not None}
+        shapes = {k: _yeadon_shapes(s) for k, s in seg.items()}
         root = np.asarray(seg["P"].pos, dtype=float).reshape(3)
         if np.max(np.abs(root)) > 1e-12:  # pragma: no cover
             raise InvalidInputError("human", f"yeadon's pelvis origin is at {root}, not at the global origin",
@@ -395,9 +401,33 @@ def yeadon_segments(human=None, *, density_set: str = "Dempster") -> HumanSegmen
     finally:
         with contextlib.redirect_stdout(io.StringIO()):
             human.set_CFG_dict(saved)
-    out = HumanSegments(mass, com, inertia, joint, f"yeadon ({label})")
+    out = HumanSegments(mass, com, inertia, joint, f"yeadon ({label})", shapes)
     _check_segments(out)
     return out
+
+
+_QUARTER = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])  # about z: a stadium along y
+
+
+def _yeadon_shapes(segment) -> tuple:
+    """A yeadon segment's solids in its frame (in the reference posture, where the segment's and its
+    solids' frames are parallel to the global one): each solid's base stadium (``stads[0]``) at its
+    ``pos``, the other ``height`` above along the solid's z, as yeadon draws them; a solid whose
+    stadia lie antero-posteriorly (``alignment "AP"``, the feet) turned a quarter about z."""
+    out = []
+    base = np.asarray(segment.pos, dtype=float).reshape(3)
+    for solid in segment.solids:
+        origin = tuple(float(v) for v in np.asarray(solid.pos, dtype=float).reshape(3) - base)
+        if hasattr(solid, "stads"):
+            s0, s1 = solid.stads
+            R = _QUARTER if getattr(solid, "alignment", "ML") == "AP" else np.eye(3)
+            out.append(("stadium_solid", (float(s0.radius), float(s0.thickness), float(s1.radius),
+                                          float(s1.thickness), float(solid.height)), origin,
+                        tuple(map(tuple, R.tolist()))))
+        else:
+            out.append(("semiellipsoid", (float(solid.radius), 0.0, float(solid.height)), origin,
+                        tuple(map(tuple, np.eye(3).tolist()))))
+    return tuple(out)
 
 
 def de_leva_segments(height: float, mass: float, *, sex: str = "male") -> HumanSegments:
@@ -541,6 +571,7 @@ def human_link_table(segments: HumanSegments, joints="arms", posture="straight",
     lim = spatial_joint_limits() if limits else {}
     by_axis = {(d.segment, d.axis): d for d in JOINTS.values()}
     pieces: dict[str, list] = {"pelvis": []}   # per link: (mass, com, inertia) in the link's frame
+    drawn: dict[str, list] = {}   # per link: the solids it is drawn with, in its frame
     order = ["pelvis"]
     specs: dict[str, dict] = {"pelvis": {"parent": None}}
     host: dict[str, tuple[str, np.ndarray, np.ndarray]] = {"P": ("pelvis", np.eye(3), np.zeros(3))}
@@ -577,6 +608,9 @@ def human_link_table(segments: HumanSegments, joints="arms", posture="straight",
                 host[seg] = (last, np.eye(3), np.zeros(3))
         hl, R, p = host[seg]
         pieces[hl].append((segments.mass[seg], p + R @ segments.com[seg], R @ segments.inertia[seg] @ R.T))
+        drawn.setdefault(hl, []).extend((kind, params, tuple((p + R @ np.asarray(o)).tolist()),
+                                         tuple(map(tuple, (R @ np.asarray(Q)).tolist())))
+                                        for kind, params, o, Q in segments.shapes.get(seg, ()))
     names = {k: (specs[k].get("name", k) if k != "pelvis" else "pelvis") for k in order}
     links = []
     for k in order:
@@ -590,14 +624,16 @@ def human_link_table(segments: HumanSegments, joints="arms", posture="straight",
         else:
             m, c, J = 0.0, np.zeros(3), np.zeros((3, 3))
         sp = specs[k]
+        shapes = tuple(drawn[k]) if drawn.get(k) else None
         if sp["parent"] is None:
-            links.append(SpatialLink(names[k], None, m, J, com=tuple(c)))
+            links.append(SpatialLink(names[k], None, m, J, com=tuple(c), shapes=shapes))
             continue
         R0 = sp["pre"] @ sp.get("post", np.eye(3))
         rotation = None if np.max(np.abs(R0 - np.eye(3))) < 1e-15 else R0
         links.append(SpatialLink(names[k], names[sp["parent"]], m, J, com=tuple(c), joint=tuple(sp["joint"]),
                                  axis=tuple(sp["axis"]), rotation=rotation, joint_name=sp["joint_name"],
-                                 lower=sp.get("lower"), upper=sp.get("upper"), velocity=sp.get("velocity")))
+                                 lower=sp.get("lower"), upper=sp.get("upper"), velocity=sp.get("velocity"),
+                                 shapes=shapes))
     return SpatialLinkTable(links)
 
 

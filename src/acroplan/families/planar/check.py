@@ -38,7 +38,7 @@ from ..tree.check import simulate_driven
 from .links import LinkTable
 from .pin import PinocchioBody, build_model, require_pinocchio
 
-__all__ = ["centroidal_momentum", "centroidal_rows", "simulate_with_pinocchio", "pinocchio_body", "pinocchio_errors",
+__all__ = ["centroidal_momentum", "state_error", "centroidal_rows", "simulate_with_pinocchio", "pinocchio_body", "pinocchio_errors",
            "pinocchio_turn", "MAX_PANELS"]
 
 #: the most panels (of 16 nodes) :func:`pinocchio_turn` uses on one segment
@@ -269,3 +269,8 @@ def pinocchio_errors(body, x0, segments) -> np.ndarray:
                                 omega=omega)
         out.append(float(np.max(np.abs(x - np.asarray(seg.target, dtype=float)))) + unc)
     return np.array(out)
+
+
+def state_error(x, target) -> float:
+    """:math:`\\max_i |x_i - x_{target,i}|` of two states (every state is an angle)."""
+    return float(np.max(np.abs(np.asarray(x, dtype=float) - np.asarray(target, dtype=float))))

@@ -21,7 +21,13 @@ import numpy as np
 
 from ...core.animation import auto_speed, states_at, write_frames
 
-__all__ = ["strobe", "save_strobe", "animate", "link_segments", "conventions_figure", "MAX_FRAMES"]
+__all__ = ["strobe", "save_strobe", "animate", "link_segments", "head_of", "scale_bar", "conventions_figure",
+           "MAX_FRAMES"]
+
+#: Link colours (no red: red is theta's arrow); the root is C0.
+PALETTE = ("C1", "C2", "C4", "C5", "C6", "C8", "C9")
+#: A link named so carries the head, drawn beyond its far end (module docstring).
+_TRUNKS = ("trunk", "torso")
 
 #: Frame cap: a longer motion is played faster, with a warning, rather than filling the disk.
 MAX_FRAMES = 1500
@@ -50,6 +56,48 @@ def link_segments(body, state) -> list[tuple[np.ndarray, np.ndarray, int]]:
     return out
 
 
+def head_of(body, state):
+    """The head of a human-like body at ``state``: ``(centre (2,), radius)``, or ``None``.
+
+    A link whose name contains ``trunk`` or ``torso`` carries the head: a disc of radius 0.2 d
+    (d: the distance from the link's joint to its farthest child joint, the shoulders; a diver's
+    0.52 m trunk gets a 0.10 m head) touching the far end, along the same line."""
+    L = body.links
+    trunk = next((i for i in range(len(L)) if any(w in L[i].name.lower() for w in _TRUNKS)), None)
+    if trunk is None:
+        return None
+    J = body.joint_positions(state)
+    kids = L.children(trunk)
+    if not kids:
+        return None
+    far = max(kids, key=lambda k: float(np.hypot(*(J[k] - J[trunk]))))
+    v = J[far] - J[trunk]
+    d = float(np.hypot(*v))
+    if d == 0:
+        return None
+    r = 0.2 * d
+    return J[far] + (r / d) * v, r
+
+
+def link_colour(body, i: int) -> str:
+    """Link ``i``'s colour in the drawings (the root C0)."""
+    return "C0" if i == body.links.root else PALETTE[i % len(PALETTE)]
+
+
+def scale_bar(ax, ext: float, *, at=(0.03, 0.05)) -> float:
+    """A scale bar in the lower left of ``ax`` (data in metres): a round length near 0.4 ``ext``,
+    labelled; returns its length."""
+    from mpl_toolkits.axes_grid1.anchored_artists import AnchoredSizeBar
+
+    raw = 0.4 * ext
+    k = 10.0 ** np.floor(np.log10(raw))
+    length = max(m * k for m in (1, 2, 5) if m * k <= raw)
+    label = f"{length * 100:g} cm" if length < 1 else f"{length:g} m"
+    ax.add_artist(AnchoredSizeBar(ax.transData, length, label, "lower left", pad=0.3, borderpad=0.5, sep=3,
+                                  frameon=False, size_vertical=0.01 * ext, fontproperties={"size": 8}))
+    return length
+
+
 def strobe(result, *, poses: int = 7, ax=None, spacing: float | None = None, title: str | None = None,
            samples=None):
     """A strobe of a planned motion: the body at ``poses`` equally spaced times, side by side.
@@ -75,6 +123,7 @@ def strobe(result, *, poses: int = 7, ax=None, spacing: float | None = None, tit
     """
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
+    from matplotlib.patches import Circle
 
     body = result.system
     t = np.linspace(result.times[0], result.times[-1], poses)
@@ -93,9 +142,13 @@ def strobe(result, *, poses: int = 7, ax=None, spacing: float | None = None, tit
         shade = 0.75 - 0.65 * k / max(poses - 1, 1)
         colour = (shade, shade, min(1.0, shade + 0.25))
         dx = np.array([k * spacing, 0.0])
+        alpha = 0.35 + 0.65 * k / max(poses - 1, 1)
         for a, b, i in segs[k]:
-            ax.plot([a[0] + dx[0], b[0] + dx[0]], [a[1], b[1]], "-", color=colour, lw=5 if i == root else 3,
-                    solid_capstyle="round")
+            ax.plot([a[0] + dx[0], b[0] + dx[0]], [a[1], b[1]], "-", color=link_colour(body, i), alpha=alpha,
+                    lw=5 if i == root else 3, solid_capstyle="round", label=body.links[i].name if k == 0 else None)
+        head = head_of(body, S[:, k])
+        if head is not None:
+            ax.add_patch(Circle(tuple(head[0] + dx), head[1], color=link_colour(body, root), alpha=alpha))
         J = body.joint_positions(S[:, k]) + dx
         joints = [i for i in range(len(body.links)) if i != root]
         ax.plot(J[joints, 0], J[joints, 1], "o", ms=5, mfc="white", mec=colour, mew=1.5)
@@ -103,14 +156,21 @@ def strobe(result, *, poses: int = 7, ax=None, spacing: float | None = None, tit
         th = S[0, k]
         ax.annotate("", xy=(J[root, 0] + 0.35 * ext * np.cos(th), J[root, 1] + 0.35 * ext * np.sin(th)),
                     xytext=(J[root, 0], J[root, 1]), arrowprops=dict(arrowstyle="->", color="tab:red", lw=1.2))
-        ax.text(k * spacing, -1.1 * ext, f"t = {t[k]:.3g} s\ntheta = {th:.2f}", ha="center", va="top", fontsize=8)
+        ax.text(k * spacing, -1.1 * ext, f"t = {t[k]:.3g} s\nθ = {th:.2f} rad", ha="center", va="top", fontsize=8)
     ax.set_aspect("equal")
     ax.set_xlim(-1.2 * ext, (poses - 1) * spacing + 1.2 * ext)
-    ax.set_ylim(-1.55 * ext, 1.1 * ext)
+    ax.set_ylim(-1.55 * ext, 1.35 * ext)
     ax.set_xticks([])
     ax.set_yticks([])
     for side in ax.spines.values():
         side.set_visible(False)
+    scale_bar(ax, ext)
+    handles, labels = ax.get_legend_handles_labels()
+    uniq = dict(zip(labels, handles))  # (each link once)
+    key = ax.legend(uniq.values(), uniq.keys(), loc="upper left", fontsize=7, ncols=min(len(uniq), 6),
+                    frameon=False, bbox_to_anchor=(0.0, 1.02))
+    for handle in key.legend_handles:
+        handle.set_alpha(1.0)  # (the key in full colour; the first pose is drawn faded)
     if title:
         ax.set_title(title, fontsize=10)
     fig.tight_layout()
@@ -177,6 +237,7 @@ def animate(result, path, *, speed: float | None = None, fps: int = 25, max_fram
     frames = [link_segments(body, S[:, k]) for k in range(tf.size)]
     joints_at = [body.joint_positions(S[:, k]) for k in range(tf.size)]
     ext = 1.1 * max(float(np.max(np.abs(np.array([p for sg in frames for s in sg for p in s[:2]])))), 1e-9)
+    ext *= 1.12 if any(w in link.name.lower() for link in L for w in _TRUNKS) else 1.0  # (room for the head)
     fig = Figure(figsize=(5.0, 5.0), dpi=100, layout="constrained")
     FigureCanvasAgg(fig)
     ax = fig.add_subplot()
@@ -185,12 +246,21 @@ def animate(result, path, *, speed: float | None = None, fps: int = 25, max_fram
     ax.set_aspect("equal")
     ax.grid(alpha=0.25)
     ax.tick_params(labelsize=9)
-    ax.set_xlabel("x, centre-of-mass frame", fontsize=10)
-    ax.set_ylabel("y", fontsize=10)
+    ax.set_xlabel("x [m], centre-of-mass frame", fontsize=10)
+    ax.set_ylabel("y [m]", fontsize=10)
     root = L.root
-    palette = ("C1", "C2", "C4", "C5", "C6", "C8", "C9")  # no red: red is theta's arrow
-    lines = [ax.plot([], [], "-", lw=7 if i == root else 4, solid_capstyle="round",
-                     color="C0" if i == root else palette[i % len(palette)])[0] for _, _, i in frames[0]]
+    seen = set()
+    lines = []
+    for _, _, i in frames[0]:
+        lines.append(ax.plot([], [], "-", lw=7 if i == root else 4, solid_capstyle="round", color=link_colour(body, i),
+                             label=None if i in seen else L[i].name)[0])
+        seen.add(i)
+    heads = [head_of(body, S[:, k]) for k in range(tf.size)]
+    from matplotlib.patches import Circle
+
+    head = Circle((0.0, 0.0), heads[0][1] if heads[0] else 0.0, color=link_colour(body, root),
+                  visible=heads[0] is not None)
+    ax.add_patch(head)
     others = [i for i in range(len(L)) if i != root]
     joint_dots, = ax.plot([], [], "o", ms=6, mfc="white", mec="k", mew=1.5, label="joints")
     root_dot, = ax.plot([], [], "s", ms=7, color="k", label=f"root ({L[root].name})")
@@ -208,15 +278,17 @@ def animate(result, path, *, speed: float | None = None, fps: int = 25, max_fram
         th = S[0, k]
         arrow.set_data([J[root, 0], J[root, 0] + 0.3 * ext * np.cos(th)],
                        [J[root, 1], J[root, 1] + 0.3 * ext * np.sin(th)])
-        return (*lines, joint_dots, root_dot, arrow)
+        if heads[k] is not None:
+            head.center = tuple(heads[k][0])
+        return (*lines, head, joint_dots, root_dot, arrow)
 
     width = max(map(len, names))
     rate = "" if speed == 1 else f"\n(x{speed:.3g} speed)"
 
     def caption(k):
-        return f"t = {tf[k]:8.3f} s\n" + "\n".join(f"{n:>{width}} = {S[i, k]:7.3f}" for i, n in enumerate(names)) + rate
+        return f"t = {tf[k]:8.3f} s\n" + "\n".join(f"{n:>{width}} = {S[i, k]:7.3f} rad" for i, n in enumerate(names)) + rate
 
-    return write_frames(fig, (*lines, joint_dots, root_dot, arrow), draw, int(tf.size), path, fps=fps,
+    return write_frames(fig, (*lines, head, joint_dots, root_dot, arrow), draw, int(tf.size), path, fps=fps,
                         mp4_path=mp4_path, caption=caption, caption_at=(0.15, 0.045), caption_size=9)
 
 

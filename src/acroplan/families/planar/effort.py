@@ -91,6 +91,7 @@ import functools
 import numpy as np
 
 from ...core.errors import InvalidInputError
+from ..tree.motion import basis_tables, coefficient_jacobian, joint_motion, joint_rows, segment_arrays
 from .guess import shape_guesses
 from .links import LinkTable
 from .pin import INSTALL_HINT, PinocchioBody, build_model, require_pinocchio, thread_data
@@ -156,18 +157,6 @@ def _table(body) -> LinkTable:
     return body.links
 
 
-def _rows(name: str, value, m: int) -> np.ndarray:
-    a = np.asarray(value, dtype=float)
-    if a.ndim == 1:
-        a = a[:, None]
-    if a.ndim != 2 or a.shape[0] != m:
-        raise InvalidInputError(name, f"must have shape ({m},) or ({m}, K), one row per joint, got shape "
-                                f"{np.shape(value)}", "give the joint values in state order")
-    if not np.all(np.isfinite(a)):
-        raise InvalidInputError(name, "has a value that is not finite", "give finite numbers")
-    return a
-
-
 def inverse_dynamics(body, q, u, du, *, root: str = "planar", derivatives: bool = False) -> InverseDynamics:
     """Joint torques of a free-flying planar body from its joint motion (module docstring).
 
@@ -198,7 +187,7 @@ def inverse_dynamics(body, q, u, du, *, root: str = "planar", derivatives: bool 
         raise InvalidInputError("root", f"must be one of {list(ROOTS)}, got {root!r}", "give root=\"planar\"")
     pin = require_pinocchio()
     m = len(table) - 1
-    Q, U, DU = _rows("q", q, m), _rows("u", u, m), _rows("du", du, m)
+    Q, U, DU = joint_rows("q", q, m), joint_rows("u", u, m), joint_rows("du", du, m)
     K = Q.shape[1]
     if U.shape[1] != K or DU.shape[1] != K:
         raise InvalidInputError("u", f"q, u and du must have the same number of instants, got {Q.shape[1]}, "
@@ -261,15 +250,6 @@ def inverse_dynamics(body, q, u, du, *, root: str = "planar", derivatives: bool 
                            partials)
 
 
-@functools.lru_cache(maxsize=64)
-def _basis_tables(basis, s_bytes: bytes):
-    s = np.frombuffer(s_bytes)
-    out = (basis.matrix(s), basis.matrix(s, 1), basis.integral(s))
-    for t in out:
-        t.setflags(write=False)
-    return out
-
-
 @dataclasses.dataclass(frozen=True)
 class PlanarTorque:
     """The torque model of a :class:`~acroplan.families.planar.model.PlanarBody`: its joint
@@ -319,18 +299,8 @@ class PlanarTorque:
 
     def motion(self, system, basis, x0, T, c, s):
         """The joint motion of the segment at ``s``: :math:`q, u, \\dot u`, each shape (m, K)."""
-        m = system.n_inputs
-        c = np.asarray(c, dtype=float)
-        if c.shape != (m, basis.n):
-            raise InvalidInputError("c", f"must have shape ({m}, {basis.n}), got {c.shape}",
-                                    "give one row of basis coefficients per joint")
-        T = float(T)
-        if not (np.isfinite(T) and T > 0):
-            raise InvalidInputError("T", f"must be a positive duration, got {T}", "give the segment's length")
-        s = np.ascontiguousarray(np.atleast_1d(np.asarray(s, dtype=float)))
-        V, V1, Int = _basis_tables(basis, s.tobytes())
-        q0 = np.asarray(x0, dtype=float).reshape(-1)[1:]
-        return q0[:, None] + T * (c @ Int.T), c @ V.T, (c @ V1.T) / T
+        T, c, s = segment_arrays(system, basis, T, c, s)
+        return joint_motion(np.asarray(x0, dtype=float).reshape(-1)[1:], T, c, basis_tables(basis, s))
 
     def torques(self, system, basis, x0, T, c, s):
         """:math:`\\tau(s)` alone, shape (m, K) (no Jacobian: for results and sweeps)."""
@@ -346,14 +316,9 @@ class PlanarTorque:
             raise InvalidInputError("system", why, "plan a PlanarBody (with Pinocchio installed)")
         q, u, du = self.motion(system, basis, x0, T, c, s)
         out = inverse_dynamics(system, q, u, du, root=self.root, derivatives=True)
-        s = np.ascontiguousarray(np.atleast_1d(np.asarray(s, dtype=float)))
-        V, V1, Int = _basis_tables(basis, s.tobytes())
-        m, T = system.n_inputs, float(T)
-        P = out.partials  # (m, K, 3m): d tau / d(q, u, du)
-        jac = (np.einsum("pkj,ki->pkji", P[:, :, :m], T * Int)
-               + np.einsum("pkj,ki->pkji", P[:, :, m:2 * m], V)
-               + np.einsum("pkj,ki->pkji", P[:, :, 2 * m:], V1 / T))
-        return out.tau, jac.reshape(m, s.size, m * basis.n)
+        m, P = system.n_inputs, out.partials  # (m, K, 3m): d tau / d(q, u, du)
+        return out.tau, coefficient_jacobian(P[:, :, :m], P[:, :, m:2 * m], P[:, :, 2 * m:], float(T),
+                                             basis_tables(basis, s))
 
     def __repr__(self):
         names = "" if self.joint_names is None else f"joint_names={self.joint_names!r}"

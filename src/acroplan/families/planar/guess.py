@@ -208,7 +208,7 @@ def shape_guesses(body, basis, x0, x1, T: float, ends: dict | None = None, limit
     dSH = [np.polynomial.polynomial.polyval(s, dqh.T) if dqh.size else np.zeros((m, s.size)) for s in (_SG, _SC)]
     wG, dwG, wC, dwC, _ = _weight(alpha, beta)
 
-    lo, hi, U = _joint_bounds(body, limits, m)
+    lo, hi, U = body.joint_bounds(limits)
     f0 = float(_turn(conn, T, SH[0], dSH[0], _WSG)) - target
     cands, loop_c = _candidates(conn, qh, m, n, alpha, beta, f0, loops, everything)
     out = []
@@ -228,19 +228,6 @@ def shape_guesses(body, basis, x0, x1, T: float, ends: dict | None = None, limit
             out.append(guess)
     out.sort(key=lambda gs: (not gs.compliant, gs.energy))
     return out
-
-
-def _joint_bounds(body, limits, m):
-    """Per joint: its range (lo, hi) and rate limit U (infinite when none)."""
-    lo = np.full(m, -math.inf)
-    hi = np.full(m, math.inf)
-    U = np.full(m, math.inf)
-    if limits is not None and limits.active:
-        for j, name in enumerate(body.links.joint_names):
-            lo[j], hi[j] = limits.bounds(name)
-            b = limits.input_bound(f"u_{name}")
-            U[j] = math.inf if b is None else b
-    return lo, hi, U
 
 
 def _candidates(conn, qh, m, n, alpha, beta, f0, loops, everything):

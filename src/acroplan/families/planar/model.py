@@ -101,6 +101,7 @@ import sympy as sp
 from ...core.errors import finite_number
 from ...core.errors import InvalidInputError
 from ...core.system import ControlAffineSystem, Infeasibility
+from ..tree.body import TreeBody
 from .links import Link, LinkTable
 
 __all__ = ["PlanarBody", "momentum_from_definition", "structure_coefficients", "lumped_coefficients",
@@ -116,7 +117,7 @@ _finite = finite_number
 
 
 @dataclasses.dataclass(frozen=True, init=False)
-class PlanarBody(ControlAffineSystem):
+class PlanarBody(TreeBody, ControlAffineSystem):
     """A free-flying planar body of any number of links (module docstring for the model).
 
     Parameters
@@ -151,6 +152,11 @@ class PlanarBody(ControlAffineSystem):
     links: LinkTable
     P0: float = 0.0
 
+    #: the states before the joints (theta), the record's name of the momentum, the check's module
+    n_root = 1
+    momentum_field = "P0"
+    _check_module = "acroplan.families.planar.check"
+
     def __init__(self, links, P0: float | None = None, *, angular_momentum: float | None = None):
         if P0 is not None and angular_momentum is not None:
             raise InvalidInputError("angular_momentum", "is given together with P0 (its alias)", "give one of them")
@@ -183,14 +189,6 @@ class PlanarBody(ControlAffineSystem):
         return self.state_names
 
     @property
-    def input_names(self):
-        return tuple(f"u_{j}" for j in self.links.joint_names)
-
-    @property
-    def rate_inputs(self):
-        return {f"u_{j}": j for j in self.links.joint_names}
-
-    @property
     def param_names(self):
         """The compiled parameters (lumped, as the acrobot's ``M1, A1, M2, A2``): ``P0``, ``Ic``
         (the constant part of :math:`I(s)`), ``Ac_<joint>`` (of :math:`a_j(s)`), and per pair of
@@ -221,9 +219,8 @@ class PlanarBody(ControlAffineSystem):
         """:math:`P_0`."""
         return self.P0
 
-    @property
-    def n_links(self) -> int:
-        return len(self.links)
+    def _momentum_record(self) -> float:
+        return self.P0
 
     def symbols(self):
         """The compiled state and parameter symbols (``theta, q1, ...``; ``P0, Ic, Ac1, ...,
@@ -312,13 +309,6 @@ class PlanarBody(ControlAffineSystem):
                           inertia=np.array([k.inertia for k in L]), P=P, Sub=Sub)
             object.__setattr__(self, "_planar_constants", cached)
         return cached
-
-    def _shape(self, shape) -> np.ndarray:
-        s = np.asarray(shape, dtype=float)
-        if s.shape[:1] != (self.n_links - 1,):
-            raise InvalidInputError("shape", f"must hold the {self.n_links - 1} joint angle(s) "
-                                    f"{list(self.links.joint_names)}, got shape {s.shape}", "give one angle per joint")
-        return s
 
     def momentum_map(self, shape) -> tuple[np.ndarray, np.ndarray]:
         """:math:`I(s)` and :math:`a(s)` at one shape or many.
@@ -445,27 +435,6 @@ class PlanarBody(ControlAffineSystem):
         """
         return self._kinematics(state)[1]
 
-    def default_limits(self):
-        """The table's (or the URDF's) joint limits: :func:`acroplan.plan` honours them unless the
-        call gives limits of its own (``limits=Limits()`` switches them off)."""
-        return self.joint_limits()
-
-    def joint_limits(self):
-        """The table's joint limits as a :class:`~acroplan.core.limits.Limits` (position limits on
-        the joint states, rate limits on their inputs), or ``None`` when the table has none."""
-        from ...core.limits import Limits
-
-        states, inputs = {}, {}
-        for i, name in zip(self.links.joints, self.links.joint_names):
-            link = self.links[i]
-            if link.lower is not None or link.upper is not None:
-                states[name] = (link.lower, link.upper)
-            if link.velocity is not None:
-                inputs[f"u_{name}"] = link.velocity
-        if not states and not inputs:
-            return None
-        return Limits(states, inputs)
-
     # ------------------------------------------------------------------ two links: the acrobot
     def as_acrobot(self):
         """A two-link body as the acrobot of text eq. (3), with its angle offsets.
@@ -529,13 +498,9 @@ class PlanarBody(ControlAffineSystem):
             lo, hi = limits.bounds(joint)
             U = limits.input_bound(f"u_{joint}")
             lim = f" under {limits.describe()}"
-            for end, v in ((f"{joint}(0)", q0), (f"{joint}(T)", qT)):
-                if not lo <= v <= hi:
-                    return Infeasibility(f"no joint motion is possible{lim}: {end} = {v:.12g} is outside the joint "
-                                         f"limits [{lo:.12g}, {hi:.12g}]", joint, None)
-            if U is not None and abs(qT - q0) > U * T * (1 + 1e-15):
-                return Infeasibility(f"no joint motion is possible{lim}: {joint} must move {abs(qT - q0):.12g} rad in "
-                                     f"T = {T:.12g} s, but u_{joint} is limited to {U:.12g} rad/s", joint, None)
+            why = self.joint_ends_infeasibility(x0, x1, duration, limits)
+            if why is not None:
+                return why
             sb = {}
             if lo > -math.inf or hi < math.inf:
                 sb["phi"] = (None if lo == -math.inf else lo + delta, None if hi == math.inf else hi + delta)
@@ -562,25 +527,15 @@ class PlanarBody(ControlAffineSystem):
         return None
 
     def _check_bounded(self, x0, x1, duration, limits):
-        if limits is None or not limits.active:
-            return None
+        why = self.joint_ends_infeasibility(x0, x1, duration, limits)
+        if why is not None or limits is None or not limits.active:
+            return why
         names = self.links.joint_names
         x0 = np.asarray(x0, dtype=float)
         x1 = np.asarray(x1, dtype=float)
         T = float(duration)
         lim = f" under {limits.describe()}"
-        lo = np.array([limits.bounds(j)[0] for j in names])
-        hi = np.array([limits.bounds(j)[1] for j in names])
         U = np.array([limits.input_bound(f"u_{j}") or math.inf for j in names])
-        for j, name in enumerate(names):
-            for end, v in ((f"{name}(0)", x0[1 + j]), (f"{name}(T)", x1[1 + j])):
-                if not lo[j] <= v <= hi[j]:
-                    return Infeasibility(f"no joint motion is possible{lim}: {end} = {v:.12g} is outside the joint "
-                                         f"limits [{lo[j]:.12g}, {hi[j]:.12g}]", name, None)
-            if abs(x1[1 + j] - x0[1 + j]) > U[j] * T * (1 + 1e-15):
-                return Infeasibility(f"no joint motion is possible{lim}: {name} must move "
-                                     f"{abs(x1[1 + j] - x0[1 + j]):.12g} rad in T = {T:.12g} s, but u_{name} is "
-                                     f"limited to {U[j]:.12g} rad/s", name, None)
         if not np.all(np.isfinite(U)):
             return None
         B = self.turn_bound(x0, x1, T, limits)
@@ -613,42 +568,6 @@ class PlanarBody(ControlAffineSystem):
         return turn_bound(Connection(self), np.asarray(x0, dtype=float)[1:], np.asarray(x1, dtype=float)[1:],
                           float(duration), U, lo, hi)
 
-    # ------------------------------------------------------------------ planning hooks
-    @property
-    def family_check(self) -> str:
-        """The name of :meth:`family_errors`' check (``plan(verify=True)`` reports it)."""
-        try:
-            import pinocchio  # noqa: F401
-        except ImportError:  # no check of its own here: plans are re-simulated by DOP853 ("ode")
-            return ""
-        return "Pinocchio centroidal simulation"
-
-    def family_errors(self, x0, segments):
-        """The independent check by Pinocchio (:func:`~acroplan.families.planar.check.pinocchio_errors`):
-        the planned inputs chained from ``x0`` through a motion driven by Pinocchio's centroidal map
-        alone (joints by exact integration of the input, :math:`\\theta` by a quadrature of the
-        root rate that makes the momentum :math:`P_0`). Without Pinocchio installed, the core's DOP853
-        re-simulation of the model's own fields.
-
-        Returns
-        -------
-        numpy.ndarray, shape (len(segments),)
-            Each segment's :math:`\\max |x - x_{target}|` at its end.
-        """
-        try:
-            import pinocchio  # noqa: F401
-        except ImportError:
-            from ...core.verify import simulate_segment
-
-            x, out = np.asarray(x0, dtype=float), []
-            for seg in segments:
-                x = simulate_segment(self, x, seg.t0, seg.t1, seg.input).y[:, -1]
-                out.append(float(np.max(np.abs(x - seg.target))))
-            return np.array(out)
-        from .check import pinocchio_errors
-
-        return pinocchio_errors(self, x0, segments)
-
     def torque_model(self):
         """The joint torques of a planned motion: Pinocchio's inverse dynamics of the free body,
         the root's motion from the momentum (:class:`~acroplan.families.planar.effort.PlanarTorque`,
@@ -656,6 +575,10 @@ class PlanarBody(ControlAffineSystem):
         from .effort import PlanarTorque
 
         return PlanarTorque(self.links.joint_names)
+
+    def state_unit(self, state):
+        """The root's angle and the joint angles: ``"rad"``."""
+        return "rad"
 
     def auto_strategy(self):
         """``method="auto"``: path deformation from a shape-loop guess that already meets the target
@@ -686,18 +609,7 @@ class PlanarBody(ControlAffineSystem):
         ]
         return cls(links, P0=angular_momentum)
 
-    def to_dict(self) -> dict[str, Any]:
-        """Type, lumped parameters, :math:`P_0`, the topology and the link table (:meth:`from_dict`
-        reads it back)."""
-        out = super().to_dict()
-        out["P0"] = self.P0
-        out["parents"] = list(self.links.parents)
-        out["links"] = self.links.to_dicts()
-        return out
-
     @classmethod
     def from_dict(cls, d: Mapping[str, Any]) -> "PlanarBody":
         """Rebuild from :meth:`to_dict`'s output (``links`` and ``P0``; the rest is derived)."""
-        if not isinstance(d, Mapping) or "links" not in d:
-            raise InvalidInputError("links", "is missing", "give the link table (a list of link tables)")
-        return cls(LinkTable(d["links"]), P0=d.get("P0", 0.0))
+        return cls(LinkTable(cls._links_of(d)), P0=d.get("P0", 0.0))

@@ -26,6 +26,7 @@ from .links import LinkTable
 
 __all__ = ["require_pinocchio", "PinocchioBody", "build_model", "thread_data", "INSTALL_HINT"]
 
+
 @dataclasses.dataclass(frozen=True, eq=False)
 class PinocchioBody:
     """A Pinocchio model of a link table, and where each link's joint sits in ``q`` and ``v``.

@@ -12,7 +12,7 @@ import numpy as np
 
 from ...core.errors import InvalidInputError
 from ...core.limits import Limits
-from ...core.validate import BODY_VALUES, MAX_ANGLE, MAX_BODY, MIN_BODY, check_keys, number, pair_field
+from ...core.validate import BODY_VALUES, MAX_BODY, MIN_BODY, check_keys, number, pair_field
 from ..acrobot.reach import reachable_set
 from ..tree.problem import link_records, read_tree_body
 from .family import BODY_KEYS  # the keys, named by the family's descriptor
@@ -46,12 +46,6 @@ def links_from_tables(tables) -> list:
         for key in ("com", "joint"):
             if key in d:
                 kw[key] = pair_field(f"{f}.{key}", d[key])
-        for key in ("lower", "upper"):
-            if key in d:
-                kw[key] = number(f"{f}.{key}", d[key], MAX_ANGLE, "angles")
-        if "velocity" in d:
-            kw["velocity"] = number(f"{f}.velocity", d["velocity"], MAX_BODY, "rates")
-        kw.setdefault("parent", None)
         links.append(Link(**kw))
     return links
 

@@ -37,8 +37,8 @@ from typing import Mapping
 import numpy as np
 
 from ...core.errors import InvalidInputError
-from ..tree.urdf import (inertial_xml, joint_limits, joint_xml, limit_overrides, load_model, revolute_motion,
-                         table_names, urdf_links)
+from ..tree.urdf import (joint_limits, limit_overrides, load_model, revolute_motion,
+                         robot_xml, table_names, urdf_links)
 from .links import RESERVED_NAMES, Link, LinkTable
 
 __all__ = ["read_link_table", "read_urdf", "to_urdf"]
@@ -175,18 +175,7 @@ def to_urdf(links, name: str = "planar_body", effort: float = 1000.0) -> str:
     """
     table = getattr(links, "links", links)
     table = table if isinstance(table, LinkTable) else LinkTable(table)
-    from xml.sax.saxutils import quoteattr
-
-    out = ['<?xml version="1.0"?>', f"<robot name={quoteattr(name)}>"]
-    for link in table:
-        out += [f"  <link name={quoteattr(link.name)}>",
-                *inertial_xml((link.com[0], link.com[1], 0.0), link.mass,
-                              np.diag([link.inertia / 2, link.inertia / 2, link.inertia])),
-                "  </link>"]
-    for i in table.topological_order():
-        if i != table.root:
-            link = table[i]
-            out += joint_xml(table.joint_names[table.joints.index(i)], link, (link.joint[0], link.joint[1], 0.0),
-                             (0.0, 0.0, 0.0), (0.0, 0.0, 1.0), effort)
-    out.append("</robot>")
-    return "\n".join(out) + "\n"
+    return robot_xml(table, name, effort,
+                     lambda link: ((link.com[0], link.com[1], 0.0), link.mass,
+                                   np.diag([link.inertia / 2, link.inertia / 2, link.inertia])),
+                     lambda link: ((link.joint[0], link.joint[1], 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, 1.0)))

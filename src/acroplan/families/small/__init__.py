@@ -3,7 +3,7 @@ inputs) and :class:`ChainedForm` (the canonical nonholonomic normal form)."""
 
 from __future__ import annotations
 
-import importlib
+from ...core.family import lazy_package
 
 #: The public names and their modules, loaded on first use (PEP 562): the family's descriptor
 #: (``family.py``) is imported without the numerics; the first name used also imports what the
@@ -11,15 +11,4 @@ import importlib
 _NAMES = {"ChainedForm": "chained", "Unicycle": "unicycle"}
 
 __all__ = list(_NAMES)
-
-
-def __getattr__(name: str):
-    if name not in _NAMES:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(f"{__name__}.{_NAMES[name]}"), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__():
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_package(__name__, _NAMES)

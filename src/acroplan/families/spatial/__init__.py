@@ -20,7 +20,7 @@
 
 from __future__ import annotations
 
-import importlib
+from ...core.family import lazy_package
 
 #: The public names and their modules, loaded on first use (PEP 562): the family's descriptor
 #: (``family.py``) is imported without the numerics; the first name used also imports what the
@@ -31,19 +31,4 @@ _NAMES = {"SpatialLink": "links", "SpatialLinkTable": "links", "SpatialBody": "m
           "twisting_diver": "zoo"}
 
 __all__ = list(_NAMES)
-
-
-def __getattr__(name: str):
-    if name not in _NAMES:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(f"{__name__}.{_NAMES[name]}"), name)
-    from .family import FAMILY
-
-    for module in FAMILY.setup:  # what the family registers (core.family.prepare)
-        importlib.import_module(module)
-    globals()[name] = value
-    return value
-
-
-def __dir__():
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_package(__name__, _NAMES)

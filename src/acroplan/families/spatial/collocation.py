@@ -132,7 +132,6 @@ def _gauss(N: int):
 
 # ---------------------------------------------------------------------- the compiled momentum map
 _MAPS: dict = {}
-_LOCK = threading.Lock()
 _LOCAL = threading.local()
 
 
@@ -180,6 +179,11 @@ def _build(body, light=False):
     return hy.cfunc(out, sv + uv)
 
 
+def map_key(body, light: bool = False) -> tuple:
+    """The key of a topology's compiled momentum map (:func:`acroplan.core.backend.compile_once`)."""
+    return ("spatial-momentum-map", tuple(body.links.parents), bool(light))
+
+
 def compile_map(body, light: bool = False):
     """The compiled momentum map of a body's topology (:func:`_build`), built once per process, and
     this thread's own copy of it. ``light``: the first 9 outputs alone (:math:`\\mathbb{I}^{-1}`
@@ -188,11 +192,10 @@ def compile_map(body, light: bool = False):
     (:meth:`SpatialBody.momentum_map <acroplan.families.spatial.model.SpatialBody.momentum_map>`)."""
     key = (body.links.parents, bool(light))
     fn = _MAPS.get(key)
-    if fn is None:
-        with _LOCK:
-            fn = _MAPS.get(key)
-            if fn is None:
-                fn = _MAPS[key] = _build(body, light=bool(light))
+    if fn is None:  # compiled in a thread of its own, waited for within the plan's time budget
+        from ...core import backend
+
+        fn = _MAPS[key] = backend.compile_once(map_key(body, light), lambda: _build(body, light=bool(light)))
     mine = getattr(_LOCAL, "maps", None)
     if mine is None:
         mine = _LOCAL.maps = {}
@@ -491,6 +494,14 @@ def _block1(seg, H, J):
 
 @functools.cache
 def _momentum_kernel(N: int):
+    """:func:`_build_momentum_kernel`, compiled once per process (in a thread of its own, waited for
+    within the plan's time budget: :func:`acroplan.core.backend.compile_once`)."""
+    from ...core import backend
+
+    return backend.compile_once(("spatial-momentum-kernel", int(N)), lambda: _build_momentum_kernel(N))
+
+
+def _build_momentum_kernel(N: int):
     """One Newton iteration's numbers for a panel's momentum collocation, compiled (independent of
     the body: one per node count). Inputs, flat: :math:`\\Lambda` (N x 3), :math:`\\lambda_0` (3),
     :math:`\\omega` (N x 3), :math:`W` (N x 9); parameter :math:`H`. Outputs, flat: the residual
@@ -572,9 +583,7 @@ def _momentum_kernel_copy(N):
         mine = _LOCAL.kernels = {}
     own = mine.get(N)
     if own is None:
-        with _LOCK:
-            base = _momentum_kernel(N)
-        own = mine[N] = copy.copy(base)
+        own = mine[N] = copy.copy(_momentum_kernel(N))
     return own
 
 

@@ -2,10 +2,12 @@
 GIF blitted by :mod:`acroplan.core.animation`), a strobe (:func:`strobe`), and the attitude as Euler angles
 over time (:func:`attitude_figure`).
 
-Every link with mass is drawn as its **equivalent box**: the uniform box with the link's mass and
-principal moments, :math:`a_i = \\sqrt{6 (I_j + I_k - I_i)/m}`, centred at its centre of mass along
-its principal axes (a rod is a long thin box, a trunk a tall one), its faces shaded by a fixed light
-(Lambert: :math:`0.35 + 0.65 \\max(0, n \\cdot \\ell)`); joints are dots. The root's frame is drawn as
+Every link is drawn with its solids (:mod:`~acroplan.families.spatial.solids`): a 3-D human's
+Yeadon solids (stadium solids and semi-ellipsoids), any other link with mass as its **equivalent
+box**, the uniform box with the link's mass and principal moments, :math:`a_i = \\sqrt{6 (I_j + I_k
+- I_i)/m}`, centred at its centre of mass along its principal axes (a rod is a long thin box, a
+trunk a tall one); faces shaded by a fixed light (Lambert: :math:`0.35 + 0.65 \\max(0, n \\cdot
+\\ell)`), one colour per link, named in the key; joints are dots; axes in metres. The root's frame is drawn as
 three arrows (:math:`x` red, :math:`y` green, :math:`z` blue) and the angular momentum vector
 :math:`L` as a black arrow from the centre of mass (scaled to the body's size; the title gives
 :math:`|L|`). The picture is in the centre-of-mass frame (the centre of mass at the origin).
@@ -22,72 +24,60 @@ import numpy as np
 
 from ...core.animation import auto_speed, states_at, write_frames
 from . import rotations as rot
+from .solids import equivalent_boxes, posed, shade, solids_of
 
-__all__ = ["equivalent_boxes", "draw_body", "strobe", "save_strobe", "attitude_figure", "animate", "MAX_FRAMES"]
+__all__ = ["equivalent_boxes", "key_handles", "draw_body", "strobe", "save_strobe", "attitude_figure", "animate", "MAX_FRAMES"]
 
 #: Frame cap of an animation.
 MAX_FRAMES = 600
-_LIGHT = np.array([0.4, -0.5, 0.77]) / np.linalg.norm([0.4, -0.5, 0.77])
-_COLORS = ["#4c72b0", "#dd8452", "#55a868", "#c44e52", "#8172b3", "#937860", "#da8bc3", "#8c8c8c"]
+_AXES = ("#d62728", "#2ca02c", "#1f77b4")
 
 
-def equivalent_boxes(body):
-    """Per link with mass: the equivalent box's half sides and principal axes (module docstring).
-
-    Returns
-    -------
-    list of (link index, half sides (3,), axes (3, 3) in the link frame, columns)
-    """
-    out = []
-    for i, link in enumerate(body.links):
-        if link.mass <= 0:
-            continue
-        ev, V = np.linalg.eigh(link.inertia_matrix)
-        s = ev.sum()
-        sides = np.sqrt(np.maximum(6.0 * (s - 2.0 * ev) / link.mass, 0.0))
-        sides = np.maximum(sides, 0.02 * max(sides.max(), 1e-3))
-        out.append((i, sides / 2.0, V))
-    return out
+def _triangles(body, state, solids, offset=(0.0, 0.0, 0.0)):
+    """Every solid's triangles at ``state`` (shape (F, 3, 3), centre-of-mass frame plus ``offset``)
+    and their shaded colours (F, 3)."""
+    tris, cols = [], []
+    off = np.asarray(offset, dtype=float)
+    for sol, V in zip(solids, posed(body, state, solids)):
+        V = V + off
+        tris.append(V[sol.faces])
+        cols.append(shade(sol.color, V, sol.faces))
+    if not tris:
+        return np.zeros((0, 3, 3)), np.zeros((0, 3))
+    return np.concatenate(tris), np.concatenate(cols)
 
 
-_FACES = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
-_CORNERS = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], dtype=float)
-
-
-def _box_polys(center, R, half):
-    P = center + (_CORNERS * half) @ R.T
-    polys = [P[list(f)] for f in _FACES]
-    normals = []
-    for f in polys:
-        n = np.cross(f[1] - f[0], f[3] - f[0])
-        nn = np.linalg.norm(n)
-        n = n / nn if nn > 0 else n
-        c = f.mean(axis=0)
-        if n @ (c - center) < 0:
-            n = -n
-        normals.append(n)
-    return polys, normals
-
-
-def _shade(color, normals):
-    from matplotlib.colors import to_rgb
-
-    base = np.array(to_rgb(color))
-    return [tuple(np.clip(base * (0.35 + 0.65 * max(0.0, float(n @ _LIGHT))), 0, 1)) for n in normals]
-
-
-def _size(body, states) -> float:
+def _size(body, states, solids=None) -> float:
+    """The half width of a cube about the centre of mass that holds every solid in every state."""
+    solids = solids_of(body) if solids is None else solids
     pts = []
     for x in states:
         _, org, coms = body.link_poses(x)
-        pts += [org, coms]
-    P = np.concatenate(pts)
-    boxes = equivalent_boxes(body)
-    extra = max((2 * h.max() for _, h, _ in boxes), default=0.0)
-    return float(np.abs(P).max() + extra / 2)
+        pts += [org, coms] + posed(body, x, solids)
+    return float(np.abs(np.concatenate(pts)).max())
 
 
-def draw_body(ax, body, state, *, scale: float, offset=(0.0, 0.0, 0.0), alpha: float = 1.0, arrows: bool = True):
+def key_handles(body, solids=None, *, arrows: bool = True):
+    """The key of a drawing: one patch per drawn link (its colour and name), the root's axes and
+    the angular momentum (matplotlib handles, for ``legend(handles=...)``)."""
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    solids = solids_of(body) if solids is None else solids
+    seen, out = set(), []
+    for sol in solids:
+        if sol.link not in seen:
+            seen.add(sol.link)
+            out.append(Patch(facecolor=sol.color, edgecolor="0.3", label=body.links.links[sol.link].name))
+    if arrows:
+        out += [Line2D([], [], color=c, lw=1.8, label=f"root {a}") for c, a in zip(_AXES, "xyz")]
+        if float(np.linalg.norm(body.angular_momentum)) > 0:
+            out.append(Line2D([], [], color="k", lw=2.2, label="angular momentum L"))
+    return out
+
+
+def draw_body(ax, body, state, *, scale: float, offset=(0.0, 0.0, 0.0), alpha: float = 1.0, arrows: bool = True,
+              solids=None):
     """Draw ``body`` at ``state`` on a 3-D axes (module docstring).
 
     Parameters
@@ -98,26 +88,25 @@ def draw_body(ax, body, state, *, scale: float, offset=(0.0, 0.0, 0.0), alpha: f
         The body's size (arrow lengths).
     offset : (3,)
         Where the centre of mass is drawn.
+    solids : list of Solid, optional
+        :func:`~acroplan.families.spatial.solids.solids_of` (computed when not given).
     """
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
+    solids = solids_of(body) if solids is None else solids
     off = np.asarray(offset, dtype=float)
-    Rs, org, coms = body.link_poses(state)
-    polys, colors = [], []
-    for k, (i, half, V) in enumerate(equivalent_boxes(body)):
-        p, n = _box_polys(coms[i] + off, Rs[i] @ V, half)
-        polys += p
-        colors += _shade(_COLORS[k % len(_COLORS)], n)
-    pc = Poly3DCollection(polys, facecolors=colors, edgecolors=(0, 0, 0, 0.25 * alpha), linewidths=0.3, alpha=alpha)
+    Rs, org, _ = body.link_poses(state)
+    tris, colors = _triangles(body, state, solids, off)
+    pc = Poly3DCollection(tris, facecolors=colors, edgecolors="none", alpha=alpha)
     ax.add_collection3d(pc)
-    J = org[[i for i in range(len(body.links)) if body.links.parents[i] != -1]] + off
+    J = org[[i for i in range(len(body.links)) if body.links.parents[i] != -1 and body.links.links[i].mass > 0]] + off
     if len(J):
-        ax.scatter(J[:, 0], J[:, 1], J[:, 2], s=8, color="k", alpha=alpha, depthshade=False)
+        ax.scatter(J[:, 0], J[:, 1], J[:, 2], s=6, color="k", alpha=alpha, depthshade=False)
     if arrows:
         r = body.links.root
         o = org[r] + off
-        for axis, c in zip(Rs[r].T, ("#d62728", "#2ca02c", "#1f77b4")):
-            ax.quiver(*o, *(0.45 * scale * axis), color=c, linewidth=1.5, arrow_length_ratio=0.2)
+        for axis, c in zip(Rs[r].T, _AXES):
+            ax.quiver(*o, *(0.6 * scale * axis), color=c, linewidth=1.5, arrow_length_ratio=0.2)
         L = body.angular_momentum
         nL = float(np.linalg.norm(L))
         if nL > 0:
@@ -125,14 +114,21 @@ def draw_body(ax, body, state, *, scale: float, offset=(0.0, 0.0, 0.0), alpha: f
     return ax
 
 
-def _setup(ax, scale, center=(0.0, 0.0, 0.0)):
+def _setup(ax, scale, center=(0.0, 0.0, 0.0), *, small: bool = False):
+    """Limits (a cube of half width ``scale``), at most 3 ticks a side, labels in metres; ``small``
+    panels (a strobe's) get smaller tick labels, set off from the axes so that none is clipped."""
+    from matplotlib.ticker import MaxNLocator
+
     c = np.asarray(center, dtype=float)
     for setter, v in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), c):
         setter(v - scale, v + scale)
-    ax.set_box_aspect((1, 1, 1))
-    ax.set_xlabel("x")
-    ax.set_ylabel("y")
-    ax.set_zlabel("z")
+    ax.set_box_aspect((1, 1, 1), zoom=0.82 if small else 0.92)
+    size = 6 if small else 8
+    for axis, name in ((ax.xaxis, "x"), (ax.yaxis, "y"), (ax.zaxis, "z")):
+        axis.set_major_locator(MaxNLocator(3, symmetric=True))
+        axis.set_label_text(f"{name} [m]", fontsize=size + 1)
+        axis.labelpad = -4 if small else 0
+    ax.tick_params(labelsize=size, pad=-2 if small else 0)
     ax.view_init(elev=18, azim=-60)
 
 
@@ -159,16 +155,18 @@ def strobe(result, *, poses: int = 6, fig=None, title: str | None = None, sample
     body = result.system
     t = np.linspace(result.times[0], result.times[-1], poses)
     X = _states(result, t, samples)
-    scale = _size(body, X)
-    fig = fig or Figure(figsize=(2.4 * poses, 2.9))
+    solids = solids_of(body)
+    scale = _size(body, X, solids)
+    fig = fig or Figure(figsize=(2.6 * poses, 3.5))
     for k in range(poses):
         ax = fig.add_subplot(1, poses, k + 1, projection="3d")
-        draw_body(ax, body, X[k], scale=scale)
-        _setup(ax, scale)
+        draw_body(ax, body, X[k], scale=scale, solids=solids)
+        _setup(ax, scale, small=True)
         ax.set_title(f"t = {t[k]:.2f} s", fontsize=9)
-        ax.tick_params(labelsize=6)
     fig.suptitle(title or _title(body), fontsize=10)
-    fig.subplots_adjust(left=0.01, right=0.99, bottom=0.02, top=0.88, wspace=0.02)
+    handles = key_handles(body, solids)
+    fig.legend(handles=handles, loc="lower center", ncols=min(len(handles), 8), fontsize=7, frameon=False)
+    fig.subplots_adjust(left=0.01, right=0.99, bottom=0.14, top=0.86, wspace=0.12)
     return fig
 
 
@@ -205,7 +203,7 @@ def attitude_figure(result, *, seq: str = "yeadon", samples: int = 400, fig=None
     a1 = fig.add_subplot(2, 1, 1)
     for k in range(3):
         a1.plot(t, E[k], label=names[k])
-    a1.set_ylabel("attitude (deg)")
+    a1.set_ylabel("attitude [deg]")
     a1.legend(loc="best", fontsize=8)
     a1.grid(alpha=0.3)
     a2 = fig.add_subplot(2, 1, 2, sharex=a1)
@@ -214,8 +212,8 @@ def attitude_figure(result, *, seq: str = "yeadon", samples: int = 400, fig=None
     for tk in result.times:
         a1.axvline(tk, color="0.8", lw=0.6)
         a2.axvline(tk, color="0.8", lw=0.6)
-    a2.set_ylabel("joint angle (deg)")
-    a2.set_xlabel("t (s)")
+    a2.set_ylabel("joint angle [deg]")
+    a2.set_xlabel("t [s]")
     a2.legend(loc="best", fontsize=8, ncol=2)
     a2.grid(alpha=0.3)
     fig.suptitle(title or ("Yeadon angles (somersault, tilt, twist) and joints" if seq.lower() == "yeadon"
@@ -262,41 +260,40 @@ def animate(result, path, *, fps: int = 25, speed: float | None = None, dpi: int
     frames = int(min(max_frames, max(2, math.ceil(T / speed * fps) + 1)))
     t = np.linspace(result.times[0], result.times[-1], frames)
     X = _states(result, t, samples)
-    scale = _size(body, X)
+    solids = solids_of(body)
+    scale = _size(body, X, solids)
     fig = Figure(figsize=(5.6, 5.6), dpi=dpi)
     FigureCanvasAgg(fig)
     ax = fig.add_subplot(1, 1, 1, projection="3d")
     _setup(ax, scale)
-    # the still parts (axes, the angular momentum's arrow) drawn once; the body's boxes, joints,
-    # the root's axes and the title move (acroplan.core.animation)
-    boxes = equivalent_boxes(body)
-    pc = Poly3DCollection([np.zeros((4, 3))] * (6 * len(boxes)), edgecolors=(0, 0, 0, 0.25), linewidths=0.3)
+    # the still parts (axes, the angular momentum's arrow, the key) drawn once; the body's solids,
+    # joints, the root's axes and the caption move (acroplan.core.animation)
+    tris, colors = _triangles(body, X[0], solids)
+    pc = Poly3DCollection(tris, facecolors=colors, edgecolors="none")
     ax.add_collection3d(pc)
-    joints = [i for i in range(len(body.links)) if body.links.parents[i] != -1]
+    joints = [i for i in range(len(body.links)) if body.links.parents[i] != -1 and body.links.links[i].mass > 0]
     dots, = ax.plot([], [], [], "o", ms=3, color="k", linestyle="none")
-    root_axes = [ax.plot([], [], [], color=c, lw=1.5)[0] for c in ("#d62728", "#2ca02c", "#1f77b4")]
+    root_axes = [ax.plot([], [], [], color=c, lw=1.5)[0] for c in _AXES]
     L = body.angular_momentum
     nL = float(np.linalg.norm(L))
     if nL > 0:
         ax.quiver(0, 0, 0, *(0.9 * scale * L / nL), color="k", linewidth=2.0, arrow_length_ratio=0.15)
+    handles = key_handles(body, solids)
+    ax.legend(handles=handles, loc="upper left", fontsize=7, frameon=False, ncols=1 if len(handles) < 9 else 2)
     if title:
         ax.set_title(title, fontsize=10)
     rate = "" if speed == 1 else f" (x{speed:.3g} speed)"
 
     def update(k):
-        Rs, org, coms = body.link_poses(X[k])
-        polys, colors = [], []
-        for j, (i, half, V) in enumerate(boxes):
-            p, n = _box_polys(coms[i], Rs[i] @ V, half)
-            polys += p
-            colors += _shade(_COLORS[j % len(_COLORS)], n)
-        pc.set_verts(polys)
+        Rs, org, _ = body.link_poses(X[k])
+        tris, colors = _triangles(body, X[k], solids)
+        pc.set_verts(tris)
         pc.set_facecolor(colors)
         if joints:
             dots.set_data_3d(org[joints, 0], org[joints, 1], org[joints, 2])
         r = body.links.root
         for line, axis in zip(root_axes, Rs[r].T):
-            end = org[r] + 0.45 * scale * axis
+            end = org[r] + 0.6 * scale * axis
             line.set_data_3d([org[r][0], end[0]], [org[r][1], end[1]], [org[r][2], end[2]])
 
     update(0)

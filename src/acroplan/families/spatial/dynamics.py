@@ -316,7 +316,6 @@ def newton_euler(struct, par, s, u, du, lam, sin, cos):
 
 # ---------------------------------------------------------------------- compiled
 _FUNCS: dict = {}
-_LOCK = threading.Lock()
 _LOCAL = threading.local()
 
 
@@ -342,11 +341,10 @@ def _build(struct, derivatives: bool):
 def _compiled(struct, derivatives: bool):
     key = (struct, bool(derivatives))
     fn = _FUNCS.get(key)
-    if fn is None:
-        with _LOCK:
-            fn = _FUNCS.get(key)
-            if fn is None:
-                fn = _FUNCS[key] = _build(struct, bool(derivatives))
+    if fn is None:  # compiled in a thread of its own, waited for within the plan's time budget
+        from ...core import backend
+
+        fn = _FUNCS[key] = backend.compile_once(("spatial-torques", *key), lambda: _build(struct, bool(derivatives)))
     mine = getattr(_LOCAL, "funcs", None)
     if mine is None:
         mine = _LOCAL.funcs = {}

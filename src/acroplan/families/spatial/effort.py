@@ -100,6 +100,7 @@ import numpy as np
 from ...core import backend
 from ...core.errors import InvalidInputError
 from ...core.system import register_torque_model
+from ..tree.motion import basis_tables, coefficient_jacobian, joint_motion, joint_rows, segment_arrays
 from ..tree.pin import INSTALL_HINT, require_pinocchio, thread_data
 from .collocation import momentum_samples
 from .dynamics import MAX_COMPILED_JOINTS, joint_torques
@@ -148,17 +149,9 @@ class SpatialInverseDynamics:
 
 
 def _rows(name: str, value, m: int) -> np.ndarray:
-    a = np.asarray(value, dtype=float)
-    if a.ndim == 1:
-        a = a[:, None]
-    what, fix = (("quaternion component", "give quaternions [w, x, y, z]") if name == "attitude"
-                 else ("joint", "give the joint values in state order"))
-    if a.ndim != 2 or a.shape[0] != m:
-        raise InvalidInputError(name, f"must have shape ({m},) or ({m}, K), one row per {what}, got shape "
-                                f"{np.shape(value)}", fix)
-    if not np.all(np.isfinite(a)):
-        raise InvalidInputError(name, "has a value that is not finite", "give finite numbers")
-    return a
+    if name == "attitude":
+        return joint_rows(name, value, m, what="quaternion component", fix="give quaternions [w, x, y, z]")
+    return joint_rows(name, value, m)
 
 
 def inverse_dynamics(body, attitude, q, u, du, *, derivatives: bool = False) -> SpatialInverseDynamics:
@@ -240,15 +233,6 @@ def inverse_dynamics(body, attitude, q, u, du, *, derivatives: bool = False) -> 
                                   partials)
 
 
-@functools.lru_cache(maxsize=64)
-def _basis_tables(basis, s_bytes: bytes):
-    s = np.frombuffer(s_bytes)
-    out = (basis.matrix(s), basis.matrix(s, 1), basis.integral(s))
-    for t in out:
-        t.setflags(write=False)
-    return out
-
-
 def attitude_samples(system, basis, x0, T, c, s, *, jacobian: bool = False):
     """The states of a segment at normalised times ``s`` (any order, in [0, 1]) by the compiled
     Taylor integrator (:func:`acroplan.core.backend.taylor_sample`'s), and with ``jacobian`` their
@@ -280,19 +264,11 @@ def attitude_samples(system, basis, x0, T, c, s, *, jacobian: bool = False):
 
 def _checked(system, basis, x0, T, c, s):
     """``(x0, T, c, s)`` of a segment as arrays, checked (naming the field)."""
-    m = system.n_inputs
-    c = np.asarray(c, dtype=float)
-    if c.shape != (m, basis.n):
-        raise InvalidInputError("c", f"must have shape ({m}, {basis.n}), got {c.shape}",
-                                "give one row of basis coefficients per joint")
-    T = float(T)
-    if not (np.isfinite(T) and T > 0):
-        raise InvalidInputError("T", f"must be a positive duration, got {T}", "give the segment's length")
+    T, c, s = segment_arrays(system, basis, T, c, s)
     x0 = np.asarray(x0, dtype=float).reshape(-1)
     if x0.shape != (system.n_states,):
         raise InvalidInputError("x0", f"must have shape ({system.n_states},) {list(system.state_names)}, got "
                                 f"{x0.shape}", "give the quaternion and every joint angle")
-    s = np.ascontiguousarray(np.atleast_1d(np.asarray(s, dtype=float)))
     return x0, T, c, s
 
 
@@ -343,8 +319,7 @@ class SpatialTorque:
         tangent sensitivity :math:`\\partial\\delta\\theta(s_k)/\\partial c`, shape (K, 3, m n)."""
         m = system.n_inputs
         x0, T, c, s = _checked(system, basis, x0, T, c, s)
-        V, V1, Int = _basis_tables(basis, s.tobytes())
-        joints = (x0[4:, None] + T * (c @ Int.T), c @ V.T, (c @ V1.T) / T)
+        joints = joint_motion(x0[4:], T, c, basis_tables(basis, s))
         if not np.any(system.angular_momentum):
             # at L = 0 the torques do not depend on the attitude (no gravity, and no momentum for the
             # body to turn in): the start's attitude serves at every node, with no sensitivity
@@ -370,13 +345,9 @@ class SpatialTorque:
             return inverse_dynamics(system, att, q, u, du)
         att, q, u, du, dtheta = self.motion(system, basis, x0, T, c, s, jacobian=True)
         out = inverse_dynamics(system, att, q, u, du, derivatives=True)
-        s = np.ascontiguousarray(np.atleast_1d(np.asarray(s, dtype=float)))
-        V, V1, Int = _basis_tables(basis, s.tobytes())
-        m, T = system.n_inputs, float(T)
-        P = out.partials  # (m, K, 3 + 3m): d tau / d(dtheta, s, u, du)
-        jac = (np.einsum("pkj,ki->pkji", P[:, :, 3:3 + m], T * Int)
-               + np.einsum("pkj,ki->pkji", P[:, :, 3 + m:3 + 2 * m], V)
-               + np.einsum("pkj,ki->pkji", P[:, :, 3 + 2 * m:], V1 / T)).reshape(m, s.size, m * basis.n)
+        m, P = system.n_inputs, out.partials  # (m, K, 3 + 3m): d tau / d(dtheta, s, u, du)
+        jac = coefficient_jacobian(P[:, :, 3:3 + m], P[:, :, 3 + m:3 + 2 * m], P[:, :, 3 + 2 * m:], float(T),
+                                   basis_tables(basis, s))
         jac = jac + np.einsum("pka,kac->pkc", P[:, :, :3], dtheta)
         return dataclasses.replace(out, partials=jac)
 
@@ -411,16 +382,14 @@ class SpatialTorque:
         """
         m = system.n_inputs
         x0, T, c, s = _checked(system, basis, x0, T, c, s)
-        V, V1, Int = _basis_tables(basis, s.tobytes())
-        q, u, du = x0[4:, None] + T * (c @ Int.T), c @ V.T, (c @ V1.T) / T
+        tables = basis_tables(basis, s)
+        q, u, du = joint_motion(x0[4:], T, c, tables)
         if not jacobian:
             lam = momentum_samples(system, basis, x0, T, c, s)
             return joint_torques(system.links, q, u, du, lam)
         lam, dlam = momentum_samples(system, basis, x0, T, c, s, jacobian=True)
         tau, P = joint_torques(system.links, q, u, du, lam, derivatives=True)
-        jac = (np.einsum("pkj,ki->pkji", P[:, :, :m], T * Int)
-               + np.einsum("pkj,ki->pkji", P[:, :, m:2 * m], V)
-               + np.einsum("pkj,ki->pkji", P[:, :, 2 * m:3 * m], V1 / T)).reshape(m, s.size, m * basis.n)
+        jac = coefficient_jacobian(P[:, :, :m], P[:, :, m:2 * m], P[:, :, 2 * m:3 * m], T, tables)
         if np.any(system.angular_momentum):
             jac += np.einsum("pka,kac->pkc", P[:, :, 3 * m:], dlam)
         return tau, jac

@@ -35,9 +35,15 @@ def _draw(folder, solution, gif, strobe_path, mp4, *, speed, fps, load):
 
 
 def _compile_seconds(body, n):
+    """What a spatial plan compiles: its topology's momentum maps (Gauss collocation, issue #22),
+    none when both were compiled before (in this process or on this machine)."""
+    from ...core import backend
     from ..tree.compile_cost import compile_seconds
+    from .collocation import map_key
 
-    return compile_seconds("spatial", body, n)
+    if all(backend.compiled_before(map_key(body, light)) for light in (False, True)):
+        return None
+    return compile_seconds("spatial-map", body, n)
 
 
 def _check_request(req):
@@ -50,6 +56,12 @@ def _animate(result, path, **kw):
     from .drawing import animate
 
     return animate(result, path, **kw)
+
+
+def _view(result, path, **kw):
+    from .view import figure, write_view
+
+    return figure(result, **kw) if path is None else write_view(result, path, **kw)
 
 
 FAMILY = Family(
@@ -72,6 +84,7 @@ FAMILY = Family(
     },
     draw=_draw,
     animate=_animate,
+    view=_view,
     describe=lambda body: f"a spatial body of {body.n_links} links",
     check_request=_check_request,
     compile_seconds=_compile_seconds,

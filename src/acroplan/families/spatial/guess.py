@@ -285,14 +285,7 @@ def loop_guesses(body, basis, x0, x1, T: float, ends: dict | None = None, limits
     SHg = np.polynomial.polynomial.polyval(grid, qh.T)
     dSHg = np.polynomial.polynomial.polyval(grid, dqh.T) if dqh.size else np.zeros((m, grid.size))
     c_base = (dSH / T) @ P.T
-    lo = np.full(m, -np.inf)
-    hi = np.full(m, np.inf)
-    U = np.full(m, np.inf)
-    if limits is not None and limits.active:
-        for j, name in enumerate(body.links.joint_names):
-            lo[j], hi[j] = limits.bounds(name)
-            bnd = limits.input_bound(f"u_{name}")
-            U[j] = np.inf if bnd is None else bnd
+    lo, hi, U = body.joint_bounds(limits)
 
     q_base = fast_attitudes(body, x0[:4], T, SHg[:, None, :], dSHg[:, None, :])[:, 0]
     err_base = rot.angle_between(q_base, x1[:4])
@@ -302,49 +295,17 @@ def loop_guesses(body, basis, x0, x1, T: float, ends: dict | None = None, limits
     if m < 2 or n < alpha + beta + 1:
         return [base]
     wG, dwG, wg, dwg, W2 = _weights(alpha, beta, N)
-    xG = 2 * _SG - 1
-    # the refinement's subspace: w (v0 + x v1 + P2(x) v2 + P3(x) v3), as many Legendre terms as fit
-    degree = min(3, n - 1 - (alpha + beta))
-    Pl = [np.polynomial.legendre.legval(xG, np.eye(degree + 1)[k]) for k in range(degree + 1)]
-    dPl = [2.0 * np.polynomial.legendre.legval(xG, np.polynomial.legendre.legder(np.eye(degree + 1)[k]))
-           for k in range(degree + 1)]
-    Ksub = np.zeros((m * n, (degree + 1) * m))  # c = c_base + Ksub (v0, v1, ...), v0 = a, v1 = b
-    for k in range(degree + 1):
-        for i in range(m):
-            d = np.zeros((m, _SG.size))
-            d[i] = dwG * Pl[k] + wG * dPl[k]
-            Ksub[:, k * m + i] = ((d / T) @ P.T).ravel()
+    Ksub = _refinement_subspace(m, n, alpha, beta, T, P, wG, dwG)
     # the turn a loop at mid-time must make (module docstring), in the mid-time body frame
     # (the first half on its own normalised time: half the duration, half the rates; N is even)
     q_mid = fast_attitudes(body, x0[:4], T / 2, SHg[:, None, :N + 1], 0.5 * dSHg[:, None, :N + 1])[:, 0]
     r = rot.log(rot.qmul(rot.qconj(q_base), x1[:4]))
-    Q = rot.qmul(rot.qconj(q_mid), q_base)
-    delta = rot.to_matrix(Q) @ r
-    # loop directions: the curvature's least-squares bivector, and an offset along each joint
-    mid = SHg[:, N]
-    F = curvature(conn, mid[:, None])[:, :, 0] * W2  # (3, P)
-    dirs = []
-    a, b, _ = _decomposable(np.linalg.lstsq(F, delta, rcond=1e-10)[0], m)
-    dirs += [(a, b), (-a, -b)]
-    pairs = [(i, j) for i in range(m) for j in range(i + 1, m)]
-    for k in range(m):
-        for sgn in (1.0, -1.0):
-            a = np.zeros(m)
-            a[k] = sgn
-            at = mid + 0.5 * a
-            Fk = curvature(conn, at[:, None])[:, :, 0] * W2
-            M = np.zeros((3, m))  # turn of a ^ b as a linear map of b
-            for p, (i, j) in enumerate(pairs):
-                M[:, j] += Fk[:, p] * a[i]
-                M[:, i] -= Fk[:, p] * a[j]
-            bv = np.linalg.lstsq(M, delta, rcond=1e-10)[0]
-            nb = np.linalg.norm(bv)
-            if nb > 0:
-                dirs += [(a, bv / nb)]
+    delta = rot.to_matrix(rot.qmul(rot.qconj(q_mid), q_base)) @ r
+    dirs = _loop_directions(conn, SHg[:, N], delta, W2, m)
     amps = np.array(AMPLITUDES)
     Ad = np.array([d[0] for d in dirs])  # (D, m)
     Bd = np.array([d[1] for d in dirs])
-    na = amps.size
+    # every direction at every pair of amplitudes (a's, b's)
     Av = (Ad[:, None, None, :] * amps[None, :, None, None] + 0.0 * amps[None, None, :, None]).reshape(-1, m).T
     Bv = (Bd[:, None, None, :] * amps[None, None, :, None] + 0.0 * amps[None, :, None, None]).reshape(-1, m).T
     cand = [(Av[:, k], Bv[:, k]) for k in range(Av.shape[1])]
@@ -361,7 +322,6 @@ def loop_guesses(body, basis, x0, x1, T: float, ends: dict | None = None, limits
         & np.all(np.abs(dS).max(axis=2) <= 0.99 * U[:, None] * T, axis=0)
     size = np.sqrt(np.sum(Av**2, axis=0) + np.sum(Bv**2, axis=0))
     order = np.lexsort((size, np.round(err, 2), ~ok))  # compliant first, then the error, then the size
-    del na
     out, seen = [], []
     for k in order:
         a, b = cand[k]
@@ -373,6 +333,49 @@ def loop_guesses(body, basis, x0, x1, T: float, ends: dict | None = None, limits
         if len(out) >= keep:
             break
     return out + [base]
+
+
+def _refinement_subspace(m: int, n: int, alpha: int, beta: int, T: float, P, wG, dwG) -> np.ndarray:
+    """The loop refinement's subspace in the coefficients, shape (m n, (degree + 1) m): the joint
+    offsets :math:`w(x)(v_0 + x v_1 + P_2(x) v_2 + P_3(x) v_3)` (as many Legendre terms as fit in
+    the basis beside the end conditions), ``c = c_base + K (v_0, v_1, ...)``; :math:`v_0 = a`,
+    :math:`v_1 = b` of a loop."""
+    xG = 2 * _SG - 1
+    degree = min(3, n - 1 - (alpha + beta))
+    Pl = [np.polynomial.legendre.legval(xG, np.eye(degree + 1)[k]) for k in range(degree + 1)]
+    dPl = [2.0 * np.polynomial.legendre.legval(xG, np.polynomial.legendre.legder(np.eye(degree + 1)[k]))
+           for k in range(degree + 1)]
+    K = np.zeros((m * n, (degree + 1) * m))
+    for k in range(degree + 1):
+        for i in range(m):
+            d = np.zeros((m, _SG.size))
+            d[i] = dwG * Pl[k] + wG * dPl[k]
+            K[:, k * m + i] = ((d / T) @ P.T).ravel()
+    return K
+
+
+def _loop_directions(conn, mid, delta, W2, m: int) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Loop directions ``(a, b)`` about the mid-time shape ``mid`` (m,) for the turn ``delta`` (3,):
+    the curvature's least-squares bivector (both senses), and a loop offset along each joint, each
+    sense, whose ``b`` makes the turn best."""
+    F = curvature(conn, mid[:, None])[:, :, 0] * W2  # (3, P)
+    a, b, _ = _decomposable(np.linalg.lstsq(F, delta, rcond=1e-10)[0], m)
+    dirs = [(a, b), (-a, -b)]
+    pairs = [(i, j) for i in range(m) for j in range(i + 1, m)]
+    for k in range(m):
+        for sgn in (1.0, -1.0):
+            a = np.zeros(m)
+            a[k] = sgn
+            Fk = curvature(conn, (mid + 0.5 * a)[:, None])[:, :, 0] * W2
+            M = np.zeros((3, m))  # turn of a ^ b as a linear map of b
+            for p, (i, j) in enumerate(pairs):
+                M[:, j] += Fk[:, p] * a[i]
+                M[:, i] -= Fk[:, p] * a[j]
+            bv = np.linalg.lstsq(M, delta, rcond=1e-10)[0]
+            nb = np.linalg.norm(bv)
+            if nb > 0:
+                dirs += [(a, bv / nb)]
+    return dirs
 
 
 def refine(body, basis, x0, x1, T: float, guess: LoopGuess, *, budget: int = 30, tol: float = 1e-12,

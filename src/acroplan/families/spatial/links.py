@@ -27,6 +27,10 @@ revolute joints, as URDF does (a universal joint is two revolute joints through 
 A joint is named by ``joint_name`` (default: the child link's name); that name is the body's state
 (the joint angle), ``u_<joint name>`` its input (the joint rate). Optional limits:
 ``lower <= q <= upper`` and ``|dq/dt| <= velocity``.
+
+A link may carry the solids it is **drawn** with (``shapes``: the 3-D human's Yeadon solids; no
+part of the dynamics, :mod:`~acroplan.families.spatial.solids`); a link without them is drawn as
+its equivalent box.
 """
 
 from __future__ import annotations
@@ -104,6 +108,40 @@ def _inertia(field: str, value, mass: float) -> tuple[tuple[float, ...], ...]:
     return tuple(tuple(float(v) for v in row) for row in a)
 
 
+def _tupled(v):
+    return tuple(_tupled(x) for x in v) if isinstance(v, (list, tuple)) else v
+
+
+#: The drawn solids' kinds and how many numbers each takes (SpatialLink.shapes)
+SHAPE_PARAMS = {"stadium_solid": 5, "semiellipsoid": 3}
+
+
+def _shapes(field: str, value):
+    """``shapes`` checked: ``None`` or a tuple of ``(kind, params, origin, rotation)`` of floats."""
+    if value is None:
+        return None
+    hint = "give (kind, params, origin, rotation) per solid, kind one of " + ", ".join(SHAPE_PARAMS)
+    if isinstance(value, (str, bytes)) or not isinstance(value, (tuple, list)):
+        raise InvalidInputError(field, f"must be a list of solids, got {type(value).__name__}", hint)
+    out = []
+    for k, shape in enumerate(value):
+        f = f"{field}[{k}]"
+        if not isinstance(shape, (tuple, list)) or len(shape) != 4 or shape[0] not in SHAPE_PARAMS:
+            raise InvalidInputError(f, f"must be (kind, params, origin, rotation), got {shape!r}"[:200], hint)
+        kind, params, origin, rotation = shape
+        try:
+            params = tuple(float(x) for x in params)
+        except (TypeError, ValueError):
+            raise InvalidInputError(f"{f}.params", "must be numbers", hint) from None
+        if len(params) != SHAPE_PARAMS[kind] or not all(math.isfinite(x) and x >= 0 for x in params):
+            raise InvalidInputError(f"{f}.params", f"must be {SHAPE_PARAMS[kind]} finite numbers >= 0 for a {kind}, "
+                                    f"got {params}", hint)
+        R = _rotation(f"{f}.rotation", rotation)
+        out.append((kind, params, _vec3(f"{f}.origin", origin), R if R is not None else
+                    ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))))
+    return tuple(out)
+
+
 def _rotation(field: str, value) -> tuple[tuple[float, ...], ...] | None:
     if value is None:
         return None
@@ -144,6 +182,11 @@ class SpatialLink(LinkRecord):
         Joint-angle limits (rad).
     velocity : float, optional
         Joint-rate limit (rad/s, > 0).
+    shapes : tuple, optional
+        The solids the link is drawn with (never the dynamics): each
+        ``(kind, params, origin, rotation)``, ``kind`` ``"stadium_solid"`` (params ``r0, t0, r1,
+        t1, height``) or ``"semiellipsoid"`` (``r, t, height``), placed in the link's frame at
+        ``origin`` (3,) turned by ``rotation`` (3 x 3) (:mod:`~acroplan.families.spatial.solids`).
     """
 
     name: str
@@ -158,6 +201,7 @@ class SpatialLink(LinkRecord):
     lower: float | None = None
     upper: float | None = None
     velocity: float | None = None
+    shapes: Any = None
 
     def __post_init__(self):
         for f in ("com", "joint", "axis"):
@@ -169,6 +213,8 @@ class SpatialLink(LinkRecord):
             if isinstance(v, (list, np.ndarray)):
                 a = np.asarray(v, dtype=float)
                 object.__setattr__(self, f, tuple(a.tolist()) if a.ndim == 1 else tuple(tuple(r) for r in a.tolist()))
+        if isinstance(self.shapes, list):  # (read from a record: lists all the way down)
+            object.__setattr__(self, "shapes", _tupled(self.shapes))
 
     @property
     def is_root(self) -> bool:
@@ -242,4 +288,5 @@ class SpatialLinkTable(TreeLinkTable):
         axis = tuple(v / n for v in axis)
         rotation = _rotation(f"{field}.rotation", link.rotation)
         return SpatialLink(common["name"], common["parent"], mass, inertia, com, joint, axis, rotation,
-                           common["joint_name"], common["lower"], common["upper"], common["velocity"])
+                           common["joint_name"], common["lower"], common["upper"], common["velocity"],
+                           _shapes(f"{field}.shapes", link.shapes))

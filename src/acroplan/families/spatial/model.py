@@ -95,7 +95,8 @@ import numpy as np
 import sympy as sp
 
 from ...core.errors import InvalidInputError
-from ...core.system import ControlAffineSystem, Infeasibility
+from ...core.system import ControlAffineSystem
+from ..tree.body import TreeBody
 from . import rotations as rot
 from .links import QUATERNION_NAMES, SpatialLink, SpatialLinkTable
 
@@ -374,7 +375,7 @@ def kinematic_locked_inertia(links: SpatialLinkTable, shape) -> np.ndarray:
 
 # ---------------------------------------------------------------------- the body
 @dataclasses.dataclass(frozen=True, init=False)
-class SpatialBody(ControlAffineSystem):
+class SpatialBody(TreeBody, ControlAffineSystem):
     """A free-floating body in 3-D (module docstring for the model).
 
     Parameters
@@ -407,6 +408,11 @@ class SpatialBody(ControlAffineSystem):
 
     links: SpatialLinkTable
     L: tuple = (0.0, 0.0, 0.0)
+
+    #: the states before the joints (the quaternion), the record's name of the momentum, the check's module
+    n_root = 4
+    momentum_field = "L"
+    _check_module = "acroplan.families.spatial.check"
 
     def __init__(self, links, L=None, *, angular_momentum=None):
         if L is not None and angular_momentum is not None:
@@ -452,14 +458,6 @@ class SpatialBody(ControlAffineSystem):
         return QUATERNION_NAMES + self.links.joint_names
 
     @property
-    def input_names(self):
-        return tuple(f"u_{j}" for j in self.links.joint_names)
-
-    @property
-    def rate_inputs(self):
-        return {f"u_{j}": j for j in self.links.joint_names}
-
-    @property
     def angle_states(self):
         return self.links.joint_names
 
@@ -480,13 +478,12 @@ class SpatialBody(ControlAffineSystem):
         return dict(zip(self.param_names, (float(v) for v in self._param_tuple)))
 
     @property
-    def n_links(self) -> int:
-        return len(self.links)
-
-    @property
     def angular_momentum(self) -> np.ndarray:
         """:math:`L`, shape (3,)."""
         return np.array(self.L)
+
+    def _momentum_record(self) -> list:
+        return list(self.L)
 
     def symbols(self):
         """The compiled state and parameter symbols (:func:`generic_symbols`)."""
@@ -602,13 +599,6 @@ class SpatialBody(ControlAffineSystem):
         return np.concatenate([Lq @ J[:4], J[4:]], axis=0)
 
     # ------------------------------------------------------------------ numeric helpers
-    def _shape(self, shape) -> np.ndarray:
-        s = np.asarray(shape, dtype=float)
-        if s.shape[:1] != (self.n_links - 1,):
-            raise InvalidInputError("shape", f"must hold the {self.n_links - 1} joint angle(s) "
-                                    f"{list(self.links.joint_names)}, got shape {s.shape}", "give one angle per joint")
-        return s
-
     def momentum_map(self, shape) -> tuple[np.ndarray, np.ndarray]:
         """:math:`\\mathbb{I}(s)` and :math:`A(s)` of (1), at one shape or many.
 
@@ -680,26 +670,6 @@ class SpatialBody(ControlAffineSystem):
         c = mass @ coms / mass.sum()
         return Rs, org - c, coms - c
 
-    def joint_limits(self):
-        """The table's joint limits as a :class:`~acroplan.core.limits.Limits`, or ``None``."""
-        from ...core.limits import Limits
-
-        states, inputs = {}, {}
-        for i, name in zip(self.links.joints, self.links.joint_names):
-            link = self.links[i]
-            if link.lower is not None or link.upper is not None:
-                states[name] = (link.lower, link.upper)
-            if link.velocity is not None:
-                inputs[f"u_{name}"] = link.velocity
-        if not states and not inputs:
-            return None
-        return Limits(states, inputs)
-
-    def default_limits(self):
-        """The table's (or the URDF's) joint limits, honoured by :func:`acroplan.plan` unless the
-        call gives limits of its own (``limits=Limits()`` switches them off)."""
-        return self.joint_limits()
-
     # ------------------------------------------------------------------ planning hooks
     def check_segment(self, x0, x1, duration, limits=None):
         """Checks of one segment: the waypoints' quaternions must be unit (to :data:`NORM_TOL`;
@@ -712,59 +682,22 @@ class SpatialBody(ControlAffineSystem):
                 raise InvalidInputError("attitude", f"the {end} quaternion (qw, qx, qy, qz) of a segment has norm "
                                         f"{nq:.12g}, not 1", "give unit quaternions (acroplan.families.spatial."
                                         "rotations.as_quaternion normalises and converts other forms)")
-        if limits is None or not limits.active:
-            return None
-        names = self.links.joint_names
-        x0 = np.asarray(x0, dtype=float)
-        x1 = np.asarray(x1, dtype=float)
-        T = float(duration)
-        lim = f" under {limits.describe()}"
-        for j, name in enumerate(names):
-            lo, hi = limits.bounds(name)
-            for end, v in ((f"{name}(0)", x0[4 + j]), (f"{name}(T)", x1[4 + j])):
-                if not lo <= v <= hi:
-                    return Infeasibility(f"no joint motion is possible{lim}: {end} = {v:.12g} is outside the joint "
-                                         f"limits [{lo:.12g}, {hi:.12g}]", name, None)
-            U = limits.input_bound(f"u_{name}")
-            if U is not None and abs(x1[4 + j] - x0[4 + j]) > U * T * (1 + 1e-15):
-                return Infeasibility(f"no joint motion is possible{lim}: {name} must move "
-                                     f"{abs(x1[4 + j] - x0[4 + j]):.12g} rad in T = {T:.12g} s, but u_{name} is "
-                                     f"limited to {U:.12g} rad/s", name, None)
-        return None
+        return self.joint_ends_infeasibility(x0, x1, duration, limits)
 
-    @property
-    def family_check(self) -> str:
-        """The name of :meth:`family_errors`' check."""
-        try:
-            import pinocchio  # noqa: F401
-        except ImportError:  # no check of its own here: plans are re-simulated by DOP853 ("ode")
-            return ""
-        return "Pinocchio centroidal simulation"
+    def state_unit(self, state):
+        """The quaternion's components have no unit; the joint angles are in ``"rad"``."""
+        return "" if state in ("qw", "qx", "qy", "qz") else "rad"
 
-    def family_errors(self, x0, segments):
-        """The independent check by Pinocchio (:func:`~acroplan.families.spatial.check.pinocchio_errors`):
-        the planned inputs chained from ``x0`` through a motion driven by Pinocchio's centroidal map
-        alone. Without Pinocchio, the core's DOP853 re-simulation of the model's own fields.
-
-        Returns
-        -------
-        numpy.ndarray, shape (len(segments),)
-            Each segment's :math:`\\max(\\angle(q^{-1} q_{target}), \\max_j |s_j - s_{j,target}|)`.
-        """
-        try:
-            import pinocchio  # noqa: F401
-        except ImportError:
-            from ...core.verify import simulate_segment
-            from .check import state_error
-
-            x, out = np.asarray(x0, dtype=float), []
-            for seg in segments:
-                x = simulate_segment(self, x, seg.t0, seg.t1, seg.input).y[:, -1]
-                out.append(state_error(x, seg.target))
-            return np.array(out)
-        from .check import pinocchio_errors
-
-        return pinocchio_errors(self, x0, segments)
+    def display_states(self, X, *, degrees: bool = False):
+        """The attitude as Yeadon's somersault, tilt and twist (:func:`~acroplan.families.spatial.
+        rotations.to_euler`, unwrapped along the columns; labelled ``"attitude: somersault"``, ...),
+        then the joint angles; in radians, or degrees with ``degrees``."""
+        X = np.asarray(X, dtype=float)
+        E = np.unwrap(np.radians(rot.to_euler(X[:4], "yeadon")), axis=1)
+        unit = "deg" if degrees else "rad"
+        conv = np.degrees if degrees else (lambda v: v)
+        return ([(f"attitude: {name}", conv(E[k]), unit, None) for k, name in enumerate(rot.EULER_NAMES)]
+                + [(name, conv(X[4 + j]), unit, name) for j, name in enumerate(self.links.joint_names)])
 
     def auto_strategy(self):
         """``method="auto"``: path deformation from shape loops that meet the target
@@ -774,20 +707,10 @@ class SpatialBody(ControlAffineSystem):
         return SpatialAuto()
 
     # ------------------------------------------------------------------ records
-    def to_dict(self) -> dict[str, Any]:
-        """Type, lumped parameters, ``L``, the topology and the link table (:meth:`from_dict`)."""
-        out = super().to_dict()
-        out["L"] = list(self.L)
-        out["parents"] = list(self.links.parents)
-        out["links"] = self.links.to_dicts()
-        return out
-
     @classmethod
     def from_dict(cls, d: Mapping[str, Any]) -> "SpatialBody":
         """Rebuild from :meth:`to_dict`'s output (``links`` and ``L``)."""
-        if not isinstance(d, Mapping) or "links" not in d:
-            raise InvalidInputError("links", "is missing", "give the link table (a list of link tables)")
-        return cls(SpatialLinkTable(d["links"]), L=tuple(d.get("L", (0.0, 0.0, 0.0))))
+        return cls(SpatialLinkTable(cls._links_of(d)), L=tuple(d.get("L", (0.0, 0.0, 0.0))))
 
 
 _ = SpatialLink  # re-exported through the package

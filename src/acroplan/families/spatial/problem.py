@@ -50,12 +50,6 @@ def links_from_tables(tables) -> list:
                 kw[key] = vector3(f"{f}.{key}", d[key])
         if "rotation" in d:
             kw["rotation"] = matrix3(f"{f}.rotation", d["rotation"], "[[1, 0, 0], [0, 0, -1], [0, 1, 0]]")
-        for key in ("lower", "upper"):
-            if key in d:
-                kw[key] = number(f"{f}.{key}", d[key], MAX_ANGLE, "angles")
-        if "velocity" in d:
-            kw["velocity"] = number(f"{f}.velocity", d["velocity"], MAX_BODY, "rates")
-        kw.setdefault("parent", None)
         links.append(SpatialLink(**kw))
     return links
 

@@ -26,8 +26,8 @@ from typing import Mapping
 
 import numpy as np
 
-from ..tree.urdf import (inertial_xml, joint_limits, joint_xml, limit_overrides, load_model, revolute_motion,
-                         table_names, urdf_links)
+from ..tree.urdf import (joint_limits, limit_overrides, load_model, revolute_motion,
+                         robot_xml, table_names, urdf_links)
 from .links import RESERVED_NAMES, SpatialLink, SpatialLinkTable
 
 __all__ = ["read_link_table", "read_urdf", "to_urdf"]
@@ -129,19 +129,10 @@ def to_urdf(links, name: str = "spatial_body", effort: float = 1000.0) -> str:
 
     table = getattr(links, "links", links)
     table = table if isinstance(table, SpatialLinkTable) else SpatialLinkTable(table)
-    from xml.sax.saxutils import quoteattr
 
-    out = ['<?xml version="1.0"?>', f"<robot name={quoteattr(name)}>"]
-    for link in table:
-        out.append(f"  <link name={quoteattr(link.name)}>")
-        if link.mass > 0:
-            out += inertial_xml(link.com, link.mass, link.inertia_matrix)
-        out.append("  </link>")
-    for i in table.topological_order():
-        if i != table.root:
-            link = table[i]
-            Rf = link.rotation_matrix
-            out += joint_xml(table.joint_names[table.joints.index(i)], link, link.joint,
-                             Rotation.from_matrix(Rf).as_euler("xyz"), Rf.T @ np.asarray(link.axis), effort)
-    out.append("</robot>")
-    return "\n".join(out) + "\n"
+    def frame(link):
+        Rf = link.rotation_matrix
+        return link.joint, Rotation.from_matrix(Rf).as_euler("xyz"), Rf.T @ np.asarray(link.axis)
+
+    return robot_xml(table, name, effort,
+                     lambda link: (link.com, link.mass, link.inertia_matrix) if link.mass > 0 else None, frame)

@@ -24,7 +24,8 @@ def renamed(e: InvalidInputError, old: str, new: str) -> InvalidInputError:
 def link_records(tables, allowed, joint_keys: str):
     """``(field, table, names)`` for each ``[[body.link]]`` table: the array checked (not empty, at
     most :data:`MAX_LINKS`), each table's keys checked against ``allowed``, its name fields read; the
-    families' readers add the numbers."""
+    families' readers add the numbers. The joint's limits (``lower``, ``upper``: angles;
+    ``velocity``: a rate) are read here, and ``parent`` is ``None`` for the root."""
     if not isinstance(tables, list) or not tables or not all(isinstance(t, dict) for t in tables):
         raise InvalidInputError("body.link", f"must be an array of tables ([[body.link]]), got {short(tables)}",
                                 "write one [[body.link]] table per link (docs/problem-files.md)")
@@ -39,7 +40,14 @@ def link_records(tables, allowed, joint_keys: str):
             if key not in d:
                 raise InvalidInputError(f"{f}.{key}", "is missing", "give every link a name, mass and inertia (and "
                                         f"every link but the root its {joint_keys})")
-        yield f, d, {k: name_field(f"{f}.{k}", d[k]) for k in ("name", "parent", "joint_name") if k in d}
+        kw = {k: name_field(f"{f}.{k}", d[k]) for k in ("name", "parent", "joint_name") if k in d}
+        for key in ("lower", "upper"):
+            if key in d:
+                kw[key] = number(f"{f}.{key}", d[key], MAX_ANGLE, "angles")
+        if "velocity" in d:
+            kw["velocity"] = number(f"{f}.velocity", d["velocity"], MAX_BODY, "rates")
+        kw.setdefault("parent", None)
+        yield f, d, kw
 
 
 def urdf_table(value, context, read_link_table, what: str):

@@ -20,7 +20,7 @@ from ...core.validate import MAX_LINKS, short
 from .pin import require_pinocchio
 from .urdfscan import captured_stderr, scan_urdf
 
-__all__ = ["identifier", "limit", "frame_link_name", "load_model", "urdf_links", "revolute_motion", "table_names",
+__all__ = ["identifier", "robot_xml", "limit", "frame_link_name", "load_model", "urdf_links", "revolute_motion", "table_names",
            "limit_overrides", "joint_limits", "inertial_xml", "joint_xml", "LIMIT_KEYS"]
 
 #: the joint limits a URDF gives and an override may replace
@@ -217,6 +217,26 @@ def inertial_xml(com, mass: float, I) -> list[str]:  # noqa: E741
             f'      <inertia ixx="{_num(I[0][0])}" ixy="{_num(I[0][1])}" ixz="{_num(I[0][2])}" '
             f'iyy="{_num(I[1][1])}" iyz="{_num(I[1][2])}" izz="{_num(I[2][2])}"/>',
             "    </inertial>"]
+
+
+def robot_xml(table, name: str, effort: float, inertial, frame) -> str:
+    """A URDF document of the link table ``table``: a ``<link>`` per link with its ``<inertial>``
+    (``inertial(link)`` gives ``(com, mass, I)`` of :func:`inertial_xml`, or ``None`` for a link
+    without mass), a ``<joint>`` per joint (:func:`joint_xml`, ``frame(link)`` gives its
+    ``(xyz, rpy, axis)``), in the depth-first order a URDF reader needs."""
+    out = ['<?xml version="1.0"?>', f"<robot name={quoteattr(name)}>"]
+    for link in table:
+        out.append(f"  <link name={quoteattr(link.name)}>")
+        numbers = inertial(link)
+        if numbers is not None:
+            out += inertial_xml(*numbers)
+        out.append("  </link>")
+    for i in table.topological_order():
+        if i != table.root:
+            link = table[i]
+            out += joint_xml(table.joint_names[table.joints.index(i)], link, *frame(link), effort)
+    out.append("</robot>")
+    return "\n".join(out) + "\n"
 
 
 def joint_xml(name: str, link, xyz, rpy, axis, effort: float) -> list[str]:

@@ -33,6 +33,8 @@ COMMANDS = {
                   "Steer the acrobot by the nilpotentization of Chapter 4, with time moving forward."),
     "animate": ("acroplan.io.cli.animate:animate_cmd",
                 "Animate the motion saved in FOLDER (by acroplan plan, simulate or nilpotent)."),
+    "view": ("acroplan.io.cli.view:view_cmd",
+             "Write an interactive 3-D view of the motion saved in FOLDER: one self-contained HTML page."),
     "examples": ("acroplan.io.cli.examples:examples_cmd",
                  "List the bundled example problems, or print one's problem file."),
     "init": ("acroplan.io.cli.examples:init_cmd",
@@ -117,6 +119,7 @@ def main(debug):
       acroplan examples                                  # the bundled problems
       acroplan plan --example platform-dive --out dive --animate        # a human body
       acroplan plan --example falling-cat --out cat --animate           # a body in 3-D
+      acroplan view cat                                  # ... turned in the browser (cat/view.html)
       acroplan twist-potential --example back-full-twist --flight-times 1.2,1.6 --out tp   # most twist
       acroplan plan --example pike-dive --out pike       # Chapter 3
       acroplan nilpotent --example chapter4 --out ch4    # Chapter 4
@@ -129,6 +132,7 @@ def main(debug):
 
     Exit codes: 0 success, 2 invalid input, 3 infeasible (with proof), 4 not converged.
     """
+
 
 def matplotlib_home() -> str:
     """Point matplotlib's configuration and cache folder (``MPLCONFIGDIR``) at a folder acroplan owns

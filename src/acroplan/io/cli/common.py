@@ -20,13 +20,16 @@ EXIT_BY_STATUS = {"success": EXIT_SUCCESS, "infeasible": EXIT_INFEASIBLE, "not_c
 
 FORMATS = ("png", "pdf")
 
+
 def one_line(message: str, most: int = 2000) -> str:
     message = str(message).replace("\r", "\\r").replace("\n", "\\n")
     return message if len(message) <= most else message[:most - 3] + "..."
 
+
 def fail(message: str, code: int = EXIT_INVALID):
     click.echo(click.style("acroplan: error: ", fg="red", bold=True) + one_line(message), err=True)
     sys.exit(code)
+
 
 def json_safe(value, where: str = "", warnings: list | None = None):
     """``value`` with every non-finite float replaced by None; each replacement is named in
@@ -52,6 +55,7 @@ def json_safe(value, where: str = "", warnings: list | None = None):
         return bool(value)
     return value
 
+
 def json_text(doc: dict, **kwargs) -> str:
     """``doc`` as JSON with no NaN or infinity: those become null, listed under ``warnings``."""
     warnings: list[str] = []
@@ -60,8 +64,10 @@ def json_text(doc: dict, **kwargs) -> str:
         clean["warnings"] = list(clean.get("warnings") or []) + warnings
     return json.dumps(clean, allow_nan=False, **kwargs)
 
+
 def write_json(path: Path, doc: dict) -> None:
     path.write_text(json_text(doc, indent=2) + "\n", encoding="utf-8")
+
 
 def solution_doc(result, simulation=None) -> dict:
     """``result.to_dict()`` with, after ``system``, the list ``inputs``: each input's name and the
@@ -84,6 +90,7 @@ def solution_doc(result, simulation=None) -> dict:
                                    "coefficients of the rate"}
     return out
 
+
 def verify_method(system) -> str:
     """How the command line checks a motion independently: as the system's family asks
     (:attr:`Family.cli_verify <acroplan.core.family.Family.cli_verify>`: the acrobot by the DOP853
@@ -95,6 +102,7 @@ def verify_method(system) -> str:
     fam = family_of(system)
     return fam.cli_verify if fam is not None and fam.cli_verify else resolve_verify(system, True)
 
+
 def formats(text: str) -> tuple[str, ...]:
     fmts = tuple(f.strip().lower() for f in text.split(",") if f.strip())
     bad = [f for f in fmts if f not in FORMATS]
@@ -102,6 +110,7 @@ def formats(text: str) -> tuple[str, ...]:
         raise InvalidInputError("--format", f"unknown figure format {bad[0] if bad else text!r}",
                                 "use png, pdf or png,pdf")
     return fmts
+
 
 def check_outputs(out, force: bool, fmt: str, hint: str, inputs=()) -> tuple[str, ...]:
     """Validate --out, --force and --format before any work; returns the figure formats.
@@ -119,6 +128,7 @@ def check_outputs(out, force: bool, fmt: str, hint: str, inputs=()) -> tuple[str
                                     "give another output folder")
     return fmts
 
+
 def save(figs: dict, folder: Path, fmts) -> None:
     import matplotlib.pyplot as plt
 
@@ -129,6 +139,7 @@ def save(figs: dict, folder: Path, fmts) -> None:
     finally:
         for fig in figs.values():
             plt.close(fig)
+
 
 @contextlib.contextmanager
 def progress(quiet: bool = False):
@@ -145,6 +156,7 @@ def progress(quiet: bool = False):
     finally:
         prog.close()
 
+
 def report(summary: dict, as_json: bool, quiet: bool, lines: list[str], code: int) -> None:
     if as_json:
         click.echo(json_text(summary))
@@ -156,6 +168,7 @@ def report(summary: dict, as_json: bool, quiet: bool, lines: list[str], code: in
             click.echo(line)
     sys.exit(code)
 
+
 _COMMON = [
     click.option("--out", "out", type=click.Path(file_okay=False, path_type=Path),
                  help="Output folder (created; written atomically)."),
@@ -164,10 +177,12 @@ _COMMON = [
     click.option("--json", "as_json", is_flag=True, help="Print a machine-readable summary on stdout."),
 ]
 
+
 def common(f):
     for opt in reversed(_COMMON):
         f = opt(f)
     return f
+
 
 def option_overrides(objective, tau_max) -> dict:
     """The ``[options]`` that --objective and --tau-max write over the problem file's."""
@@ -200,6 +215,7 @@ def option_overrides(objective, tau_max) -> dict:
                                     "give one number for every joint, or JOINT=VALUE for each limited joint")
         out["tau_max"] = number if number is not None else table
     return out
+
 
 def override_error(e: InvalidInputError, overrides: dict) -> InvalidInputError:
     """``e`` naming the command line's option when it is about a value the option gave."""

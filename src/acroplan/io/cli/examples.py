@@ -48,6 +48,7 @@ def example_rows(names: dict[str, str], styled: bool = False, width: int | None 
         rows.extend(" " * pad + more for more in lines[1:])
     return rows
 
+
 STARTER = '''# acroplan problem file: plan a motion of the free-flying acrobot through waypoints.
 # Run it with:  acroplan plan {name}.toml --out {name}-out --animate
 # Reference: docs/problem-files.md. For a planar body of any number of links (a [body] table:
@@ -81,6 +82,7 @@ conditions = "free"            # "free" (u continuous) or "spline" (the text's s
 # objective = "energy"         # an optimal plan: least integral of u^2 ("torque": of tau^2)
 # tau_max = 31.0               # joint torque limit |tau| <= 31 N m (an energy-optimal plan)
 '''
+
 
 @click.command("init")
 @click.argument("name")

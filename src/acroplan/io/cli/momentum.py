@@ -33,6 +33,7 @@ def _numbers_option(flag: str, text: str | None, example: str, most: int = 200) 
         out.append(v)
     return out
 
+
 def _limits_text(limits, joint: str = "phi", delta: float = 0.0, digits: int = 9) -> str:
     """The two-link limits in the file's angles (the acrobot's less the joint offset ``delta``)."""
     if limits is None or not limits.active:
@@ -46,6 +47,7 @@ def _limits_text(limits, joint: str = "phi", delta: float = 0.0, digits: int = 9
     if d["u_max"] is not None:
         parts.append(f"|u| <= {d['u_max']:.{digits}g}")
     return ", ".join(parts) or "no limits"
+
 
 @click.command("least-momentum")
 @click.argument("problem", required=False, type=click.Path(dir_okay=False, path_type=Path))
@@ -154,6 +156,7 @@ def least_momentum_cmd(problem, example, out, force, quiet, as_json, somersaults
         lines.append(f"wrote {out}/")
     report({**doc, "out": None if out is None else str(out)}, as_json, quiet, lines,
             EXIT_SUCCESS if least.success else EXIT_INFEASIBLE)
+
 
 def _table(somersault_table, acro, turn: dict, limits, S, F):
     """The coach's table: the least |P0| for each number of somersaults ``S`` (default the file's

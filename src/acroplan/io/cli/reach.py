@@ -68,6 +68,7 @@ def reach_cmd(problem, example, out, force, quiet, as_json, fmt, allow_outside):
     report({"command": "reach", "reachable": ok, "segments": rows, "out": str(out)}, as_json, quiet,
             lines, EXIT_SUCCESS if ok else EXIT_INFEASIBLE)
 
+
 def _plot_intervals(prob, rows):
     """A body's reach: per segment, the interval of theta(T) (without limits, hatched; with them,
     solid) and the target (a star)."""

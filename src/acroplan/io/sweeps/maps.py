@@ -3,6 +3,8 @@ swept fields (coloured points for a sample), built without pyplot."""
 
 from __future__ import annotations
 
+import re
+
 from pathlib import Path
 from typing import Mapping
 
@@ -173,7 +175,7 @@ def draw_map(store, x: str, y: str, value: str, path=None, *, kind: str = "heatm
         m, PX, PY = _sample_map(ax, ds, xn, yn, kind, val, ok, categorical, cmap, infeasible)
     handles = _legend(ax, PX, PY, status, categorical, infeasible, failed)
     units = ds[vn].attrs.get("units")
-    cb = fig.colorbar(m, ax=ax, label=vn + (f" ({units})" if units else ""))
+    cb = fig.colorbar(m, ax=ax, label=vn + (f" [{units}]" if units else ""))
     if categorical:
         cb.set_ticks([0, 1, 2, 3], labels=list(STATUS_CODES))
     ax.set_xlabel(_axis_label(ds, xn))
@@ -196,6 +198,18 @@ def _edges(c: np.ndarray) -> np.ndarray:
     return np.concatenate([[c[0] - (mid[0] - c[0])], mid, [c[-1] + (c[-1] - mid[-1])]])
 
 
+#: Units of swept fields known by their name alone (the rest are labelled without one): times in
+#: seconds (``plan.T``, ``plan.times[-1]``, a ``time_limit``)
+_TIME_FIELD = re.compile(r"(^|\.)(T|times(\[[^\]]*\])?|duration|time_limit)$")
+
+
+def field_unit(field: str) -> str:
+    """The unit of a swept field named ``field`` when its name tells it (``"s"`` for a time), else ``""``."""
+    return "s" if _TIME_FIELD.search(field) else ""
+
+
 def _axis_label(ds, name) -> str:
     full = ds[name].attrs.get("field", name)
-    return name if full == name else f"{name}  ({full})"
+    unit = ds[name].attrs.get("units") or field_unit(full)
+    label = name if full == name else f"{name}  ({full})"
+    return f"{label} [{unit}]" if unit else label

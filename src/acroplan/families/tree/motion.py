@@ -1,0 +1,99 @@
+"""The joint motion of one segment of a tree body, and the chain rule from a function of it to the
+input coefficients: what the planar and spatial torque models share.
+
+On a segment of duration :math:`T` with input coefficients :math:`c` (shape (m, n)) in the basis
+:math:`V(s)` (``basis.matrix``), its derivative :math:`V'(s)` and its integral :math:`I(s)`
+(``basis.integral``), at normalised times :math:`s \\in [0, 1]`:
+
+.. math::  q(s) = q_0 + T\\,c\\,I(s)^T, \\qquad u(s) = c\\,V(s)^T, \\qquad \\dot u(s) = c\\,V'(s)^T / T,
+
+so a function :math:`\\tau(q, u, \\dot u)` of the joint motion has
+
+.. math::  \\frac{\\partial\\tau}{\\partial c} = \\partial_q\\tau\\; T I(s) + \\partial_u\\tau\\; V(s)
+           + \\partial_{\\dot u}\\tau\\; V'(s) / T .
+"""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+
+from ...core.errors import InvalidInputError
+
+__all__ = ["joint_rows", "basis_tables", "segment_arrays", "joint_motion", "coefficient_jacobian"]
+
+
+def joint_rows(name: str, value, m: int, *, what: str = "joint",
+               fix: str = "give the joint values in state order") -> np.ndarray:
+    """``value`` as an array of shape (m, K) (a vector is one column), or the error naming ``name``:
+    one row per ``what``, every value finite."""
+    a = np.asarray(value, dtype=float)
+    if a.ndim == 1:
+        a = a[:, None]
+    if a.ndim != 2 or a.shape[0] != m:
+        raise InvalidInputError(name, f"must have shape ({m},) or ({m}, K), one row per {what}, got shape "
+                                f"{np.shape(value)}", fix)
+    if not np.all(np.isfinite(a)):
+        raise InvalidInputError(name, "has a value that is not finite", "give finite numbers")
+    return a
+
+
+@functools.lru_cache(maxsize=64)
+def _tables(basis, s_bytes: bytes):
+    s = np.frombuffer(s_bytes)
+    out = (basis.matrix(s), basis.matrix(s, 1), basis.integral(s))
+    for t in out:
+        t.setflags(write=False)
+    return out
+
+
+def basis_tables(basis, s) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:math:`V(s)`, :math:`V'(s)`, :math:`I(s)`, each shape (K, n), read only and cached per
+    (basis, times)."""
+    s = np.ascontiguousarray(np.atleast_1d(np.asarray(s, dtype=float)))
+    return _tables(basis, s.tobytes())
+
+
+def segment_arrays(system, basis, T, c, s) -> tuple[float, np.ndarray, np.ndarray]:
+    """``(T, c, s)`` of a segment checked (naming the field): ``c`` of shape (m, basis.n), ``T`` a
+    positive finite duration, ``s`` the times as a contiguous vector."""
+    m = system.n_inputs
+    c = np.asarray(c, dtype=float)
+    if c.shape != (m, basis.n):
+        raise InvalidInputError("c", f"must have shape ({m}, {basis.n}), got {c.shape}",
+                                "give one row of basis coefficients per joint")
+    T = float(T)
+    if not (np.isfinite(T) and T > 0):
+        raise InvalidInputError("T", f"must be a positive duration, got {T}", "give the segment's length")
+    return T, c, np.ascontiguousarray(np.atleast_1d(np.asarray(s, dtype=float)))
+
+
+def joint_motion(q0, T: float, c, tables) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:math:`q, u, \\dot u` at the times of ``tables`` (:func:`basis_tables`), each shape (m, K),
+    from the joint angles ``q0`` (m,) at the segment's start (module docstring)."""
+    V, V1, Int = tables
+    return np.asarray(q0, dtype=float)[:, None] + T * (c @ Int.T), c @ V.T, (c @ V1.T) / T
+
+
+def coefficient_jacobian(dq, du, ddu, T: float, tables) -> np.ndarray:
+    """:math:`\\partial\\tau / \\partial c` by the chain rule of the module docstring.
+
+    Parameters
+    ----------
+    dq, du, ddu : numpy.ndarray, shape (p, K, m)
+        :math:`\\partial\\tau_p(s_k) / \\partial(q, u, \\dot u)_j`.
+    T : float
+    tables : tuple
+        :func:`basis_tables` at the same times.
+
+    Returns
+    -------
+    numpy.ndarray, shape (p, K, m * n)
+        Columns in flattened ``c`` order.
+    """
+    V, V1, Int = tables
+    p, K, m = dq.shape
+    jac = (np.einsum("pkj,ki->pkji", dq, T * Int) + np.einsum("pkj,ki->pkji", du, V)
+           + np.einsum("pkj,ki->pkji", ddu, V1 / T))
+    return jac.reshape(p, K, m * V.shape[1])
