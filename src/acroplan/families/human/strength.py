@@ -34,8 +34,6 @@ import functools
 import tomllib
 from importlib import resources
 
-import numpy as np
-
 from ...core.errors import InvalidInputError, finite_number
 from .limits import human_data
 from .spatial_body import JOINTS
@@ -106,17 +104,18 @@ def torque_limits(body) -> dict[str, float]:
 
 def strength_report(result) -> dict[str, dict]:
     """Each joint's peak planned torque against its strength: ``{joint: {"peak": N m, "limit":
-    N m, "ratio": peak / limit, "estimate": bool}}``, the torques sampled from ``result``
-    (:meth:`~acroplan.PlanResult.evaluate` with ``effort=True``, 801 times)."""
+    N m, "ratio": peak / limit, "estimate": bool}}``, the peaks those of
+    :func:`acroplan.core.effort.effort_summary` (sampled, and refined between the samples: what
+    ``acroplan plan`` reports)."""
+    from ...core.effort import effort_summary
+
     body = result.system
     lim = torque_limits(body)
-    t = np.linspace(result.times[0], result.times[-1], 801)
-    tau = np.asarray(result.evaluate(t, effort=True).torques, dtype=float)
-    names = body.links.joint_names
+    effort = effort_summary(result)
     data = strength_data()["torques"]
     out = {}
-    for i, name in enumerate(names):
-        peak = float(np.max(np.abs(tau[i])))
+    for name in body.links.joint_names:
+        peak = float(effort[name].peak_torque)
         out[name] = {"peak": peak, "limit": lim[name], "ratio": peak / lim[name],
                      "estimate": bool(data[JOINTS[name].kind]["estimate"])}
     return out
