@@ -80,6 +80,16 @@ missing hook means the family does not offer that job, and the layer asking says
     measured growth it comes from in words (``benchmarks/RESULTS.md``); a plan whose time limit it
     exceeds is refused up front, unless that integrator was compiled before on this machine
     (:func:`acroplan.core.backend.compile_estimate`).
+14. ``twist_potential(problem, plan, *, flight_times, somersaults, resolution, time_limit,
+    progress) -> list`` (optional): the coach's question in 3-D, the most twist the problem's body
+    can make in each flight time and number of somersaults (``acroplan twist-potential``); each
+    cell has ``to_dict()`` and says where it stopped and why (``"proven"`` by an exact test, or
+    ``"planner stopped"``); ``plan`` is :func:`acroplan.plan`, passed in since a family does not
+    import the front doors. ``twist_potential_figure(cells) -> Figure``: its figure.
+15. ``attitude_angles(result, t) -> {name: array}`` (optional): the angles a user reads the
+    attitude in, at the times ``t`` (a body in 3-D: Yeadon's ``somersault_turns``, ``tilt_deg``,
+    ``twist_turns``, unwrapped from 0 at the start); ``acroplan simulate`` writes them
+    (``angles.csv``) and reports them at the end.
 
 A family's descriptor module (``family.py``) should be light: the command line imports every
 registered one to list the bundled examples, and ``acroplan examples`` imports no numerics (a test
@@ -209,6 +219,9 @@ class Family:
     describe: Callable[[Any], str] | None = None
     check_request: Callable[[Any], None] | None = None
     compile_seconds: Callable[[Any, int], tuple[float, str] | None] | None = None
+    twist_potential: Callable[..., list] | None = None
+    twist_potential_figure: Callable[[list], Any] | None = None
+    attitude_angles: Callable[..., dict] | None = None
     setup: tuple[str, ...] = ()
 
     def owns(self, system) -> bool:

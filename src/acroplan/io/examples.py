@@ -11,9 +11,11 @@ too. :func:`command` says which command runs an example (``plan``, ``simulate`` 
 ``platform-dive``: the 10 m platform dive, 3.5 forward somersaults in pike, of Yeadon's bundled
 ``male1`` split at the hips, energy-optimal within a diver's hip range and rate (the problem of
 :func:`acroplan.families.human.examples.platform_dive_pike`; needs ``pip install
-"acroplan[human]"``)::
+"acroplan[human]"``), and three twisting dives of the 3-D human (``back-full-twist``,
+``forward-double-twist``, ``back-double-full-out``: :mod:`acroplan.families.human.dives`)::
 
     acroplan plan --example platform-dive --out platform-dive-out --animate
+    acroplan plan --example back-full-twist --out back-full-out
 """
 
 from __future__ import annotations

@@ -88,4 +88,7 @@ FAMILY = Family(
     describe=lambda body: f"a spatial body of {body.n_links} links",
     check_request=_check_request,
     compile_seconds=_compile_seconds,
+    twist_potential=hook(f"{__package__}.potential:twist_potential"),
+    twist_potential_figure=hook(f"{__package__}.potential:twist_potential_figure"),
+    attitude_angles=hook(f"{__package__}.potential:attitude_angles"),
 )

@@ -27,6 +27,8 @@ COMMANDS = {
               "Write what can be proven about theta(T) for every segment of PROBLEM."),
     "least-momentum": ("acroplan.io.cli.momentum:least_momentum_cmd",
                        "The exact least (and largest) angular momentum P0 for PROBLEM's turn, two-link body only."),
+    "twist-potential": ("acroplan.io.cli.twist:twist_potential_cmd",
+                        "The most twist PROBLEM's body can make in given flight times and numbers of somersaults."),
     "nilpotent": ("acroplan.io.cli.nilpotent:nilpotent_cmd",
                   "Steer the acrobot by the nilpotentization of Chapter 4, with time moving forward."),
     "animate": ("acroplan.io.cli.animate:animate_cmd",
@@ -106,6 +108,7 @@ def main(debug):
     \b
     Bundled examples (acroplan examples describes them; --example NAME runs one):
       human body:    platform-dive
+      3-D human:     back-full-twist, forward-double-twist, back-double-full-out
       3-D body:      falling-cat
       two-link body: pike-dive, pike-dive-limited, chapter4 (acroplan nilpotent)
       planar bodies: diver-somersault, space-robot-turn, three-rods-turn,
@@ -117,6 +120,7 @@ def main(debug):
       acroplan plan --example platform-dive --out dive --animate        # a human body
       acroplan plan --example falling-cat --out cat --animate           # a body in 3-D
       acroplan view cat                                  # ... turned in the browser (cat/view.html)
+      acroplan twist-potential --example back-full-twist --flight-times 1.2,1.6 --out tp   # most twist
       acroplan plan --example pike-dive --out pike       # Chapter 3
       acroplan nilpotent --example chapter4 --out ch4    # Chapter 4
       acroplan plan --example diver-somersault --out diver --animate    # a planar body

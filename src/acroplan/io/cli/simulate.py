@@ -36,7 +36,8 @@ def simulate_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do
     \b
     Writes to OUT the same files as acroplan plan: solution.json (with the joint each input
     drives, how each was given, and the effort when the body gives torques), trajectory.csv
-    (t, the states, the rates), input.png, states.png. Exit code 0, or
+    (t, the states, the rates), input.png, states.png; for a body in 3-D also angles.csv
+    (t, Yeadon's somersault and twist in turns, tilt in degrees). Exit code 0, or
     4 when the independent check disagrees (only solution.json is written then).
 
     \b
@@ -44,6 +45,7 @@ def simulate_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do
       acroplan simulate --example space-robot-arm-loop --out loop --animate
       acroplan simulate my-arm-circle.toml --out circle --no-plots
     """
+    angles = None
     try:
         if (problem is None) == (example is None):
             raise InvalidInputError("PROBLEM", "give either a problem file or --example NAME, not both or neither",
@@ -65,6 +67,7 @@ def simulate_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do
                 write_json(tmp / "solution.json", solution_doc(result, simulation=sim))
                 if result.success:
                     write_csv(result, tmp / "trajectory.csv", effort=False)
+                    angles = write_angles(result, tmp / "angles.csv")
                     if not no_plots:
                         save(result.plot(), tmp, fmts)
                     if do_animate:
@@ -77,7 +80,35 @@ def simulate_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do
                "segments": len(result.segments), "end": end,
                "max_verified_error": max((s.verified_error for s in result.segments
                                           if s.verified_error is not None), default=None)}
+    if angles:
+        summary["end_angles"] = {k: float(v[-1]) for k, v in angles.items() if k != "t"}
     ends = ", ".join(f"{n} = {v:.9g}" for n, v in end.items())
     lines = [result.message, f"at t = {result.times[-1]:g}: {ends}", f"wrote {out}/"] if code == EXIT_SUCCESS \
         else [result.message, f"diagnostics written to {out / 'solution.json'}"]
+    if angles:
+        lines.insert(2, "at the end: " + ", ".join(f"{k} = {v:.9g}" for k, v in summary["end_angles"].items()))
     report(summary, as_json, quiet, lines, code)
+
+
+def write_angles(result, path: Path):
+    """The angles the system's family names for its attitude over the motion (a body in 3-D:
+    Yeadon's somersault and twist in turns, tilt in degrees; :attr:`Family.attitude_angles
+    <acroplan.core.family.Family.attitude_angles>`) as ``angles.csv``; ``None`` (nothing written)
+    when the family names none."""
+    import csv
+
+    import numpy as np
+
+    from ...core.family import family_of
+
+    fam = family_of(result.system)
+    if fam is None or fam.attitude_angles is None:
+        return None
+    t = np.linspace(result.times[0], result.times[-1], 1001)
+    angles = {"t": t, **fam.attitude_angles(result, t)}
+    with open(path, "w", newline="", encoding="utf-8") as f:
+        w = csv.writer(f)
+        w.writerow(list(angles))
+        for row in zip(*angles.values()):
+            w.writerow([repr(float(v)) for v in row])
+    return angles
