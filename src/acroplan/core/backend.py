@@ -23,11 +23,11 @@ size) and cached.
 On-disk cache: heyoka keeps compiled code in ``~/.cache/heyoka`` (its default; about 65 MB after
 acroplan's test suite, capped by heyoka at 20 GB). The environment variable
 ``ACROPLAN_HEYOKA_CACHE`` moves it (a folder path) or turns it off (``off``: nothing is written, and
-each new process compiles anew, 0.1-0.4 s per structure and basis size); it is read when this module
-is first imported.
+each new process compiles anew: about a second of processor time per structure and basis size for
+the acrobot, benchmarks/RESULTS.md "Compile time"); it is read when this module is first imported.
 
 Threads: the compiled integrator is a template; each thread works on its own copy (a copy costs
-about a millisecond, a compilation 0.1 s or more), so threads never wait on each other and never
+about a millisecond, a compilation a second or more), so threads never wait on each other and never
 share an integrator's state. Processes compile on first use (heyoka also keeps compiled code in an
 on-disk cache, ``~/.cache/heyoka`` by default), so workers of any executor work without ``fork``.
 """
