@@ -524,6 +524,7 @@ def test_issue_25_the_spatial_compile_estimate_is_that_of_the_momentum_maps(monk
 
     monkeypatch.setattr(backend, "_marker", lambda key: None)  # a machine that never compiled them
     monkeypatch.setattr(backend, "_ONCE", {})
+    monkeypatch.setattr(backend, "_TEMPLATES", {})  # nor any Taylor integrator (other tests of this process)
     table = compile_cost.MEASURED["spatial-map"]
     last = max(table)
     star = _spatial_star(16)
@@ -555,6 +556,7 @@ def test_issue_25_bundled_examples_need_no_time_limit_of_their_own(monkeypatch):
 
     monkeypatch.setattr(backend, "_marker", lambda key: None)  # a machine that never compiled them
     monkeypatch.setattr(backend, "_ONCE", {})
+    monkeypatch.setattr(backend, "_TEMPLATES", {})
     planned = []
     for name in bundled.names():
         assert "time_limit" not in bundled.text(name), name

@@ -88,46 +88,12 @@ import numpy as np
 from scipy.linalg import lapack
 
 from ...core.backend import IntegrationError
+from .collocation_parts import (_FULL, _SYM, MAX_PANELS, MAX_TURN, MIN_PANEL, NEWTON_ITERATIONS, NEWTON_TOL,  # noqa: F401
+                                NODES, SOLUTION_TAIL_TOL, TAIL_TOL, _basis_at, _block1, _blocks, _cat, _gauss,
+                                _layout, _left, _lu_solve, _qmul, _quad, _right, _rotate, _skew, _split, _take,
+                                _xi)
 
 __all__ = ["endpoint", "sample", "compile_map", "evaluate_map", "NODES", "TAIL_TOL", "MAX_PANELS"]
-
-#: Gauss-Legendre nodes per panel (the collocation method has order 2 NODES)
-NODES = 16
-#: the largest Legendre tail (rad) of a kept panel (module docstring)
-TAIL_TOL = 1e-8
-#: the largest tail of the solution's own rates (:math:`H\\lambda'/|L|`, :math:`H q'`) after the solve: a
-#: safety net for the attitude's resolution (those rates' tails follow the data's within a factor
-#: of about two)
-SOLUTION_TAIL_TOL = 10 * TAIL_TOL
-#: the most panels one segment may take (a wild input, as the Taylor integrator's step limit)
-MAX_PANELS = 2048
-#: the shortest panel (normalised time)
-MIN_PANEL = 1e-7
-#: the largest turn of the root by the shape's motion on one panel (rad), :math:`H \\max|\\omega|`
-MAX_TURN = 3.0
-#: Newton iterations per panel before it is split
-NEWTON_ITERATIONS = 12
-#: Newton stops after a step this small (the next would be about its square)
-NEWTON_TOL = 1e-8
-
-_SYM = ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))
-_FULL = np.array([[0, 1, 2], [1, 3, 4], [2, 4, 5]])
-
-
-# ---------------------------------------------------------------------- Gauss tables
-@functools.cache
-def _gauss(N: int):
-    """Nodes ``g`` on [0, 1], weights ``b``, the collocation matrix ``a`` (:math:`\\alpha_{ij} =
-    \\int_0^{g_i} \\ell_j`) and ``Vi`` (nodal values to Legendre coefficients on the panel)."""
-    x, w = np.polynomial.legendre.leggauss(N)
-    g, b = (x + 1.0) / 2.0, w / 2.0
-    V = np.polynomial.legendre.legvander(x, N - 1)
-    Vi = np.linalg.inv(V)
-    Q = np.polynomial.legendre.legint(np.eye(N), lbnd=-1.0, scl=0.5, axis=0)
-    a = (np.polynomial.legendre.legvander(x, N) @ Q) @ Vi
-    for t in (g, b, a, Vi):
-        t.setflags(write=False)
-    return g, b, a, Vi
 
 
 # ---------------------------------------------------------------------- the compiled momentum map
@@ -240,76 +206,6 @@ def evaluate_map(body, fn, inputs) -> np.ndarray:
     return out
 
 
-# ---------------------------------------------------------------------- quaternion algebra, vectorised
-def _tensors():
-    """Constant tensors: ``RIGHT[k]`` the matrix of :math:`q \\mapsto \\tfrac12 q \\otimes (0, e_k)`,
-    ``XI[a]`` the part of :math:`\\tfrac12 \\Xi(q)` linear in :math:`q_a`, ``LEFT[a]`` that of
-    :math:`p \\mapsto q \\otimes p`, and ``QUAD[i, l]`` the symmetric matrices with
-    :math:`(R(q)^\\top L)_i = \\sum_l L_l\\, q^\\top Q_{il}\\, q`."""
-    E = np.eye(4)
-
-    def qm(a, b):
-        return _qmul(a, b)
-
-    RIGHT = np.zeros((3, 4, 4))
-    XI = np.zeros((4, 4, 3))
-    LEFT = np.zeros((4, 4, 4))
-    for k in range(3):
-        v = np.zeros(4)
-        v[k + 1] = 1.0
-        for b in range(4):
-            RIGHT[k][:, b] = 0.5 * qm(E[b], v)
-            XI[b][:, k] = 0.5 * qm(E[b], v)
-    for a in range(4):
-        for b in range(4):
-            LEFT[a][:, b] = qm(E[a], E[b])
-    QUAD = np.zeros((3, 3, 4, 4))
-    for a in range(4):
-        for b in range(4):
-            qa, qb = E[a], E[b]
-            # R(q)^T L = vec(q^* (0, L) q), bilinear in (q, q): symmetrise
-            for l in range(3):  # noqa: E741
-                Lv = np.zeros(4)
-                Lv[l + 1] = 1.0
-                val = qm(qm(np.array([qa[0], -qa[1], -qa[2], -qa[3]]), Lv), qb)[1:]
-                QUAD[:, l, a, b] += 0.5 * val
-                QUAD[:, l, b, a] += 0.5 * val
-    for t in (RIGHT, XI, LEFT, QUAD):
-        t.setflags(write=False)
-    return RIGHT, XI, LEFT, QUAD
-
-
-def _qmul(a, b):
-    aw, ax, ay, az = a
-    bw, bx, by, bz = b
-    return np.array([aw * bw - ax * bx - ay * by - az * bz, aw * bx + ax * bw + ay * bz - az * by,
-                     aw * by - ax * bz + ay * bw + az * bx, aw * bz + ax * by - ay * bx + az * bw])
-
-
-_RIGHT, _XI, _LEFT, _QUAD = _tensors()
-
-
-def _right(w):
-    """The matrices of :math:`q \\mapsto \\tfrac12 q \\otimes (0, w)`, shape (..., 4, 4)."""
-    return (w @ _RIGHT.reshape(3, 16)).reshape(w.shape[:-1] + (4, 4))
-
-
-def _xi(q):
-    """:math:`\\tfrac12 \\Xi(q)`, :math:`\\Xi(q) v = q \\otimes (0, v)`, shape (..., 4, 3)."""
-    return (q @ _XI.reshape(4, 12)).reshape(q.shape[:-1] + (4, 3))
-
-
-def _left(q):
-    """The matrix of :math:`p \\mapsto q \\otimes p`, shape (..., 4, 4)."""
-    return (q @ _LEFT.reshape(4, 16)).reshape(q.shape[:-1] + (4, 4))
-
-
-def _quad(L):
-    """:math:`Q(L) = \\sum_l L_l Q_{il}`, shape (3, 4, 4): :math:`R(q)^\\top L = (q^\\top Q_i q)_i`
-    (the quadratic form of the model's fields, also off the unit sphere)."""
-    return np.einsum("l,ilab->iab", np.asarray(L, dtype=float), _QUAD)
-
-
 # ---------------------------------------------------------------------- the segment
 class _Segment:
     """One segment's data: the body, the basis, the inputs; node data of panels on demand."""
@@ -358,140 +254,6 @@ class _Segment:
         P, N = vals.shape[:2]
         co = self.Vi[N - 2:] @ vals.reshape(P, N, -1)
         return widths * np.abs(co).max(axis=(1, 2))
-
-
-@functools.lru_cache(maxsize=64)
-def _dyadic_tables(basis, N: int, depth: int):
-    """The basis and its integrals at the Gauss nodes of every panel of width :math:`2^{-d}`:
-    arrays (2^d, N, n), cached (the layout's panels are all dyadic)."""
-    K = 2 ** depth
-    g = _gauss(N)[0]
-    sig = ((np.arange(K)[:, None] + g[None, :]) / K).ravel()
-    out = (basis.matrix(sig).reshape(K, N, -1), basis.integral(sig).reshape(K, N, -1))
-    for t in out:
-        t.setflags(write=False)
-    return out
-
-
-def _basis_at(basis, N, starts, widths):
-    """``(B, Bi)`` of shape (P N, n): the basis and its integrals at the nodes of the panels."""
-    depth = np.rint(-np.log2(widths)).astype(int)
-    if depth.min() == depth.max() and depth[0] <= 10 and np.all(widths == 2.0 ** -depth):
-        k = np.rint(starts * 2.0 ** depth[0]).astype(int)
-        Bm, Bi = _dyadic_tables(basis, N, int(depth[0]))
-        return Bm[k].reshape(k.size * N, -1), Bi[k].reshape(k.size * N, -1)
-    sig = (starts[:, None] + widths[:, None] * _gauss(N)[0][None, :]).ravel()
-    return basis.matrix(sig), basis.integral(sig)
-
-
-def _take(d, idx):
-    return {k: v[idx] for k, v in d.items()}
-
-
-def _cat(parts):
-    return {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}
-
-
-def _split(starts, widths, d, bad, seg, kept_count=0):
-    """Halve the panels ``bad`` (a boolean mask): starts, widths and node data of the new panels."""
-    h = widths[bad] / 2.0
-    if h.size and (h.min() < MIN_PANEL or kept_count + 2 * h.size > MAX_PANELS):
-        raise IntegrationError(f"the input is too large to integrate: more than {MAX_PANELS} panels on one "
-                               f"segment")
-    st = np.concatenate([starts[bad], starts[bad] + h])
-    wd = np.concatenate([h, h])
-    return st, wd
-
-
-def _layout(seg, starts=None, widths=None, kept=None):
-    """The panels (module docstring): starts, widths, node data, sorted by start. Bisection of
-    ``starts, widths`` (default: the two halves of the segment), keeping the panels ``kept``
-    (``(starts, widths, data)``) as they are."""
-    if starts is None:
-        starts, widths = np.array([0.0, 0.5]), np.array([0.5, 0.5])
-    kept = list(kept or [])
-    while starts.size:
-        d = seg.data(starts, widths)
-        vals = d["w"]
-        if seg.drift:
-            vals = np.concatenate([vals, seg.Lnorm * d["W"].reshape(vals.shape[:2] + (9,))], axis=2)
-        turn = widths * np.sqrt((d["w"] * d["w"]).sum(axis=2).max(axis=1))
-        ok = (seg.tails(vals, widths) <= TAIL_TOL) & (turn <= MAX_TURN)
-        if ok.any():
-            kept.append((starts[ok], widths[ok], _take(d, ok)))
-        if ok.all():
-            break
-        starts, widths = _split(starts, widths, d, ~ok, seg, sum(k[0].size for k in kept))
-    st = np.concatenate([k[0] for k in kept])
-    wd = np.concatenate([k[1] for k in kept])
-    d = _cat([k[2] for k in kept])
-    order = np.argsort(st, kind="stable")
-    return st[order], wd[order], _take(d, order)
-
-
-def _lu_solve(lu, piv, B, trans=0):
-    """Solve with LU factors (``dgetrs``) one right-hand side at a time: with several at once,
-    OpenBLAS's threaded triangular solves (``trsm``) took milliseconds instead of microseconds on a
-    busy machine (measured: a median of 16 ms for a 64 x 64 system with 4 right-hand sides)."""
-    out = np.empty_like(B)
-    for j in range(B.shape[1]):
-        out[:, j] = lapack.dgetrs(lu, piv, B[:, j], trans=trans)[0]
-    return out
-
-
-def _blocks(seg, widths, J):
-    """``S = 1 - H (alpha (x) 1) diag_j(J_j)`` of every panel, from blocks ``J`` (P, N, k, k)."""
-    P, N, k = J.shape[0], J.shape[1], J.shape[2]
-    S = (seg.a[None, :, None, :, None] * (-widths[:, None, None, None, None] * np.swapaxes(J, 1, 2)[:, None]))
-    S = S.reshape(P, N * k, N * k)
-    S[:, _diag(N * k), _diag(N * k)] += 1.0
-    return S
-
-
-@functools.cache
-def _diag(n):
-    return np.arange(n)
-
-
-def _skew(v):
-    """:math:`[v]_\\times`, shape (..., 3, 3)."""
-    return (v @ _E2).reshape(v.shape[:-1] + (3, 3))
-
-
-_EPS = np.zeros((3, 3, 3))
-for _i, _j, _k in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
-    _EPS[_k, _i, _j], _EPS[_k, _j, _i] = -1.0, 1.0  # [v]x[i, j] = -eps_ijk v_k
-_EPS.setflags(write=False)
-_E2 = _EPS.reshape(3, 9)
-
-
-def _rotate(v, theta):
-    """``v`` turned by the rotation vectors ``theta`` (N, 3) (Rodrigues), shape (N, 3)."""
-    t = np.sqrt((theta * theta).sum(axis=1))
-    small = t < 1e-8
-    ts = np.where(small, 1.0, t)
-    s1 = np.where(small, 1.0 - t * t / 6.0, np.sin(ts) / ts)
-    s2 = np.where(small, 0.5 - t * t / 24.0, (1.0 - np.cos(ts)) / (ts * ts))
-    K = _skew(theta)
-    tv = K @ v
-    return v + s1[:, None] * tv + s2[:, None] * (K @ tv[:, :, None])[:, :, 0]
-
-
-@functools.cache
-def _ak(N: int, k: int):
-    """:math:`\\alpha_{ij}` at the rows (i, a) and columns (j, b) of a stage system with ``k``
-    unknowns per node, as an (N, 1, N k) array."""
-    out = np.repeat(_gauss(N)[2], k, axis=1)[:, None, :]
-    out.setflags(write=False)
-    return out
-
-
-def _block1(seg, H, J):
-    """``S`` of one panel from blocks ``J`` (N, k, k) (:func:`_blocks`)."""
-    N, k = J.shape[0], J.shape[1]
-    S = (_ak(N, k) * ((-H) * np.swapaxes(J, 0, 1).reshape(k, N * k))).reshape(N * k, N * k)
-    S.flat[::N * k + 1] += 1.0
-    return S
 
 
 @functools.cache
