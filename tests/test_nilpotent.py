@@ -23,12 +23,12 @@ pytestmark = pytest.mark.xdist_group("test_nilpotent")
 PI = math.pi
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def C():
     return nil.construction()
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def robot():
     return acroplan.examples.robot("pike-dive")
 
@@ -182,7 +182,7 @@ def test_bad_nilpotent_input(robot, P, Q, match):
 
 
 # ---------------------------------------------------------------- the result types (one per method)
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")  # (a module fixture is rebuilt when xdist interleaves another module)
 def ch4(robot):
     """The text's example solved both ways, and its counterexample."""
     prob = nil.NilpotentProblem(robot, (PI / 4, 0, 0), (-PI / 4, 2, 1.4 * PI), 3)
@@ -218,7 +218,7 @@ def test_results_are_frozen_and_hold_no_late_caches(ch4):
     assert "_pp" in vars(series)  # built at construction
 
 
-def test_no_method_of_the_base_branches_on_the_method(ch4):
+def test_no_method_of_the_base_branches_on_the_method():
     src = inspect.getsource(nil.NilpotentResult)
     assert "self.method" not in src
     for cls in (nil.NilpotentResult, nil.SeriesResult, nil.FlatYResult):
