@@ -27,7 +27,7 @@ from numpy.polynomial import Polynomial as _Poly
 
 from .errors import InvalidInputError
 
-__all__ = ["InputBasis", "Monomial", "Legendre", "make_basis"]
+__all__ = ["InputBasis", "Monomial", "Legendre", "make_basis", "basis_tables"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -228,3 +228,20 @@ def make_basis(basis, n: int) -> InputBasis:
         raise InvalidInputError("basis", f"unknown basis {r if len(r) <= 80 else r[:77] + '...'}",
                                 f"use one of {sorted(_BASES)} or an InputBasis")
     return _BASES[basis](n)
+
+
+@functools.lru_cache(maxsize=64)
+def _tables(basis, s_bytes: bytes):
+    s = np.frombuffer(s_bytes)
+    out = (basis.matrix(s), basis.matrix(s, 1), basis.integral(s))
+    for t in out:
+        t.setflags(write=False)
+    return out
+
+
+def basis_tables(basis: InputBasis, s) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:math:`V(s)`, :math:`V'(s)` and :math:`\\int_0^s V` of ``basis`` at the normalised times ``s``,
+    each shape (K, n), read only and cached per (basis, times): what a torque model evaluates a
+    segment's joint motion with."""
+    s = np.ascontiguousarray(np.atleast_1d(np.asarray(s, dtype=float)))
+    return _tables(basis, s.tobytes())

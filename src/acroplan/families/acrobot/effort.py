@@ -62,6 +62,7 @@ import functools
 import numpy as np
 import sympy as sp
 
+from ...core.basis import basis_tables
 from ...core.conditions import hermite_inverse
 from ...core.errors import InvalidInputError
 from ...core.optimal import register_starts
@@ -320,15 +321,6 @@ def effort_summary(result) -> JointEffort:
 
 
 # ------------------------------------------------------------------------------------ torque model
-@functools.lru_cache(maxsize=64)
-def _basis_tables(basis, s_bytes: bytes):
-    s = np.frombuffer(s_bytes)
-    out = (basis.matrix(s), basis.matrix(s, 1), basis.integral(s))
-    for a in out:
-        a.setflags(write=False)
-    return out
-
-
 class AcrobotTorque:
     """The acrobot's torque model for :class:`acroplan.core.optimal.TorqueOptimal` (and for torque
     limits, ``tau_max``): :math:`\\tau(s)` at normalised times ``s`` and its exact Jacobian in the
@@ -358,14 +350,14 @@ class AcrobotTorque:
         """:math:`\\tau(s)` alone, shape (1, K) (no Jacobian: for results and sweeps)."""
         robot = _require_physical(system)
         s = np.ascontiguousarray(s, dtype=float)
-        V, V1, I = _basis_tables(basis, s.tobytes())
+        V, V1, I = basis_tables(basis, s)
         c = np.asarray(c, dtype=float).reshape(-1)
         return joint_torque(robot, float(x0[1]) + T * (I @ c), V @ c, (V1 @ c) / T)[None, :]
 
     def __call__(self, system, basis, x0, T, c, s):
         robot = _require_physical(system)
         s = np.ascontiguousarray(s, dtype=float)
-        V, V1, I = _basis_tables(basis, s.tobytes())
+        V, V1, I = basis_tables(basis, s)
         c = np.asarray(c, dtype=float).reshape(-1)
         phi = float(x0[1]) + T * (I @ c)
         u = V @ c

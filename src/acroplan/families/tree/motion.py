@@ -15,10 +15,9 @@ so a function :math:`\\tau(q, u, \\dot u)` of the joint motion has
 
 from __future__ import annotations
 
-import functools
-
 import numpy as np
 
+from ...core.basis import basis_tables
 from ...core.errors import InvalidInputError
 
 __all__ = ["joint_rows", "basis_tables", "segment_arrays", "joint_motion", "coefficient_jacobian"]
@@ -37,22 +36,6 @@ def joint_rows(name: str, value, m: int, *, what: str = "joint",
     if not np.all(np.isfinite(a)):
         raise InvalidInputError(name, "has a value that is not finite", "give finite numbers")
     return a
-
-
-@functools.lru_cache(maxsize=64)
-def _tables(basis, s_bytes: bytes):
-    s = np.frombuffer(s_bytes)
-    out = (basis.matrix(s), basis.matrix(s, 1), basis.integral(s))
-    for t in out:
-        t.setflags(write=False)
-    return out
-
-
-def basis_tables(basis, s) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """:math:`V(s)`, :math:`V'(s)`, :math:`I(s)`, each shape (K, n), read only and cached per
-    (basis, times)."""
-    s = np.ascontiguousarray(np.atleast_1d(np.asarray(s, dtype=float)))
-    return _tables(basis, s.tobytes())
 
 
 def segment_arrays(system, basis, T, c, s) -> tuple[float, np.ndarray, np.ndarray]:
