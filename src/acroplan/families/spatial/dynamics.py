@@ -217,47 +217,16 @@ def newton_euler(struct, par, s, u, du, lam, sin, cos):
         :math:`\\tau_j`.
     """
     parents, massless = struct
-    n = len(parents)
-    it = iter(par)
-    mass, com, J0 = {}, {}, {}
-    for k in range(n):
-        if not massless[k]:
-            mass[k] = next(it)
-            com[k] = (next(it), next(it), next(it))
-            e = [next(it) for _ in range(6)]
-            J0[k] = ((e[0], e[1], e[2]), (e[1], e[3], e[4]), (e[2], e[4], e[5]))
-    jpos, axis, R0 = {}, {}, {}
-    for k in range(n):
-        if parents[k] != -1:
-            jpos[k] = (next(it), next(it), next(it))
-            axis[k] = (next(it), next(it), next(it))
-            r = [next(it) for _ in range(9)]
-            R0[k] = (tuple(r[0:3]), tuple(r[3:6]), tuple(r[6:9]))
-    joints = [k for k in range(n) if parents[k] != -1]
+    mass, com, J0, jpos, axis, R0 = _unpack(struct, par)
+    joints = [k for k in range(len(parents)) if parents[k] != -1]
     jidx = {k: i for i, k in enumerate(joints)}
     root = parents.index(-1)
-    order = [root]
-    for i in order:
-        order.extend(k for k in range(n) if parents[k] == i)
+    order = _depth_first(parents)
     zero = (0.0, 0.0, 0.0)
-    eye = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
     heavy = [k for k in order if not massless[k]]
     M = sum(mass[k] for k in heavy) if heavy else 0.0
-
-    # positions
-    R, P, ahat, d, e = {root: eye}, {root: zero}, {}, {}, {}
-    for k in order[1:]:
-        p, i = parents[k], jidx[k]
-        d[k] = _mv(R[p], jpos[k])
-        P[k] = _add(P[p], d[k])
-        ahat[k] = _mv(R[p], axis[k])
-        R[k] = _mm(_mm(R[p], _rot(axis[k], cos(s[i]), sin(s[i]))), R0[k])
-    for k in heavy:
-        e[k] = _mv(R[k], com[k])
-    r = {k: _add(P[k], e[k]) for k in heavy}
-    rc = _scale(1.0 / M, _sum([_scale(mass[k], r[k]) for k in heavy], zero))
-    rho = {k: _sub(r[k], rc) for k in heavy}
-    Jw = {k: _mm(_mm(R[k], J0[k]), tuple(zip(*R[k]))) for k in heavy}
+    P, ahat, d, e, rc, rho, Jw = _positions(parents, order, jidx, heavy, mass, com, J0, jpos, axis, R0, M, s,
+                                            sin, cos)
 
     def velocities(Om):
         w, Pd = {root: Om}, {root: zero}
@@ -313,6 +282,61 @@ def newton_euler(struct, par, s, u, du, lam, sin, cos):
         pi = _sub(P[k], rc)
         tau[jidx[k]] = _dot(ahat[k], _sub(N[k], _cross(pi, F[k])))
     return tau
+
+
+def _unpack(struct, par):
+    """The link table's numbers from the flat parameters (:func:`parameters`): per massive link its
+    mass, centre of mass and inertia; per joint its position, axis and fixed rotation."""
+    parents, massless = struct
+    n = len(parents)
+    it = iter(par)
+    mass, com, J0 = {}, {}, {}
+    for k in range(n):
+        if not massless[k]:
+            mass[k] = next(it)
+            com[k] = (next(it), next(it), next(it))
+            e = [next(it) for _ in range(6)]
+            J0[k] = ((e[0], e[1], e[2]), (e[1], e[3], e[4]), (e[2], e[4], e[5]))
+    jpos, axis, R0 = {}, {}, {}
+    for k in range(n):
+        if parents[k] != -1:
+            jpos[k] = (next(it), next(it), next(it))
+            axis[k] = (next(it), next(it), next(it))
+            r = [next(it) for _ in range(9)]
+            R0[k] = (tuple(r[0:3]), tuple(r[3:6]), tuple(r[6:9]))
+    return mass, com, J0, jpos, axis, R0
+
+
+def _depth_first(parents) -> list[int]:
+    """The links from the root, each after its parent."""
+    order = [parents.index(-1)]
+    for i in order:
+        order.extend(k for k in range(len(parents)) if parents[k] == i)
+    return order
+
+
+def _positions(parents, order, jidx, heavy, mass, com, J0, jpos, axis, R0, M, s, sin, cos):
+    """The pose at the joint angles ``s``, the root's frame fixed: per link its frame's origin ``P``,
+    its joint's axis ``ahat`` and offset ``d`` from the parent's origin, its centre of mass ``e``
+    from its origin; the whole body's centre of mass ``rc``, each massive link's centre of mass from
+    it ``rho`` and its inertia ``Jw``, all in the root's frame."""
+    root = order[0]
+    zero = (0.0, 0.0, 0.0)
+    eye = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
+    R, P, ahat, d, e = {root: eye}, {root: zero}, {}, {}, {}
+    for k in order[1:]:
+        p, i = parents[k], jidx[k]
+        d[k] = _mv(R[p], jpos[k])
+        P[k] = _add(P[p], d[k])
+        ahat[k] = _mv(R[p], axis[k])
+        R[k] = _mm(_mm(R[p], _rot(axis[k], cos(s[i]), sin(s[i]))), R0[k])
+    for k in heavy:
+        e[k] = _mv(R[k], com[k])
+    r = {k: _add(P[k], e[k]) for k in heavy}
+    rc = _scale(1.0 / M, _sum([_scale(mass[k], r[k]) for k in heavy], zero))
+    rho = {k: _sub(r[k], rc) for k in heavy}
+    Jw = {k: _mm(_mm(R[k], J0[k]), tuple(zip(*R[k]))) for k in heavy}
+    return P, ahat, d, e, rc, rho, Jw
 
 
 # ---------------------------------------------------------------------- compiled
