@@ -116,24 +116,7 @@ def human_error(e: InvalidInputError, source: str) -> InvalidInputError:
 def _human_body(data: dict, given: list, limits: dict | None, *, context):
     """A human body from ``[body]`` (``yeadon`` or ``height``/``mass``; module docstring), and the
     default limits of an acrobot (split at the hips) in radians."""
-    other = [k for k in ("urdf", "link") if k in data]
-    if other:
-        what = "urdf" if other[0] == "urdf" else "[[body.link]] tables"
-        raise InvalidInputError(f"body.{given[0]}", f"is a key of a human body, and this [body] gives {what}",
-                                f"describe the body one way: a URDF, link tables, or a human body (yeadon, or height "
-                                f"and mass); drop body.{given[0]} or body.{other[0]}")
-    deleva = [k for k in ("height", "mass", "sex") if k in data]
-    if "yeadon" in data and deleva:
-        raise InvalidInputError(f"body.{deleva[0]}", "is given together with body.yeadon: the measurement file gives "
-                                "the whole body", "give yeadon = \"...\" (Yeadon's 95 measurements) or height and "
-                                "mass (de Leva's tables), not both")
-    if "yeadon" not in data:
-        for key in ("height", "mass"):
-            if key not in data:
-                raise InvalidInputError(f"body.{key}", "is missing" + ("" if deleva else
-                                        ": a human body needs yeadon = \"...\" or height and mass"),
-                                        "give height (m) and mass (kg) for de Leva's tables, or yeadon = \"male1\" "
-                                        "(a measurement file or a bundled sample)")
+    _check_one_description(data, given)
     if "angular_momentum" not in data:
         raise InvalidInputError("body.angular_momentum", "is missing", "give P0, the angular momentum about the "
                                 "somersault axis in kg m^2/s (> 0 for a forward somersault; acroplan least-momentum "
@@ -157,25 +140,7 @@ def _human_body(data: dict, given: list, limits: dict | None, *, context):
                                     "write for example shoulder_flexion = \"pi/2\" (arms forward; 0: at the sides, "
                                     "pi: overhead)")
     source = "body.yeadon" if "yeadon" in data else "body.height"
-    try:
-        if "yeadon" in data:
-            path = yeadon_path(data["yeadon"], context)
-            try:
-                body = from_yeadon(path, knee_flexion=kappa)
-            except ImportError:
-                raise InvalidInputError("body.yeadon", "needs the yeadon package (Yeadon's inertia model), which is "
-                                        "not installed", f"{_INSTALL_HUMAN}; or give height and mass instead of "
-                                        "yeadon (de Leva's tables need nothing more)") from None
-        else:
-            height = number("body.height", data["height"], MAX_BODY, BODY_VALUES)
-            mass = number("body.mass", data["mass"], MAX_BODY, BODY_VALUES)
-            sex = data.get("sex", "male")
-            if not isinstance(sex, str):
-                raise InvalidInputError("body.sex", f"must be \"male\" or \"female\" in quotes, got {short(sex)}",
-                                        "write sex = \"female\" or leave it out (male)")
-            body = from_height_mass(height, mass, sex=sex, knee_flexion=kappa)
-    except InvalidInputError as e:
-        raise (e if e.field.startswith("body.") else human_error(e, source)) from None
+    body = _sagittal_body(data, kappa, source, context)
     lim = None
     if pos is not None:
         try:
@@ -197,6 +162,53 @@ def _human_body(data: dict, given: list, limits: dict | None, *, context):
         raise human_error(e, source) from None
     table = apply_limits(planar.links, {} if limits is None else limits, context.degrees)
     return (planar if table is planar.links else PlanarBody(table, P0=P0)), {}
+
+
+def _check_one_description(data: dict, given: list) -> None:
+    """A human ``[body]`` describes the body one way: not with a URDF or link tables, and by a
+    measurement file (``yeadon``) or by ``height`` and ``mass`` (de Leva's tables), not both."""
+    other = [k for k in ("urdf", "link") if k in data]
+    if other:
+        what = "urdf" if other[0] == "urdf" else "[[body.link]] tables"
+        raise InvalidInputError(f"body.{given[0]}", f"is a key of a human body, and this [body] gives {what}",
+                                f"describe the body one way: a URDF, link tables, or a human body (yeadon, or height "
+                                f"and mass); drop body.{given[0]} or body.{other[0]}")
+    deleva = [k for k in ("height", "mass", "sex") if k in data]
+    if "yeadon" in data and deleva:
+        raise InvalidInputError(f"body.{deleva[0]}", "is given together with body.yeadon: the measurement file gives "
+                                "the whole body", "give yeadon = \"...\" (Yeadon's 95 measurements) or height and "
+                                "mass (de Leva's tables), not both")
+    if "yeadon" not in data:
+        for key in ("height", "mass"):
+            if key not in data:
+                raise InvalidInputError(f"body.{key}", "is missing" + ("" if deleva else
+                                        ": a human body needs yeadon = \"...\" or height and mass"),
+                                        "give height (m) and mass (kg) for de Leva's tables, or yeadon = \"male1\" "
+                                        "(a measurement file or a bundled sample)")
+
+
+def _sagittal_body(data: dict, kappa: float, source: str, context):
+    """The :class:`~acroplan.families.human.body.SagittalBody` of ``[body]``: from Yeadon's
+    measurements or de Leva's tables, the knees flexed by ``kappa``."""
+    try:
+        if "yeadon" in data:
+            path = yeadon_path(data["yeadon"], context)
+            try:
+                return from_yeadon(path, knee_flexion=kappa)
+            except ImportError:
+                raise InvalidInputError("body.yeadon", "needs the yeadon package (Yeadon's inertia model), which is "
+                                        "not installed", f"{_INSTALL_HUMAN}; or give height and mass instead of "
+                                        "yeadon (de Leva's tables need nothing more)") from None
+        else:
+            height = number("body.height", data["height"], MAX_BODY, BODY_VALUES)
+            mass = number("body.mass", data["mass"], MAX_BODY, BODY_VALUES)
+            sex = data.get("sex", "male")
+            if not isinstance(sex, str):
+                raise InvalidInputError("body.sex", f"must be \"male\" or \"female\" in quotes, got {short(sex)}",
+                                        "write sex = \"female\" or leave it out (male)")
+            return from_height_mass(height, mass, sex=sex, knee_flexion=kappa)
+    except InvalidInputError as e:
+        raise (e if e.field.startswith("body.") else human_error(e, source)) from None
 
 
 def _spatial_human(data: dict, limits, context):
