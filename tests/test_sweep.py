@@ -85,6 +85,18 @@ def reference(tmp_path_factory):
     return path
 
 
+def test_derived_momentum_units_follow_the_body(reference):
+    """A physical body's momenta are recorded in kg m^2/s (the colour bar of ``acroplan map`` said
+    "units of P0" for an SI body, #24); a body given by its lumped parameters keeps their units."""
+    ds = st.open_sweep(reference).load()
+    assert ds.least_P0.attrs["units"] == ds.most_P0.attrs["units"] == "kg m^2/s"
+    lumped = acroplan.Acrobot(M1=2.0, A1=-0.5, M2=0.5, A2=-0.25, P0=1.0)
+    sw = sweep(dict(system=lumped, times=[0, 1], theta=[0, 2.0], phi=[-math.pi, -math.pi], conditions="free"),
+               grid={"T": [1.0, 2.0]}, derived=["least_P0"], chunk_size=2)
+    units = {name: attrs.get("units") for name, _, _, attrs in sw.variables()}
+    assert units["least_P0"] == "units of P0"
+
+
 # ---------------------------------------------------------------------------------------------- definitions
 def test_a_definition_is_canonical_immutable_and_named_by_its_fields():
     a, b = _small(), _small()

@@ -43,8 +43,11 @@ class Derived:
     ----------
     name : str
         The name a sweep asks for (``derived=["least_P0"]``) and the store's variable.
-    description, units : str
-        Recorded as the variable's attributes.
+    description : str
+        Recorded as the variable's attribute.
+    units : str or callable
+        Recorded as the variable's attribute: a string, or ``units(system)`` of the sweep's base
+        system (``None`` for a factory's sweep) giving one (:meth:`units_for`).
     fn : callable
         ``fn(request) -> (value, proof)``: ``request`` is the point's validated plan request
         (``system``, ``times``, ``waypoints``, ``limits``); ``proof`` is ``None``, or the reason
@@ -56,16 +59,21 @@ class Derived:
 
     name: str
     description: str
-    units: str
+    units: str | Callable
     fn: Callable = dataclasses.field(repr=False)
     applies_to: tuple = ()
+
+    def units_for(self, system) -> str:
+        """The units of the quantity for sweeps of ``system`` (``None``: not known)."""
+        return str(self.units(system)) if callable(self.units) else self.units
 
 
 #: Derived quantities by name (:func:`register_derived`).
 DERIVED: dict[str, Derived] = {}
 
 
-def register_derived(name: str, fn: Callable, *, description: str, units: str = "", applies_to=()) -> Derived:
+def register_derived(name: str, fn: Callable, *, description: str, units: str | Callable = "",
+                     applies_to=()) -> Derived:
     """Make ``fn`` the derived quantity ``name`` of sweeps.
 
     Parameters
@@ -74,7 +82,9 @@ def register_derived(name: str, fn: Callable, *, description: str, units: str = 
         An identifier (the store's variable name).
     fn : callable
         ``fn(request) -> (value, proof)`` (:class:`Derived`).
-    description, units : str
+    description : str
+    units : str or callable
+        A string, or ``units(system)`` giving one (:class:`Derived`).
     applies_to : type or tuple of type, optional
         The system types it is defined for (default: every system).
 

@@ -296,10 +296,12 @@ class Sweep:
                                                         "the table is the store's messages"})]
         if self.planned:
             out += _PLANNED
+        base = self.base_system if any(callable(getattr(DERIVED.get(d), "units", None)) for d in self.derived) \
+            else None
         for d in self.derived:
             entry = DERIVED.get(d)
             out.append((d, "float64", math.nan, {"description": entry.description if entry else d,
-                                                  "units": entry.units if entry else ""}))
+                                                  "units": entry.units_for(base) if entry else ""}))
         out.append(("seconds", "float64", math.nan, {"description": "wall time of the point (plan, metrics, "
                                                                     "derived), seconds; not reproducible"}))
         return out

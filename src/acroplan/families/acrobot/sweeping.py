@@ -56,11 +56,17 @@ def _reach(system: Acrobot, start, end, duration, limits) -> tuple[float, float]
     return R.low, R.high
 
 
-register_derived("least_P0", lambda req: least_momentum(req, "least"), applies_to=Acrobot, units="units of P0",
+def _momentum_units(system) -> str:
+    """kg m^2/s for a body given by its masses, inertias and lengths (SI); otherwise the lumped
+    parameters' own units."""
+    return "kg m^2/s" if getattr(system, "physical", None) is not None else "units of P0"
+
+
+register_derived("least_P0", lambda req: least_momentum(req, "least"), applies_to=Acrobot, units=_momentum_units,
                  description="the least angular momentum (signed) that reaches the last waypoint's theta from the "
                              "first's over the whole flight under the limits (exact, by the reachable set; an "
                              "infimum without rate limits)")
-register_derived("most_P0", lambda req: least_momentum(req, "most"), applies_to=Acrobot, units="units of P0",
+register_derived("most_P0", lambda req: least_momentum(req, "most"), applies_to=Acrobot, units=_momentum_units,
                  description="the largest angular momentum (signed) that still reaches it: more turns too fast "
                              "(exact, by the reachable set)")
 register_reach(Acrobot, "theta", _reach)
