@@ -217,7 +217,6 @@ class OptimalProblem:
         return 0.5 * (M + M.transpose(0, 2, 1))
 
 
-
 class OptimalRun:
     """The optimisation at one basis size: solve from a start, refine, report."""
 

@@ -44,7 +44,6 @@ _BASIS_NOTE = {
 }
 
 
-
 @dataclasses.dataclass(frozen=True)
 class PlanResult:
     """Result of :func:`acroplan.plan`.

@@ -41,7 +41,6 @@ def _num(v):
     return v if np.isfinite(v) else None
 
 
-
 @dataclasses.dataclass(frozen=True)
 class Samples:
     """A sampled trajectory.

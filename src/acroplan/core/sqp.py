@@ -77,7 +77,6 @@ def kkt_multipliers(g, A, C=None):
     return lam, (math.sqrt(float(res @ res)) / gn if gn > 0 else 0.0)
 
 
-
 def kkt_step(W, g, h, A, H, convex_only=False):
     """The SQP step: the KKT system :math:`W p + A^\\top\\lambda = -g`, :math:`A p = -h`, with
     :math:`W` replaced, when it is not positive definite on :math:`\\ker A`, by the reduced

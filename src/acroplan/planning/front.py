@@ -28,6 +28,7 @@ from .request import PlanRequest, TIME_LIMIT
 
 __all__ = ["plan", "solve", "warm_up"]
 
+
 def plan(system: ControlAffineSystem, *, times, conditions: str | None = None, method="auto", basis="legendre",
          n_coefficients: int | None = None, limits: Limits | None = None, u_max: float | None = None,
          state_bounds=None, input_bounds=None, verify: bool | str = True, tol: float = 1e-10,
@@ -347,7 +348,6 @@ def _check_torque_limits(result: PlanResult, req) -> PlanResult:
     j, peak, top = over[0]
     return dataclasses.replace(result, status=Status.NOT_CONVERGED, message=f"not converged: the peak torque of "
                                f"joint {j} is {peak:.10g} > tau_max = {top:g} (every waypoint reached)")
-
 
 
 def _fill_free(system, t, X, free, limits):

@@ -25,6 +25,7 @@ EXACT_EFFORT_SEGMENTS = 100
 #: Segments from which a plan's waypoints count as dense (the warning then suggests fewer).
 DENSE_SEGMENTS = 50
 
+
 def waypoint_rate(system, times, waypoints) -> tuple[float, int]:
     """The fastest rate the waypoints imply, and the interval where: the largest finite difference
     :math:`|\\Delta q_i| / (t_{k+1} - t_k)` over the intervals :math:`k` and the angles :math:`q_i`

@@ -157,6 +157,7 @@ SEGMENTS: tuple[tuple[str, str | None, str], ...] = (
     ("K1", "P", "right_thigh"), ("K2", "K1", "right_shank_foot"),
 )
 
+
 def _tree_order(names) -> tuple[str, ...]:
     """``names`` in the link table's order: by segment (:data:`SEGMENTS`), then Cardan axis."""
     seg = [s for s, _, _ in SEGMENTS]

@@ -121,7 +121,6 @@ def _quad(L):
     return np.einsum("l,ilab->iab", np.asarray(L, dtype=float), _QUAD)
 
 
-
 @functools.lru_cache(maxsize=64)
 def _dyadic_tables(basis, N: int, depth: int):
     """The basis and its integrals at the Gauss nodes of every panel of width :math:`2^{-d}`:

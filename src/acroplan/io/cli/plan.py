@@ -120,6 +120,7 @@ def plan_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do_ani
         result.message, *warned, f"diagnostics written to {out / 'solution.json'}"]
     report(summary, as_json, quiet, lines, code)
 
+
 def _effort_lines(doc: dict) -> list[str]:
     """One line per joint of a plan's effort block (peak torque and power, positive work)."""
     joints = (doc.get("effort") or {}).get("joints") or {}
@@ -127,6 +128,7 @@ def _effort_lines(doc: dict) -> list[str]:
     return [f"joint {j}: peak |tau| {e['peak_torque']:.6g}" + (f" (limit {limits[j]:g})" if j in limits else "") +
             f", peak |power| {e['peak_power']:.6g}, positive work {e['positive_work']:.6g}, integral of tau^2 "
             f"{e['torque_squared']:.6g}" for j, e in joints.items()]
+
 
 #: Rows of trajectory.csv written between two progress updates.
 CSV_BLOCK = 20_000
@@ -150,12 +152,14 @@ def write_csv(result, path: Path, per_segment: int = 200, *, effort: bool = True
             np.savetxt(f, data[i:i + CSV_BLOCK], delimiter=",", fmt="%.17g")
             st.update(min(CSV_BLOCK, len(data) - i))
 
+
 def _write_plan_files(result, folder: Path, fmts, no_plots: bool) -> None:
     """trajectory.csv and, unless ``no_plots``, the figures (effort.png when the plan gives torques)."""
     write_csv(result, folder / "trajectory.csv")
     if no_plots:
         return
     save(result.plot(effort=result.has_torques), folder, fmts)
+
 
 def _is_batch(path: Path) -> bool:
     if path.is_dir():
@@ -171,6 +175,7 @@ def _is_batch(path: Path) -> bool:
 #: exit code of each status in a batch; the batch exits with the largest code present
 
 EXIT_BY_BATCH_STATUS = {**EXIT_BY_STATUS, "invalid": EXIT_INVALID}
+
 
 def _batch_entries(path: Path, overrides: dict | None = None, allowed=()):
     """[(name, Problem or None, message or None)] of a folder or a file of many problems.
@@ -230,9 +235,11 @@ def _batch_entries(path: Path, overrides: dict | None = None, allowed=()):
                                     e.fix) from None
     return entries
 
+
 def _short_key(key) -> str:
     r = str(key)
     return r if len(r) <= 60 and r.isprintable() else repr(r)[:57] + "..."
+
 
 def _plan_batch(path, out, force, quiet, as_json, no_plots, fmt, overrides=None, allowed=()):
     import csv
