@@ -121,18 +121,37 @@ class _Build:
 _PENDING: dict[tuple, _Build] = {}
 
 
-def _run_build(job: _Build, key, system, basis_cls, n) -> None:
+def _run(job: _Build, key, build, done: dict, pending: dict) -> None:
     try:
-        ta = _build(system, basis_cls, n)
+        out = build()
         with _BUILD_LOCK:
-            _TEMPLATES[key] = ta
+            done[key] = out
         _mark_compiled(key)
     except BaseException as e:  # noqa: BLE001 - handed to the callers waiting for it
         job.error = e
     finally:
         with _BUILD_LOCK:
-            _PENDING.pop(key, None)
+            pending.pop(key, None)
         job.done.set()
+
+
+def _compiled(key, build, done: dict, pending: dict, name: str):
+    """``done[key]``, made by ``build()`` once: in a thread of its own (``pending`` holds it while
+    it runs), which every caller waits for within its time budget."""
+    if key in done:
+        return done[key]
+    with _BUILD_LOCK:
+        if key in done:
+            return done[key]
+        job = pending.get(key)
+        if job is None:
+            job = pending[key] = _Build()
+            threading.Thread(target=_run, args=(job, key, build, done, pending), daemon=True,
+                             name=f"acroplan-compile-{name}").start()
+    budget.wait(job.done)
+    if job.error is not None:
+        raise job.error
+    return done[key]
 
 
 def compile_for(system: ControlAffineSystem, basis_cls: type[InputBasis], n: int):
@@ -145,41 +164,11 @@ def compile_for(system: ControlAffineSystem, basis_cls: type[InputBasis], n: int
     :class:`~acroplan.core.budget.BudgetExceeded` at its deadline; the compilation goes on in the
     background and its integrator is kept for the next plan. One compilation per key, however many
     threads ask."""
-    key = _key(system, basis_cls, n)
-    ta = _TEMPLATES.get(key)
-    if ta is not None:
-        return ta
-    with _BUILD_LOCK:
-        ta = _TEMPLATES.get(key)
-        if ta is not None:
-            return ta
-        job = _PENDING.get(key)
-        if job is None:
-            job = _PENDING[key] = _Build()
-            threading.Thread(target=_run_build, args=(job, key, system, basis_cls, n), daemon=True,
-                             name=f"acroplan-compile-{n}").start()
-    budget.wait(job.done)
-    if job.error is not None:
-        raise job.error
-    return _TEMPLATES[key]
+    return _compiled(_key(system, basis_cls, n), lambda: _build(system, basis_cls, n), _TEMPLATES, _PENDING, str(n))
 
 
 _ONCE: dict[Hashable, object] = {}
 _ONCE_PENDING: dict[Hashable, _Build] = {}
-
-
-def _run_once(job: _Build, key, build) -> None:
-    try:
-        out = build()
-        with _BUILD_LOCK:
-            _ONCE[key] = out
-        _mark_compiled(key)
-    except BaseException as e:  # noqa: BLE001 - handed to the callers waiting for it
-        job.error = e
-    finally:
-        with _BUILD_LOCK:
-            _ONCE_PENDING.pop(key, None)
-        job.done.set()
 
 
 def compile_once(key: tuple, build):
@@ -189,20 +178,7 @@ def compile_once(key: tuple, build):
     the compilation going on in the background and kept for the next caller), one compilation
     however many threads ask; once done it is marked on this machine (:func:`compiled_before`).
     ``key``: a tuple of hashable values whose ``repr`` is the same in every process."""
-    if key in _ONCE:
-        return _ONCE[key]
-    with _BUILD_LOCK:
-        if key in _ONCE:
-            return _ONCE[key]
-        job = _ONCE_PENDING.get(key)
-        if job is None:
-            job = _ONCE_PENDING[key] = _Build()
-            threading.Thread(target=_run_once, args=(job, key, build), daemon=True,
-                             name=f"acroplan-compile-{key[0]}").start()
-    budget.wait(job.done)
-    if job.error is not None:
-        raise job.error
-    return _ONCE[key]
+    return _compiled(key, build, _ONCE, _ONCE_PENDING, str(key[0]))
 
 
 def compiled_before(key: tuple) -> bool:
