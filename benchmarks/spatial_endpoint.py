@@ -76,23 +76,8 @@ def chain_case(momentum, n=10):
 def taylor_variant(body, n, *, tol=1e-15, mode="coefficients", compact=True):
     """A heyoka integrator of the body's fields: ``mode`` "coefficients" (variational equations in
     c), "state" (in the state) or "none"."""
-    xs, ps = body.symbols()
-    f, G = body.symbolic()
-    n_x, m, n_p = len(xs), G.shape[1], len(ps)
-    hx = hy.make_vars(*body.state_names)
-    sub = {s: v for s, v in zip(xs, hx)}
-    sub.update({s: hy.par[i] for i, s in enumerate(ps)})
-    coeffs = [[hy.par[n_p + 1 + j * n + i] for i in range(n)] for j in range(m)]
-    basis = Legendre(n)
-    u = [basis.expression(hy.time, coeffs[j]) for j in range(m)]
-    rhs = []
-    for r in range(n_x):
-        e = hy.from_sympy(f[r], sub) if f[r] != 0 else 0.0 * hx[0]
-        for j in range(m):
-            if G[r, j] != 0:
-                e = e + hy.from_sympy(G[r, j], sub) * u[j]
-        rhs.append(hy.par[n_p] * e)
-    sys_ = list(zip(hx, rhs))
+    sys_, coeffs = backend.heyoka_fields(body, Legendre(n))
+    n_x, m, n_p = len(sys_), len(coeffs), len(body.param_names)
     if mode == "coefficients":
         sys_ = hy.var_ode_sys(sys_, [c for row in coeffs for c in row], order=1)
     elif mode == "state":

@@ -47,8 +47,8 @@ from . import budget
 from .basis import InputBasis
 from .system import ControlAffineSystem
 
-__all__ = ["IntegrationError", "endpoint", "taylor_endpoint", "reference_endpoint", "sample", "taylor_sample",
-           "compile_for", "compile_once", "compiled_before", "compiled_count", "compile_estimate", "CompileEstimate"]
+__all__ = ["IntegrationError", "heyoka_fields", "endpoint", "taylor_endpoint", "reference_endpoint", "sample",
+           "taylor_sample", "compile_for", "compile_once", "compiled_before", "compiled_count", "compile_estimate", "CompileEstimate"]
 
 #: Taylor integrator tolerance: machine precision for double.
 TOL = 1e-15
@@ -79,18 +79,28 @@ _BUILD_LOCK = threading.Lock()
 _LOCAL = threading.local()
 
 
-def _build(system: ControlAffineSystem, basis_cls: type[InputBasis], n: int):
+def heyoka_fields(system: ControlAffineSystem, basis: InputBasis):
+    """The segment's state equation as heyoka expressions, in normalised time :math:`s \\in [0, 1]`:
+    :math:`x' = T\\,(f(x) + G(x)\\,u(s))`, the input :math:`u_j(s) = \\sum_i c_{ji} V_i(s)` in ``basis``.
+    Runtime parameters, in order: the system's parameters, :math:`T`, then the coefficients row by
+    row.
+
+    Returns
+    -------
+    sys : list of (variable, expression)
+        The system, one pair per state.
+    coeffs : list of list
+        The coefficients' parameters, shape (m, basis.n).
+    """
     x_sym, p_sym = system.symbols()
     f, G = system.symbolic()
-    n_x, m, n_p = len(x_sym), G.shape[1], len(p_sym)
+    n_x, m, n_p, n = len(x_sym), G.shape[1], len(p_sym), basis.n
     hx = hy.make_vars(*system.state_names)
     if n_x == 1:
         hx = [hx]
     s_dict = {sym: var for sym, var in zip(x_sym, hx)}
     s_dict.update({sym: hy.par[i] for i, sym in enumerate(p_sym)})
-    T = hy.par[n_p]
     coeffs = [[hy.par[n_p + 1 + j * n + i] for i in range(n)] for j in range(m)]
-    basis = basis_cls(n)
     u = [basis.expression(hy.time, coeffs[j]) for j in range(m)]
     rhs = []
     for r in range(n_x):
@@ -98,10 +108,14 @@ def _build(system: ControlAffineSystem, basis_cls: type[InputBasis], n: int):
         for j in range(m):
             if G[r, j] != 0:
                 e = e + hy.from_sympy(G[r, j], s_dict) * u[j]
-        rhs.append(T * e)
-    sys = list(zip(hx, rhs))
-    wrt = [c for row in coeffs for c in row]
-    vsys = hy.var_ode_sys(sys, wrt, order=1)
+        rhs.append(hy.par[n_p] * e)
+    return list(zip(hx, rhs)), coeffs
+
+
+def _build(system: ControlAffineSystem, basis_cls: type[InputBasis], n: int):
+    sys, coeffs = heyoka_fields(system, basis_cls(n))
+    vsys = hy.var_ode_sys(sys, [c for row in coeffs for c in row], order=1)
+    n_x, m, n_p = len(sys), len(coeffs), len(system.param_names)
     return hy.taylor_adaptive(vsys, [0.0] * n_x, tol=TOL, pars=[0.0] * (n_p + 1 + m * n),
                               compact_mode=bool(system.compact_mode))
 
@@ -355,25 +369,10 @@ def reference_endpoint(system: ControlAffineSystem, basis: InputBasis, x0, T: fl
     key = (system.structure_key, type(basis), basis.n, float(tol))
     ta = _REFERENCE.get(key)
     if ta is None:
-        x_sym, p_sym = system.symbols()
-        f, G = system.symbolic()
-        n_x, m, n_p = len(x_sym), G.shape[1], len(p_sym)
-        hx = hy.make_vars(*system.state_names)
-        if n_x == 1:
-            hx = [hx]
-        sub = {sym: var for sym, var in zip(x_sym, hx)}
-        sub.update({sym: hy.par[i] for i, sym in enumerate(p_sym)})
-        coeffs = [[hy.par[n_p + 1 + j * basis.n + i] for i in range(basis.n)] for j in range(m)]
-        u = [basis.expression(hy.time, coeffs[j]) for j in range(m)]
-        rhs = []
-        for r in range(n_x):
-            e = hy.from_sympy(f[r], sub) if f[r] != 0 else 0.0 * hx[0]
-            for j in range(m):
-                if G[r, j] != 0:
-                    e = e + hy.from_sympy(G[r, j], sub) * u[j]
-            rhs.append(hy.par[n_p] * e)
+        sys, coeffs = heyoka_fields(system, basis)
+        n_x, m, n_p = len(sys), len(coeffs), len(system.param_names)
         ld = np.longdouble
-        ta = hy.taylor_adaptive(list(zip(hx, rhs)), np.zeros(n_x, dtype=ld), tol=ld(tol), compact_mode=True,
+        ta = hy.taylor_adaptive(sys, np.zeros(n_x, dtype=ld), tol=ld(tol), compact_mode=True,
                                 fp_type=ld, pars=np.zeros(n_p + 1 + m * basis.n, dtype=ld))
         _REFERENCE[key] = ta
     n_p = len(system.param_names)
