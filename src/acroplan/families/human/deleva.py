@@ -98,6 +98,20 @@ def _rod(mass: float, start: float, length: float, com: float, r: float) -> Part
     return Part(mass, (start + com * length, 0.0), mass * (r * length) ** 2)
 
 
+def stature_and_mass(height, mass) -> tuple[float, float]:
+    """``height`` (m) and ``mass`` (kg) checked against the ranges de Leva's tables scale to
+    (1.0-2.5 m, 20-250 kg), naming the field."""
+    H = finite_number("height", height)
+    M = finite_number("mass", mass)
+    if not 1.0 <= H <= 2.5:
+        raise InvalidInputError("height", f"must be a stature in metres between 1.0 and 2.5, got {H:g}",
+                                "give the height in metres (1.75, not 175)")
+    if not 20.0 <= M <= 250.0:
+        raise InvalidInputError("mass", f"must be a body mass in kg between 20 and 250, got {M:g}",
+                                "give the mass in kilograms")
+    return H, M
+
+
 def from_height_mass(height: float, mass: float, *, sex: str = "male", knee_flexion: float = 0.0) -> SagittalBody:
     """A :class:`~acroplan.families.human.body.SagittalBody` from stature and mass by de Leva's
     (1996) tables (module docstring: the scaling and the placements assumed).
@@ -122,15 +136,8 @@ def from_height_mass(height: float, mass: float, *, sex: str = "male", knee_flex
     >>> round(body.mass, 12)
     73.0
     """
-    H = finite_number("height", height)
-    M = finite_number("mass", mass)
+    H, M = stature_and_mass(height, mass)
     kappa = finite_number("knee_flexion", knee_flexion)
-    if not 1.0 <= H <= 2.5:
-        raise InvalidInputError("height", f"must be a stature in metres between 1.0 and 2.5, got {H:g}",
-                                "give the height in metres (1.75, not 175)")
-    if not 20.0 <= M <= 250.0:
-        raise InvalidInputError("mass", f"must be a body mass in kg between 20 and 250, got {M:g}",
-                                "give the mass in kilograms")
     if not 0.0 <= kappa <= math.pi:
         raise InvalidInputError("knee_flexion", f"must be in [0, pi], got {kappa:g}",
                                 "give the knee flexion in radians, 0 for straight knees")

@@ -79,7 +79,6 @@ import dataclasses
 import functools
 import io
 import math
-import os
 import tomllib
 from importlib import resources
 from typing import Mapping
@@ -90,6 +89,7 @@ from ...core.errors import InvalidInputError, finite_number
 from ..spatial import rotations as rot
 from ..spatial.links import SpatialLink, SpatialLinkTable
 from ..spatial.model import SpatialBody
+from ..tree.links import combine_rigid
 from .limits import human_data
 
 __all__ = ["Dof", "JOINTS", "SEGMENTS", "PRESETS", "POSTURES", "HumanSegments", "spatial_limits_data",
@@ -370,16 +370,9 @@ def yeadon_segments(human=None, *, density_set: str = "Dempster") -> HumanSegmen
         (every angle 0), where every segment frame is parallel to the global one:
         ``joint[child] = child.pos - parent.pos``.
     """
-    from .yeadon_body import load_human
+    from .yeadon_body import human_of
 
-    if human is None or isinstance(human, (str, os.PathLike)):
-        label = "male1" if human is None else os.fspath(human)
-        human = load_human(human, density_set=density_set)
-    else:
-        if not all(hasattr(human, a) for a in ("segments", "set_CFG_dict", "CFGnames")):
-            raise InvalidInputError("human", f"must be a yeadon.Human or a measurement file, got {type(human).__name__}",
-                                    "give yeadon.Human(...) or the path of a measurement file")
-        label = "a yeadon.Human"
+    human, label = human_of(human, density_set, ("segments", "set_CFG_dict", "CFGnames"))
     saved = dict(human.CFG)
     try:
         with contextlib.redirect_stdout(io.StringIO()):
@@ -451,16 +444,9 @@ def de_leva_segments(height: float, mass: float, *, sex: str = "male") -> HumanS
     -------
     HumanSegments
     """
-    from .deleva import _sex, de_leva_table
+    from .deleva import _sex, de_leva_table, stature_and_mass
 
-    H = finite_number("height", height)
-    M = finite_number("mass", mass)
-    if not 1.0 <= H <= 2.5:
-        raise InvalidInputError("height", f"must be a stature in metres between 1.0 and 2.5, got {H:g}",
-                                "give the height in metres (1.75, not 175)")
-    if not 20.0 <= M <= 250.0:
-        raise InvalidInputError("mass", f"must be a body mass in kg between 20 and 250, got {M:g}",
-                                "give the mass in kilograms")
+    H, M = stature_and_mass(height, mass)
     sex = _sex(sex)
     table = de_leva_table()
     scale = H / (table["reference"]["stature_mm"][sex] / 1000.0)
@@ -616,14 +602,7 @@ def human_link_table(segments: HumanSegments, joints="arms", posture="straight",
     links = []
     for k in order:
         ps = pieces[k]
-        if ps:
-            m = float(sum(q[0] for q in ps))
-            c = sum(q[0] * q[1] for q in ps) / m
-            J = sum(q[2] + q[0] * (float((q[1] - c) @ (q[1] - c)) * np.eye(3) - np.outer(q[1] - c, q[1] - c))
-                    for q in ps)
-            J = 0.5 * (J + J.T)
-        else:
-            m, c, J = 0.0, np.zeros(3), np.zeros((3, 3))
+        m, c, J = combine_rigid(ps)
         sp = specs[k]
         shapes = tuple(drawn[k]) if drawn.get(k) else None
         if sp["parent"] is None:

@@ -278,6 +278,18 @@ def _part(human, segments, joint_yz):
     return m, (X, Y), float(inertia[0, 0]), (jX, jY)
 
 
+def human_of(human, density_set: str, needs) -> tuple:
+    """``(yeadon.Human, label)`` of ``human``: ``None`` (the bundled male1) or a measurement file
+    read by :func:`load_human`, or a ``yeadon.Human`` (an object with the attributes ``needs``)
+    as given; the label names it in messages."""
+    if human is None or isinstance(human, (str, os.PathLike)):
+        return load_human(human, density_set=density_set), ("male1" if human is None else os.fspath(human))
+    if not all(hasattr(human, a) for a in needs):
+        raise InvalidInputError("human", f"must be a yeadon.Human or a measurement file, got {type(human).__name__}",
+                                "give yeadon.Human(...) or the path of a measurement file")
+    return human, "a yeadon.Human"
+
+
 def from_yeadon(human=None, *, knee_flexion: float = 0.0, density_set: str = "Dempster") -> SagittalBody:
     """The :class:`~acroplan.families.human.body.SagittalBody` of a yeadon human (module docstring).
 
@@ -307,14 +319,7 @@ def from_yeadon(human=None, *, knee_flexion: float = 0.0, density_set: str = "De
     if not 0.0 <= kappa <= math.pi:
         raise InvalidInputError("knee_flexion", f"must be in [0, pi] (yeadon's range), got {kappa:g}",
                                 "give the knee flexion in radians, 0 for straight knees")
-    if human is None or isinstance(human, (str, os.PathLike)):
-        label = "male1" if human is None else os.fspath(human)
-        human = load_human(human, density_set=density_set)
-    else:
-        if not all(hasattr(human, a) for a in ("combine_inertia", "set_CFG_dict", "CFGnames")):
-            raise InvalidInputError("human", f"must be a yeadon.Human or a measurement file, got {type(human).__name__}",
-                                    "give yeadon.Human(...) or the path of a measurement file")
-        label = "a yeadon.Human"
+    human, label = human_of(human, density_set, ("combine_inertia", "set_CFG_dict", "CFGnames"))
     saved = dict(human.CFG)
     try:
         _configured(human, 0.0, 0.0, kappa)

@@ -52,8 +52,9 @@ import pathlib
 import numpy as np
 
 from ...core.errors import InvalidInputError
-from .links import SpatialLink, SpatialLinkTable
+from ..tree.links import combine_rigid
 from ..tree.urdf import identifier
+from .links import SpatialLink, SpatialLinkTable
 from .links import RESERVED_NAMES
 
 __all__ = ["read_biomod", "read_biomod_table", "require_biorbd", "keeping_locale"]
@@ -283,14 +284,7 @@ def _assembled(out, pieces) -> list[SpatialLink]:
     by_index = {}
     for k, spec in enumerate(out):
         ps = pieces[k]
-        if ps:
-            m = float(sum(x[0] for x in ps))
-            c = sum(x[0] * x[1] for x in ps) / m
-            J = sum(x[2] + x[0] * (float((x[1] - c) @ (x[1] - c)) * np.eye(3) - np.outer(x[1] - c, x[1] - c))
-                    for x in ps)
-            J = 0.5 * (J + J.T)
-        else:
-            m, c, J = 0.0, np.zeros(3), np.zeros((3, 3))
+        m, c, J = combine_rigid(ps)
         by_index[k] = spec["name"]
         if spec["parent"] is None:
             links.append(SpatialLink(spec["name"], None, m, J, com=tuple(c)))

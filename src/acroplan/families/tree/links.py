@@ -9,12 +9,27 @@ from __future__ import annotations
 import dataclasses
 from typing import Any, ClassVar, Iterable, Mapping
 
+import numpy as np
+
 from ...core.errors import InvalidInputError
 from ...core.keywords import RESERVED_NAMES
 from ...core.validate import identifier, real
 from .topology import LinkTree, tree_of
 
-__all__ = ["LinkRecord", "TreeLinkTable", "check_joint_fields", "RESERVED_NAMES"]
+__all__ = ["LinkRecord", "TreeLinkTable", "check_joint_fields", "combine_rigid", "RESERVED_NAMES"]
+
+
+def combine_rigid(pieces) -> tuple[float, np.ndarray, np.ndarray]:
+    """One rigid body of ``pieces`` ``(mass, centre of mass (3,), inertia about it (3, 3))`` in one
+    frame: the total mass, the centre of mass, and the inertia about it (the parallel-axis theorem,
+    :math:`J = \\sum_k J_k + m_k (|d_k|^2 I - d_k d_k^\\top)`, symmetrised); no pieces: a massless
+    link (zeros)."""
+    if not pieces:
+        return 0.0, np.zeros(3), np.zeros((3, 3))
+    m = float(sum(p[0] for p in pieces))
+    c = sum(p[0] * p[1] for p in pieces) / m
+    J = sum(p[2] + p[0] * (float((p[1] - c) @ (p[1] - c)) * np.eye(3) - np.outer(p[1] - c, p[1] - c)) for p in pieces)
+    return m, c, 0.5 * (J + J.T)
 
 
 class LinkRecord:
