@@ -193,6 +193,14 @@ def _u1_jac(prob, m, eps):
     return np.hstack([j1, j2])
 
 
+def _phi_jac(prob, m, eps):
+    """Jacobian of the joint angle :math:`\\varphi(\\varepsilon) = \\varphi_P + \\int_0^\\varepsilon v_2` in the
+    coefficients (v1 then v2): zero in v1, :math:`\\varepsilon^{i+1}/(i+1)` in v2; shape (eps.size, 2 (d + 1))."""
+    d = prob.degree
+    Ei = np.vander(eps, d + 2, increasing=True)[:, 1:] / np.arange(1, d + 2)
+    return np.hstack([np.zeros_like(Ei), Ei])
+
+
 @functools.lru_cache(maxsize=16)
 def _tensors(d: int):
     i = np.arange(d + 1)

@@ -378,7 +378,7 @@ class FlatYResult(NilpotentResult):
         sig = np.atleast_1d(np.asarray(eps, dtype=float))
         prob, r = self.problem, self.problem.robot
         dy = self._dy()
-        xg, wg = np.polynomial.legendre.leggauss(60)
+        xg, wg = _XG60, _WG60
         return np.array([prob.P[1] + s / 2 * dy / r.P0 * float(r.h(P.polyval(s * (xg + 1) / 2, self.m)) @ wg)
                          for s in sig])
 
@@ -393,6 +393,11 @@ class FlatYResult(NilpotentResult):
         return {"phi_of_y": list(map(float, self.m))}
 
 
+# Gauss-Legendre nodes and weights on [-1, 1], 60 points: computed once (an eigenvalue problem each
+# time otherwise; the clock is evaluated thousands of times in a re-simulation)
+_XG60, _WG60 = np.polynomial.legendre.leggauss(60)
+
+
 def _horner(c, x: float) -> float:
     out = 0.0
     for a in c[::-1]:
@@ -405,7 +410,7 @@ def _theta_along(prob, m, eps):
     d = prob.degree
     v1, v2 = _split(m, d)
     out = np.empty(eps.size)
-    xg, wg = np.polynomial.legendre.leggauss(60)
+    xg, wg = _XG60, _WG60
     r = prob.robot
     for i, e in enumerate(eps):
         s = e * (xg + 1) / 2

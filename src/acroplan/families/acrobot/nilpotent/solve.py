@@ -12,13 +12,37 @@ from numpy.polynomial import polynomial as P
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq, minimize
 
-from .equations import NilpotentProblem, _eq_jac, _u1_jac, alpha_derivs, equations, u1_values
+from .equations import NilpotentProblem, _eq_jac, _phi_jac, _u1_jac, alpha_derivs, equations, u1_values
 from .results import FlatYResult, NilpotentResult, SeriesResult
 
 
 # ================================================================================ solving
 def _grid(n=201):
     return np.linspace(0.0, 1.0, n)
+
+
+class _AtLast:
+    """:func:`u1_values` on one grid, kept for the last coefficients asked: SLSQP evaluates the
+    constraints on :math:`u_1` and on :math:`\\varphi` at the same point, one after the other."""
+
+    def __init__(self, prob, eps):
+        self.prob, self.eps, self.key, self.value = prob, eps, None, None
+
+    def __call__(self, m):
+        key = np.asarray(m, dtype=float).tobytes()
+        if key != self.key:
+            self.key, self.value = key, u1_values(self.prob, m, self.eps)
+        return self.value
+
+
+def _phi_bound(prob, at, lim, cut=lambda z: z):
+    """The constraint :math:`\\pi_{lim}^2 - \\varphi(\\varepsilon_j)^2 \\ge 0` with its exact Jacobian;
+    ``cut`` takes the coefficients out of SLSQP's vector."""
+    def jac(z):
+        J = -2.0 * at(cut(z))[1][:, None] * _phi_jac(prob, cut(z), at.eps)
+        return J if z.size == J.shape[1] else np.hstack([J, np.zeros((J.shape[0], z.size - J.shape[1]))])
+
+    return {"type": "ineq", "fun": lambda z: lim ** 2 - at(cut(z))[1] ** 2, "jac": jac}
 
 
 def _start(prob):
@@ -50,12 +74,13 @@ def solve_nilpotent(prob: NilpotentProblem, *, starts: int = 8, seed: int = 0, v
     for k in range(starts):
         m0 = first[k] if k < len(first) else _start(prob) + rng.standard_normal(nm) * (0.5 + k / 4)
         z0 = np.concatenate([m0, [float(np.min(u1_values(prob, m0, eps)[0]))]])
+        at = _AtLast(prob, eps)
         cons = [
             {"type": "eq", "fun": lambda z: equations(prob, z[:-1]),
              "jac": lambda z: np.hstack([_eq_jac(prob, z[:-1]), np.zeros((3, 1))])},
-            {"type": "ineq", "fun": lambda z: u1_values(prob, z[:-1], eps)[0] - z[-1],
+            {"type": "ineq", "fun": lambda z: at(z[:-1])[0] - z[-1],
              "jac": lambda z: np.hstack([_u1_jac(prob, z[:-1], eps), -np.ones((eps.size, 1))])},
-            {"type": "ineq", "fun": lambda z: lim ** 2 - u1_values(prob, z[:-1], eps)[1] ** 2},
+            _phi_bound(prob, at, lim, cut=lambda z: z[:-1]),
         ]
         scale = max(1.0, prob.Q[1] - prob.P[1])
         obj = lambda z: -z[-1] / scale + 1e-6 * float(z[:-1] @ z[:-1])  # noqa: E731
@@ -133,7 +158,7 @@ def counterexample(prob: NilpotentProblem, start, depth: float = 1.0) -> SeriesR
         cons = [{"type": "eq", "fun": lambda m: equations(prob, m), "jac": lambda m: _eq_jac(prob, m)},
                 {"type": "eq", "fun": lambda m: u1_values(prob, m, es)[0] + depth,
                  "jac": lambda m: _u1_jac(prob, m, es)},
-                {"type": "ineq", "fun": lambda m: (math.pi - 0.05) ** 2 - u1_values(prob, m, eps)[1] ** 2}]
+                _phi_bound(prob, _AtLast(prob, eps), math.pi - 0.05)]
         res = minimize(lambda m: float((m - m0) @ (m - m0)), m0, jac=lambda m: 2 * (m - m0), constraints=cons,
                        method="SLSQP", options={"maxiter": 500, "ftol": 1e-15})
         m = res.x
