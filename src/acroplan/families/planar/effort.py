@@ -197,9 +197,8 @@ def inverse_dynamics(body, q, u, du, *, root: str = "planar", derivatives: bool 
     rc, jc = pb.root_columns, pb.joint_columns
     nv = model.nv
     root_rows = [i for i in range(nv) if i not in set(jc)]
-    iq = [model.joints[pb.joint_ids[i]].idx_q for i in table.joints]
     cfg = np.repeat(pb.configuration(np.zeros(m + 1))[None, :], K, axis=0)
-    cfg[:, iq] = Q.T
+    cfg[:, pb.idx_q] = Q.T
     Ut, DUt = U.T, DU.T  # (K, m)
     # (1): the root's twist from the momentum, Pinocchio's centroidal map at every node
     A = np.empty((K, 3, nv))

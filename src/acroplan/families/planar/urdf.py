@@ -173,8 +173,7 @@ def to_urdf(links, name: str = "planar_body", effort: float = 1000.0) -> str:
     -------
     str
     """
-    table = getattr(links, "links", links)
-    table = table if isinstance(table, LinkTable) else LinkTable(table)
+    table = LinkTable.of(links)
     return robot_xml(table, name, effort,
                      lambda link: ((link.com[0], link.com[1], 0.0), link.mass,
                                    np.diag([link.inertia / 2, link.inertia / 2, link.inertia])),

@@ -127,8 +127,7 @@ def to_urdf(links, name: str = "spatial_body", effort: float = 1000.0) -> str:
     """
     from scipy.spatial.transform import Rotation
 
-    table = getattr(links, "links", links)
-    table = table if isinstance(table, SpatialLinkTable) else SpatialLinkTable(table)
+    table = SpatialLinkTable.of(links)
 
     def frame(link):
         Rf = link.rotation_matrix

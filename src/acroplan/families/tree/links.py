@@ -162,6 +162,15 @@ class TreeLinkTable(LinkTree):
         object.__setattr__(self, "_derived", {"root": root, "parents": tuple(parents), "joints": joints,
                                               "joint_names": tuple(jnames)})
 
+    @classmethod
+    def of(cls, links):
+        """The table of ``links``: a table of this type as it is, else the table of a body (its
+        ``links``) or built from a sequence of links (or of mappings of their fields)."""
+        if isinstance(links, cls):
+            return links
+        table = getattr(links, "links", links)
+        return table if isinstance(table, cls) else cls(table)
+
     def _check_links(self, links) -> None:
         """A check of the whole table (none by default)."""
 
