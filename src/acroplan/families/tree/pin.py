@@ -15,7 +15,7 @@ import threading
 
 import numpy as np
 
-__all__ = ["require_pinocchio", "INSTALL_HINT", "build_tree", "PinocchioTree", "thread_data"]
+__all__ = ["require_pinocchio", "INSTALL_HINT", "build_tree", "PinocchioTree", "without_gravity", "thread_data"]
 
 INSTALL_HINT = "pip install acroplan[bodies] (or pip install pin)"
 
@@ -94,6 +94,13 @@ class PinocchioTree:
         """Pinocchio's ``v``: the root joint's velocity ``root`` first, then the joint rates (state
         order) at :attr:`idx_v`."""
         return _placed(self.model.nv, root, self.idx_v, rates)
+
+
+def without_gravity(pb):
+    """``pb`` (a :class:`PinocchioTree`) with its model's gravity set to zero, for the inverse
+    dynamics of the free body; returned."""
+    pb.model.gravity = require_pinocchio().Motion.Zero()
+    return pb
 
 
 def _placed(size: int, head, idx: list[int], values) -> np.ndarray:
