@@ -91,7 +91,7 @@ import functools
 import numpy as np
 
 from ...core.errors import InvalidInputError
-from ..tree.motion import TreeTorque, basis_tables, coefficient_jacobian, joint_motion, joint_rows, segment_arrays
+from ..tree.motion import TreeInverseDynamics, TreeTorque, basis_tables, coefficient_jacobian, joint_motion, joint_rows, segment_arrays
 from ..tree.pin import without_gravity
 from .guess import shape_guesses
 from .links import LinkTable
@@ -113,16 +113,13 @@ def _model(table: LinkTable, root: str) -> PinocchioBody:
 
 
 @dataclasses.dataclass(frozen=True)
-class InverseDynamics:
-    """The joint torques of a motion and the root's motion they imply (:func:`inverse_dynamics`).
+class InverseDynamics(TreeInverseDynamics):
+    """What :func:`inverse_dynamics` gives: ``tau``, ``root_residual`` as in
+    :class:`~acroplan.families.tree.motion.TreeInverseDynamics` (``r`` = 3 for the planar root, 6
+    for the free flyer), and the root's motion.
 
     Attributes
     ----------
-    tau : numpy.ndarray, shape (m, K)
-        Joint torques, in state order of the joints (N m with SI link tables).
-    root_residual : numpy.ndarray, shape (r, K)
-        RNEA's root rows :math:`F_{root}` (``r`` = 3 for the planar root, 6 for the free flyer):
-        the external wrench the motion would need; zero up to rounding for a free body.
     theta_dot, theta_ddot : numpy.ndarray, shape (K,)
         :math:`\\dot\\theta = \\omega` and :math:`\\ddot\\theta = \\dot\\omega` from (1) and (2).
     root_velocity, root_acceleration : numpy.ndarray, shape (3, K)
@@ -133,8 +130,6 @@ class InverseDynamics:
         rates, the accelerations), when asked for.
     """
 
-    tau: np.ndarray
-    root_residual: np.ndarray
     theta_dot: np.ndarray
     theta_ddot: np.ndarray
     root_velocity: np.ndarray

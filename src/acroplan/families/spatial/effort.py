@@ -100,7 +100,7 @@ import numpy as np
 from ...core import backend
 from ...core.errors import InvalidInputError
 from ...core.system import register_torque_model
-from ..tree.motion import TreeTorque, basis_tables, coefficient_jacobian, joint_motion, joint_rows, segment_arrays
+from ..tree.motion import TreeInverseDynamics, TreeTorque, basis_tables, coefficient_jacobian, joint_motion, joint_rows, segment_arrays
 from ..tree.pin import require_pinocchio, thread_data, without_gravity
 from .collocation import momentum_samples
 from .dynamics import MAX_COMPILED_JOINTS, joint_torques
@@ -119,16 +119,13 @@ def _model(table: SpatialLinkTable) -> SpatialPinocchioBody:
 
 
 @dataclasses.dataclass(frozen=True)
-class SpatialInverseDynamics:
-    """The joint torques of a motion and the root's motion they imply (:func:`inverse_dynamics`).
+class SpatialInverseDynamics(TreeInverseDynamics):
+    """What :func:`inverse_dynamics` gives: ``tau``, ``root_residual`` as in
+    :class:`~acroplan.families.tree.motion.TreeInverseDynamics` (the free flyer's six rows: force,
+    then moment, in the root frame), and the root's motion.
 
     Attributes
     ----------
-    tau : numpy.ndarray, shape (m, K)
-        Joint torques, in state order of the joints (N m with SI link tables).
-    root_residual : numpy.ndarray, shape (6, K)
-        RNEA's free-flyer rows :math:`F_{root}` (force, then moment, root frame): the external
-        wrench the motion would need; zero up to rounding for a free body.
     root_velocity, root_acceleration : numpy.ndarray, shape (6, K)
         :math:`\\nu = (v, \\Omega)` and :math:`\\dot\\nu` of the root frame in the root frame (the
         root at the origin), from (1) and (2).
@@ -138,8 +135,6 @@ class SpatialInverseDynamics:
         asked for.
     """
 
-    tau: np.ndarray
-    root_residual: np.ndarray
     root_velocity: np.ndarray
     root_acceleration: np.ndarray
     partials: np.ndarray | None = None

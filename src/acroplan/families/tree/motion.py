@@ -13,7 +13,8 @@ so a function :math:`\\tau(q, u, \\dot u)` of the joint motion has
            + \\partial_{\\dot u}\\tau\\; V'(s) / T .
 
 :class:`TreeTorque` is the base of the two torque models: the joints a model is for, and whether it
-can give a system's torques.
+can give a system's torques; :class:`TreeInverseDynamics` the base of what their inverse dynamics
+return.
 """
 
 from __future__ import annotations
@@ -27,7 +28,8 @@ from ...core.basis import basis_tables
 from ...core.errors import InvalidInputError
 from .pin import INSTALL_HINT, require_pinocchio
 
-__all__ = ["joint_rows", "basis_tables", "segment_arrays", "joint_motion", "coefficient_jacobian", "TreeTorque"]
+__all__ = ["joint_rows", "basis_tables", "segment_arrays", "joint_motion", "coefficient_jacobian", "TreeTorque",
+           "TreeInverseDynamics"]
 
 
 def joint_rows(name: str, value, m: int, *, what: str = "joint",
@@ -87,6 +89,24 @@ def coefficient_jacobian(dq, du, ddu, T: float, tables) -> np.ndarray:
     jac = (np.einsum("pkj,ki->pkji", dq, T * Int) + np.einsum("pkj,ki->pkji", du, V)
            + np.einsum("pkj,ki->pkji", ddu, V1 / T))
     return jac.reshape(p, K, m * V.shape[1])
+
+
+@dataclasses.dataclass(frozen=True)
+class TreeInverseDynamics:
+    """The joint torques of a motion and the root's motion they imply: the base of the families'
+    results of inverse dynamics, which add the root's velocity and acceleration.
+
+    Attributes
+    ----------
+    tau : numpy.ndarray, shape (m, K)
+        Joint torques, in state order of the joints (N m with SI link tables).
+    root_residual : numpy.ndarray, shape (r, K)
+        RNEA's rows of the root joint (``r`` its degrees of freedom) :math:`F_{root}`: the external
+        wrench the motion would need; zero up to rounding for a free body.
+    """
+
+    tau: np.ndarray
+    root_residual: np.ndarray
 
 
 @dataclasses.dataclass(frozen=True)
