@@ -33,7 +33,26 @@ def combine_rigid(pieces) -> tuple[float, np.ndarray, np.ndarray]:
 
 
 class LinkRecord:
-    """Mixin of a family's link dataclass: building it from plain data, naming the field."""
+    """Mixin of a family's link dataclass: building it from plain data, naming the field.
+
+    Attributes
+    ----------
+    name : str
+        A Python identifier, unique in the table.
+    parent : str or None
+        The parent link's name; ``None`` for the root (exactly one).
+    joint_name : str, optional
+        Name of the joint to the parent (default: ``name``); a Python identifier.
+    lower, upper : float, optional
+        Joint-angle limits (rad).
+    velocity : float, optional
+        Joint-rate limit :math:`|\\dot q| \\le` ``velocity`` (rad/s, > 0).
+
+    Notes
+    -----
+    These are the fields every family's link has (each family adds its link's physics); they are
+    checked by :func:`check_joint_fields` when a table is built.
+    """
 
     __slots__ = ()
     #: the fields every link needs
