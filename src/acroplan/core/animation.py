@@ -28,7 +28,7 @@ import numpy as np
 from .progress import stage
 
 __all__ = ["write_frames", "frame_times", "auto_speed", "Animation", "animate_result", "samples_from_csv",
-           "states_at", "MIN_SECONDS"]
+           "states_at", "states_evenly", "MIN_SECONDS"]
 
 #: A motion shorter than this many seconds is played slower by default, so that its animation lasts
 #: this long (the falling cat's 0.5 s turn: 3 s at 1/6 speed), :func:`auto_speed`.
@@ -84,9 +84,25 @@ def samples_from_csv(path, names) -> tuple[np.ndarray, np.ndarray]:
 
 
 def states_at(result, t, samples=None, unit_rows: int = 0) -> np.ndarray:
-    """The states of ``result`` at times ``t`` (shape (n, len(t))): exact (:meth:`PlanResult.evaluate`),
-    or interpolated in ``samples`` (``(t, X)``, :func:`samples_from_csv`) with the first
-    ``unit_rows`` rows renormalised (a unit quaternion)."""
+    """The states of ``result`` at times ``t``: what the families' drawings draw.
+
+    Parameters
+    ----------
+    result : PlanResult
+    t : array_like, shape (K,)
+    samples : (t, X), optional
+        Sampled states to draw from instead of evaluating the result: times (N,) and states (n, N),
+        for example an output folder's ``trajectory.csv`` (:func:`samples_from_csv`); interpolated
+        linearly, row by row.
+    unit_rows : int
+        With ``samples``: the first ``unit_rows`` rows renormalised (a unit quaternion).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, K)
+        Exact (:meth:`PlanResult.evaluate <acroplan.core.result.PlanResult.evaluate>`) without
+        ``samples``.
+    """
     t = np.asarray(t, dtype=float)
     if samples is None:
         return np.asarray(result.evaluate(t, effort=False).states)
@@ -95,6 +111,20 @@ def states_at(result, t, samples=None, unit_rows: int = 0) -> np.ndarray:
     if unit_rows:
         out[:unit_rows] /= np.linalg.norm(out[:unit_rows], axis=0, keepdims=True)
     return out
+
+
+def states_evenly(result, n: int, samples=None, unit_rows: int = 0) -> tuple[np.ndarray, np.ndarray]:
+    """``n`` equally spaced times from the plan's start to its end, and the states at them
+    (:func:`states_at`, whose ``samples`` and ``unit_rows`` these are): a strobe's poses, an
+    animation's frames.
+
+    Returns
+    -------
+    t : numpy.ndarray, shape (n,)
+    states : numpy.ndarray, shape (n_states, n)
+    """
+    t = np.linspace(float(result.times[0]), float(result.times[-1]), int(n))
+    return t, states_at(result, t, samples, unit_rows)
 
 
 def _rgb(canvas) -> np.ndarray:

@@ -52,8 +52,7 @@ def _cached(table: LinkTable, root: str) -> PinocchioBody:
 
 def pinocchio_body(body, root: str = "planar") -> PinocchioBody:
     """The Pinocchio model of ``body``'s link table (cached per table and root joint)."""
-    table = getattr(body, "links", body)
-    return _cached(table if isinstance(table, LinkTable) else LinkTable(table), root)
+    return _cached(LinkTable.of(body), root)
 
 
 def centroidal_rows(body, state, root: str = "planar"):
@@ -172,8 +171,7 @@ class _Omega:
         self.pin = require_pinocchio()
         self.pb = pinocchio_body(body, root)
         self.data = self.pb.model.createData()
-        model = self.pb.model
-        self.idx_q = [model.joints[self.pb.joint_ids[i]].idx_q for i in self.pb.links.joints]
+        self.idx_q = self.pb.idx_q
         self.rc, self.jc = self.pb.root_columns, self.pb.joint_columns
         self.P0 = float(body.P0)
 

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...core.animation import auto_speed, states_at, write_frames
+from ...core.animation import auto_speed, states_at, states_evenly, write_frames
 
 __all__ = ["strobe", "save_strobe", "animate", "link_segments", "head_of", "scale_bar", "conventions_figure",
            "MAX_FRAMES"]
@@ -116,6 +116,8 @@ def strobe(result, *, poses: int = 7, ax=None, spacing: float | None = None, tit
     spacing : float, optional
         Horizontal shift between poses (default: 1.1 times the body's largest extent).
     title : str, optional
+    samples : (t, X), optional
+        Sampled states to draw from (:func:`~acroplan.core.animation.states_at`).
 
     Returns
     -------
@@ -126,8 +128,7 @@ def strobe(result, *, poses: int = 7, ax=None, spacing: float | None = None, tit
     from matplotlib.patches import Circle
 
     body = result.system
-    t = np.linspace(result.times[0], result.times[-1], poses)
-    S = states_at(result, t, samples)
+    t, S = states_evenly(result, poses, samples)
     segs = [link_segments(body, S[:, k]) for k in range(poses)]
     ext = max(float(np.max(np.abs(np.array([p for s in sg for p in s[:2]])))) for sg in segs)
     spacing = 2.3 * ext if spacing is None else spacing
@@ -218,8 +219,7 @@ def animate(result, path, *, speed: float | None = None, fps: int = 25, max_fram
         A motion needing more frames is played faster (a warning says so).
     mp4_path : path, optional
     samples : (t, X), optional
-        Draw from these sampled states (an output folder's ``trajectory.csv``:
-        :func:`~acroplan.core.animation.samples_from_csv`) instead of evaluating the result.
+        Sampled states to draw from (:func:`~acroplan.core.animation.states_at`).
 
     Returns
     -------

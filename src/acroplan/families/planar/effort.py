@@ -91,10 +91,11 @@ import functools
 import numpy as np
 
 from ...core.errors import InvalidInputError
-from ..tree.motion import basis_tables, coefficient_jacobian, joint_motion, joint_rows, segment_arrays
+from ..tree.motion import TreeInverseDynamics, TreeTorque, basis_tables, coefficient_jacobian, joint_motion, joint_rows, segment_arrays
+from ..tree.pin import without_gravity
 from .guess import shape_guesses
 from .links import LinkTable
-from .pin import INSTALL_HINT, PinocchioBody, build_model, require_pinocchio, thread_data
+from .pin import PinocchioBody, build_model, require_pinocchio, thread_data
 
 __all__ = ["InverseDynamics", "inverse_dynamics", "PlanarTorque", "ROOTS", "optimal_starts"]
 
@@ -108,23 +109,17 @@ _ROWS = [0, 1, 5]  # the planar rows of the centroidal momentum: linear x, y, an
 def _model(table: LinkTable, root: str) -> PinocchioBody:
     """The Pinocchio model of ``table`` (:func:`~acroplan.families.planar.pin.build_model`, its joints
     in depth-first order) without gravity; cached per table and root, read only."""
-    pin = require_pinocchio()
-    pb = build_model(table, root)
-    pb.model.gravity = pin.Motion.Zero()
-    return pb
+    return without_gravity(build_model(table, root))
 
 
 @dataclasses.dataclass(frozen=True)
-class InverseDynamics:
-    """The joint torques of a motion and the root's motion they imply (:func:`inverse_dynamics`).
+class InverseDynamics(TreeInverseDynamics):
+    """What :func:`inverse_dynamics` gives: ``tau``, ``root_residual`` as in
+    :class:`~acroplan.families.tree.motion.TreeInverseDynamics` (``r`` = 3 for the planar root, 6
+    for the free flyer), and the root's motion.
 
     Attributes
     ----------
-    tau : numpy.ndarray, shape (m, K)
-        Joint torques, in state order of the joints (N m with SI link tables).
-    root_residual : numpy.ndarray, shape (r, K)
-        RNEA's root rows :math:`F_{root}` (``r`` = 3 for the planar root, 6 for the free flyer):
-        the external wrench the motion would need; zero up to rounding for a free body.
     theta_dot, theta_ddot : numpy.ndarray, shape (K,)
         :math:`\\dot\\theta = \\omega` and :math:`\\ddot\\theta = \\dot\\omega` from (1) and (2).
     root_velocity, root_acceleration : numpy.ndarray, shape (3, K)
@@ -135,8 +130,6 @@ class InverseDynamics:
         rates, the accelerations), when asked for.
     """
 
-    tau: np.ndarray
-    root_residual: np.ndarray
     theta_dot: np.ndarray
     theta_ddot: np.ndarray
     root_velocity: np.ndarray
@@ -197,9 +190,8 @@ def inverse_dynamics(body, q, u, du, *, root: str = "planar", derivatives: bool 
     rc, jc = pb.root_columns, pb.joint_columns
     nv = model.nv
     root_rows = [i for i in range(nv) if i not in set(jc)]
-    iq = [model.joints[pb.joint_ids[i]].idx_q for i in table.joints]
     cfg = np.repeat(pb.configuration(np.zeros(m + 1))[None, :], K, axis=0)
-    cfg[:, iq] = Q.T
+    cfg[:, pb.idx_q] = Q.T
     Ut, DUt = U.T, DU.T  # (K, m)
     # (1): the root's twist from the momentum, Pinocchio's centroidal map at every node
     A = np.empty((K, 3, nv))
@@ -251,7 +243,7 @@ def inverse_dynamics(body, q, u, du, *, root: str = "planar", derivatives: bool 
 
 
 @dataclasses.dataclass(frozen=True)
-class PlanarTorque:
+class PlanarTorque(TreeTorque):
     """The torque model of a :class:`~acroplan.families.planar.model.PlanarBody`: its joint
     torques along a segment and their exact Jacobian in the input coefficients (module docstring),
     for :class:`acroplan.core.optimal.TorqueOptimal`, torque limits (``tau_max``) and the torques of
@@ -274,28 +266,18 @@ class PlanarTorque:
     ``(m, K, m * basis.n)``, :math:`\\partial\\tau/\\partial c` with ``c`` flattened row by row.
     """
 
-    joint_names: tuple | None = None
     root: str = "planar"
+    KIND = "planar"
+    BODY = "PlanarBody"
 
     def __post_init__(self):
-        if self.joint_names is not None:
-            object.__setattr__(self, "joint_names", tuple(self.joint_names))
+        super().__post_init__()
         if self.root not in ROOTS:
             raise InvalidInputError("root", f"must be one of {list(ROOTS)}, got {self.root!r}",
                                     "give root=\"planar\"")
 
-    def unsupported(self, system) -> str | None:
-        """Why the model cannot give the torques of ``system`` (``None`` when it can)."""
-        if not _is_planar(system):
-            return f"PlanarTorque models planar bodies, not {type(system).__name__}"
-        if self.joint_names is not None and self.joint_names != system.links.joint_names:
-            return (f"this PlanarTorque is for the joints {list(self.joint_names)}, the body has "
-                    f"{list(system.links.joint_names)}: use the body's torque_model()")
-        try:
-            require_pinocchio()
-        except InvalidInputError:
-            return f"the torques of planar bodies need Pinocchio: {INSTALL_HINT}"
-        return None
+    def _models(self, system) -> bool:
+        return _is_planar(system)
 
     def motion(self, system, basis, x0, T, c, s):
         """The joint motion of the segment at ``s``: :math:`q, u, \\dot u`, each shape (m, K)."""
@@ -304,16 +286,12 @@ class PlanarTorque:
 
     def torques(self, system, basis, x0, T, c, s):
         """:math:`\\tau(s)` alone, shape (m, K) (no Jacobian: for results and sweeps)."""
-        why = self.unsupported(system)
-        if why is not None:
-            raise InvalidInputError("system", why, "plan a PlanarBody (with Pinocchio installed)")
+        self._require(system)
         q, u, du = self.motion(system, basis, x0, T, c, s)
         return inverse_dynamics(system, q, u, du, root=self.root).tau
 
     def __call__(self, system, basis, x0, T, c, s):
-        why = self.unsupported(system)
-        if why is not None:
-            raise InvalidInputError("system", why, "plan a PlanarBody (with Pinocchio installed)")
+        self._require(system)
         q, u, du = self.motion(system, basis, x0, T, c, s)
         out = inverse_dynamics(system, q, u, du, root=self.root, derivatives=True)
         m, P = system.n_inputs, out.partials  # (m, K, 3m): d tau / d(q, u, du)
@@ -321,9 +299,7 @@ class PlanarTorque:
                                              basis_tables(basis, s))
 
     def __repr__(self):
-        names = "" if self.joint_names is None else f"joint_names={self.joint_names!r}"
-        root = "" if self.root == "planar" else f"root={self.root!r}"
-        return f"PlanarTorque({', '.join(x for x in (names, root) if x)})"
+        return self._repr("" if self.root == "planar" else f"root={self.root!r}")
 
 
 def optimal_starts(interval, basis) -> list:

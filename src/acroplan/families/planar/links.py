@@ -58,10 +58,8 @@ class Link(LinkRecord):
 
     Parameters
     ----------
-    name : str
-        A Python identifier, unique in the table.
-    parent : str or None
-        The parent link's name; ``None`` for the root (exactly one).
+    name, parent
+        The link's name and its parent's, as in :class:`~acroplan.families.tree.links.LinkRecord`.
     mass : float
         > 0.
     inertia : float
@@ -70,12 +68,8 @@ class Link(LinkRecord):
         Centre of mass in the link's own frame.
     joint : (float, float)
         Position of this link's joint in the **parent's** frame (``(0, 0)`` for the root).
-    joint_name : str, optional
-        Name of the joint to the parent (default: ``name``); a Python identifier.
-    lower, upper : float, optional
-        Joint-angle limits (rad).
-    velocity : float, optional
-        Joint-rate limit :math:`|\\dot q| \\le` ``velocity`` (rad/s, > 0).
+    joint_name, lower, upper, velocity
+        The joint's name and limits, as in :class:`~acroplan.families.tree.links.LinkRecord`.
 
     Notes
     -----

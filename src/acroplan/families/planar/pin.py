@@ -21,29 +21,26 @@ import math
 import numpy as np
 
 from ...core.errors import InvalidInputError
-from ..tree.pin import INSTALL_HINT, build_tree, require_pinocchio, thread_data
+from ..tree.pin import INSTALL_HINT, PinocchioTree, build_tree, require_pinocchio, thread_data
 from .links import LinkTable
 
 __all__ = ["require_pinocchio", "PinocchioBody", "build_model", "thread_data", "INSTALL_HINT"]
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
-class PinocchioBody:
-    """A Pinocchio model of a link table, and where each link's joint sits in ``q`` and ``v``.
+class PinocchioBody(PinocchioTree):
+    """A Pinocchio model of a planar link table on a planar or free-flyer root: a
+    :class:`~acroplan.families.tree.pin.PinocchioTree` (``model``, ``links``: a
+    :class:`~acroplan.families.planar.links.LinkTable`, ``joint_ids``, ``idx_q``, ``idx_v``) with
+    the root joint's coordinates.
 
     Attributes
     ----------
-    model : pinocchio.Model
-    links : LinkTable
     root : {"planar", "freeflyer"}
-    joint_ids : tuple of int, length n_links
-        Pinocchio joint index of each link (table order); the root's is its root joint.
+        The root joint.
     """
 
-    model: object
-    links: LinkTable
-    root: str
-    joint_ids: tuple[int, ...]
+    root: str = "planar"
 
     def configuration(self, state) -> np.ndarray:
         """Pinocchio's ``q`` for the state :math:`(\\theta, q_1, \\dots)`, the root at the origin.
@@ -57,15 +54,12 @@ class PinocchioBody:
         numpy.ndarray, shape (model.nq,)
         """
         x = np.asarray(state, dtype=float)
-        q = np.zeros(self.model.nq)
         th = float(x[0])
         if self.root == "planar":
-            q[:4] = (0.0, 0.0, math.cos(th), math.sin(th))
+            root = (0.0, 0.0, math.cos(th), math.sin(th))
         else:  # x, y, z, then the unit quaternion (qx, qy, qz, qw) of a turn th about z
-            q[:7] = (0.0, 0.0, 0.0, 0.0, 0.0, math.sin(th / 2), math.cos(th / 2))
-        for j, i in enumerate(self.links.joints):
-            q[self.model.joints[self.joint_ids[i]].idx_q] = x[1 + j]
-        return q
+            root = (0.0, 0.0, 0.0, 0.0, 0.0, math.sin(th / 2), math.cos(th / 2))
+        return self._configuration(root, x[1:])
 
     def velocity(self, root_twist, u) -> np.ndarray:
         """Pinocchio's ``v`` from the root's planar twist and the joint rates.
@@ -80,16 +74,8 @@ class PinocchioBody:
         -------
         numpy.ndarray, shape (model.nv,)
         """
-        v = np.zeros(self.model.nv)
         vx, vy, w = (float(t) for t in root_twist)
-        if self.root == "planar":
-            v[:3] = (vx, vy, w)
-        else:
-            v[:6] = (vx, vy, 0.0, 0.0, 0.0, w)
-        u = np.asarray(u, dtype=float).reshape(-1)
-        for j, i in enumerate(self.links.joints):
-            v[self.model.joints[self.joint_ids[i]].idx_v] = u[j]
-        return v
+        return self._velocity((vx, vy, w) if self.root == "planar" else (vx, vy, 0.0, 0.0, 0.0, w), u)
 
     @property
     def root_columns(self) -> list[int]:
@@ -99,8 +85,8 @@ class PinocchioBody:
 
     @property
     def joint_columns(self) -> list[int]:
-        """Columns of ``v`` of the joint rates, in state order."""
-        return [self.model.joints[self.joint_ids[i]].idx_v for i in self.links.joints]
+        """Columns of ``v`` of the joint rates, in state order (:attr:`idx_v`)."""
+        return self.idx_v
 
 
 def build_model(links, root: str = "planar") -> PinocchioBody:
@@ -117,8 +103,7 @@ def build_model(links, root: str = "planar") -> PinocchioBody:
     PinocchioBody
     """
     pin = require_pinocchio()
-    table = getattr(links, "links", links)
-    table = table if isinstance(table, LinkTable) else LinkTable(table)
+    table = LinkTable.of(links)
     if root not in ("planar", "freeflyer"):
         raise InvalidInputError("root", f"must be 'planar' or 'freeflyer', got {root!r}", "give root='planar'")
     def joint_of(link):
@@ -130,4 +115,4 @@ def build_model(links, root: str = "planar") -> PinocchioBody:
 
     model, ids = build_tree(table, "planar_body", pin.JointModelPlanar() if root == "planar" else
                             pin.JointModelFreeFlyer(), joint_of, inertia)
-    return PinocchioBody(model, table, root, ids)
+    return PinocchioBody(model, table, ids, root)

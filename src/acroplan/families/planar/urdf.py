@@ -37,8 +37,7 @@ from typing import Mapping
 import numpy as np
 
 from ...core.errors import InvalidInputError
-from ..tree.urdf import (joint_limits, limit_overrides, load_model, revolute_motion,
-                         robot_xml, table_names, urdf_links)
+from ..tree.urdf import read_tree, revolute_motion, robot_xml
 from .links import RESERVED_NAMES, Link, LinkTable
 
 __all__ = ["read_link_table", "read_urdf", "to_urdf"]
@@ -48,17 +47,14 @@ AXIS_TOL = 1e-9
 
 
 def read_link_table(path, *, limits: bool = True, overrides: Mapping[str, Mapping] | None = None) -> LinkTable:
-    """The link table of a planar URDF (module docstring).
+    """The link table of a planar URDF (module docstring), read by
+    :func:`~acroplan.families.tree.urdf.read_tree` on a planar root joint.
 
     Parameters
     ----------
-    path : str or pathlib.Path
-        A URDF file.
-    limits : bool
-        Read the joint limits from the URDF (default) or leave them out.
-    overrides : mapping of joint name to mapping, optional
-        Per joint (its URDF name or its table name), any of ``lower``, ``upper``, ``velocity``
-        (a number, or ``None`` to drop it): replaces what the URDF says.
+    path, limits, overrides
+        The URDF file, whether its joint limits are read, and the limits that replace its own, as
+        in :func:`~acroplan.families.tree.urdf.read_tree`.
 
     Returns
     -------
@@ -68,66 +64,49 @@ def read_link_table(path, *, limits: bool = True, overrides: Mapping[str, Mappin
     Raises
     ------
     InvalidInputError
-        Pinocchio missing, the file missing, unreadable, too large or with more than
-        :data:`~acroplan.core.validate.MAX_LINKS` moving links (counted before Pinocchio reads it),
-        a joint that is not revolute about an axis parallel to z (named), a link without mass or
-        inertia, or whose mass, centre of mass or inertia is not finite, out of range or no rigid
-        body's (named), an unknown override.
+        As :func:`~acroplan.families.tree.urdf.read_tree` (the file, a joint that is not revolute,
+        the limits, an unknown override), and for a joint whose axis is not parallel to z (named),
+        a link without mass or inertia, or whose mass, centre of mass or inertia is not finite, out
+        of range or no rigid body's (named).
     """
-    pin, model, data = load_model(path, "planar")
-    link_names, joint_names = set(), set()
-    rows = []  # (pinocchio joint id, table link name, URDF link name, URDF joint name, table joint name, sign)
-    for jid in range(1, model.njoints):
-        jname = model.names[jid]
-        sign = 1.0
-        if jid > 1:
-            S = revolute_motion(model, data, jid, "planar", "a planar body has only revolute joints about z", AXIS_TOL)
-            axis = data.oMi[jid].rotation @ S[3:]
-            if abs(abs(axis[2]) - 1.0) > AXIS_TOL or math.hypot(axis[0], axis[1]) > AXIS_TOL:
-                raise InvalidInputError(f"urdf joint {jname!r}", f"turns about ({axis[0]:.6g}, {axis[1]:.6g}, "
-                                        f"{axis[2]:.6g}) in the root frame, not about z: the body is not planar",
-                                        "every joint axis must be parallel to the z axis (axis 0 0 1 in the plane "
-                                        "of motion)")
-            sign = 1.0 if axis[2] > 0 else -1.0
-        rows.append((jid, *table_names(model, jid, pin, link_names, joint_names, RESERVED_NAMES), sign))
-    names = {k: r[0] for r in rows[1:] for k in (r[3], r[4])}
-    over = limit_overrides(names, [r[3] for r in rows[1:]], overrides)
+    return read_tree(path, "planar", LinkTable, RESERVED_NAMES, _joint_sign, _link, limits=limits,
+                     overrides=overrides)
 
-    world = {}  # joint id -> (com relative to the joint, joint relative to the parent's joint, mass, izz)
-    parent_of = {}
-    for jid, tname_link, lname, jname, tname, sign in rows:
-        M = data.oMi[jid]
-        Y = model.inertias[jid]
-        if not Y.mass > 0:
-            raise InvalidInputError(f"urdf link {lname!r}", f"has no mass (mass {Y.mass:g})",
-                                    "give it an <inertial> element with mass > 0, or join it to its parent with a "
-                                    "fixed joint")
-        izz = float((M.rotation @ np.asarray(Y.inertia) @ M.rotation.T)[2, 2])
-        if not izz > 0:
-            raise InvalidInputError(f"urdf link {lname!r}", f"has no inertia about z (izz {izz:g})",
-                                    "give its <inertia> a positive izz")
-        # vectors rotated into the world frame (no subtraction of positions: exact when unrotated)
-        com = (M.rotation @ np.asarray(Y.lever))[:2]
-        parent = model.parents[jid]
-        joint = (data.oMi[parent].rotation @ np.asarray(model.jointPlacements[jid].translation))[:2] \
-            if jid > 1 else np.zeros(2)
-        world[jid] = (com, joint, Y.mass, izz)
-        parent_of[jid] = parent
 
-    table_of = {r[0]: r[1] for r in rows}
-    links = []
-    for jid, tname_link, lname, jname, tname, sign in rows:
-        com, joint, mass, izz = world[jid]
-        rel_com = tuple(float(v) for v in com)
-        if jid == 1:
-            links.append(Link(tname_link, None, float(mass), izz, com=rel_com))
-            continue
-        parent = parent_of[jid]
-        joint = tuple(float(v) for v in joint)
-        lo, up, vel = joint_limits(model, jid, over, limits, sign)
-        links.append(Link(tname_link, table_of[parent], float(mass), izz, com=rel_com, joint=joint,
-                          joint_name=tname, lower=lo, upper=up, velocity=vel))
-    return urdf_links(LinkTable, links, [r[2] for r in rows])
+def _joint_sign(model, data, jid: int) -> float:
+    """+1 for a joint about +z in the root frame, -1 about -z; any other joint refused."""
+    S = revolute_motion(model, data, jid, "planar", "a planar body has only revolute joints about z", AXIS_TOL)
+    axis = data.oMi[jid].rotation @ S[3:]
+    if abs(abs(axis[2]) - 1.0) > AXIS_TOL or math.hypot(axis[0], axis[1]) > AXIS_TOL:
+        raise InvalidInputError(f"urdf joint {model.names[jid]!r}", f"turns about ({axis[0]:.6g}, {axis[1]:.6g}, "
+                                f"{axis[2]:.6g}) in the root frame, not about z: the body is not planar",
+                                "every joint axis must be parallel to the z axis (axis 0 0 1 in the plane "
+                                "of motion)")
+    return 1.0 if axis[2] > 0 else -1.0
+
+
+def _link(model, data, row, parent, lims) -> Link:
+    """The planar link of a URDF joint's row (:func:`~acroplan.families.tree.urdf.read_tree`): its
+    vectors rotated into the world frame at the neutral configuration (no subtraction of positions:
+    exact when unrotated) and projected on the plane."""
+    jid, tlink, lname, _, tname, sign = row
+    M = data.oMi[jid]
+    Y = model.inertias[jid]
+    if not Y.mass > 0:
+        raise InvalidInputError(f"urdf link {lname!r}", f"has no mass (mass {Y.mass:g})",
+                                "give it an <inertial> element with mass > 0, or join it to its parent with a "
+                                "fixed joint")
+    izz = float((M.rotation @ np.asarray(Y.inertia) @ M.rotation.T)[2, 2])
+    if not izz > 0:
+        raise InvalidInputError(f"urdf link {lname!r}", f"has no inertia about z (izz {izz:g})",
+                                "give its <inertia> a positive izz")
+    com = tuple(float(v) for v in (M.rotation @ np.asarray(Y.lever))[:2])
+    if parent is None:
+        return Link(tlink, None, float(Y.mass), izz, com=com)
+    joint = data.oMi[model.parents[jid]].rotation @ np.asarray(model.jointPlacements[jid].translation)
+    lo, up, vel = lims(sign)
+    return Link(tlink, parent, float(Y.mass), izz, com=com, joint=tuple(float(v) for v in joint[:2]),
+                joint_name=tname, lower=lo, upper=up, velocity=vel)
 
 
 def read_urdf(path, P0: float | None = None, *, angular_momentum: float | None = None, limits: bool = True,
@@ -154,27 +133,27 @@ def read_urdf(path, P0: float | None = None, *, angular_momentum: float | None =
 
 
 def to_urdf(links, name: str = "planar_body", effort: float = 1000.0) -> str:
-    """A URDF document of a link table (every joint revolute about z).
+    """A URDF document of a link table (every joint revolute about z), written by
+    :func:`~acroplan.families.tree.urdf.robot_xml`.
 
     Each link's ``<inertial>`` has its centre of mass at ``(cx, cy, 0)`` and the inertia
-    ``diag(I/2, I/2, I)``; each joint's ``<origin>`` is ``(jx, jy, 0)`` with no rotation. A joint
-    with both position limits is ``revolute``; one without any is ``continuous``; a one-sided limit
-    is written with the open side at :math:`\\pm 10^{300}` (read back as none).
+    ``diag(I/2, I/2, I)``; each joint's ``<origin>`` is ``(jx, jy, 0)`` with no rotation, its
+    ``<axis>`` z.
 
     Parameters
     ----------
     links : LinkTable, sequence of Link, or PlanarBody
-    name : str
-        The robot's name.
-    effort : float
-        The ``effort`` attribute URDF requires on ``<limit>`` (unused here).
+    name, effort
+        The robot's name and the ``effort`` of its limits, as in
+        :func:`~acroplan.families.tree.urdf.robot_xml`.
 
     Returns
     -------
     str
+        Read back by :func:`read_link_table` with the same links, joints and limits (the one-sided
+        ones too), in depth-first order.
     """
-    table = getattr(links, "links", links)
-    table = table if isinstance(table, LinkTable) else LinkTable(table)
+    table = LinkTable.of(links)
     return robot_xml(table, name, effort,
                      lambda link: ((link.com[0], link.com[1], 0.0), link.mass,
                                    np.diag([link.inertia / 2, link.inertia / 2, link.inertia])),

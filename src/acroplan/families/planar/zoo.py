@@ -16,7 +16,7 @@ import dataclasses
 
 import numpy as np
 
-from ...core.errors import InvalidInputError
+from ..tree.segment import TreeSegment, link_count, random_rates
 from .links import Link
 from .model import PlanarBody
 
@@ -123,11 +123,10 @@ def random_body(rng, n_links: int, P0: float = 0.0) -> PlanarBody:
     -------
     PlanarBody
     """
-    if isinstance(n_links, bool) or not isinstance(n_links, (int, np.integer)) or n_links < 2:
-        raise InvalidInputError("n_links", f"must be a whole number >= 2, got {n_links!r}", "give for example 3")
+    n_links = link_count(n_links)
     rng = np.random.default_rng(rng)
     links, prev_len = [], None
-    for k in range(int(n_links)):
+    for k in range(n_links):
         length = float(rng.uniform(0.2, 0.8))
         mass = float(rng.uniform(1.0, 30.0))
         com = (float(rng.uniform(0.3, 0.7)) * length, float(rng.uniform(-0.05, 0.05)) * length)
@@ -142,36 +141,12 @@ def random_body(rng, n_links: int, P0: float = 0.0) -> PlanarBody:
 
 
 @dataclasses.dataclass(frozen=True)
-class PlanarSegment:
-    """One random single-segment problem of a planar body (:func:`random_segment`).
-
-    Attributes
-    ----------
-    body : PlanarBody
-    T : float
-    x0, x1 : numpy.ndarray, shape (n,)
-        Start and target; ``x1`` is where ``coefficients`` take ``x0`` in time ``T``.
-    coefficients : numpy.ndarray, shape (m, 6)
-        The joint rates that reach ``x1`` (Legendre basis on ``s = t / T``): the proof of
-        reachability.
-    limits : Limits or None
-        Joint and rate limits that motion keeps (``None``: unlimited).
+class PlanarSegment(TreeSegment):
+    """One random single-segment problem of a planar body (:func:`random_segment`): a
+    :class:`~acroplan.families.tree.segment.TreeSegment` (its attributes and
+    :meth:`~acroplan.families.tree.segment.TreeSegment.plan_kwargs`) whose ``body`` is a
+    :class:`PlanarBody` and ``x0``, ``x1`` its states :math:`(\\theta, q)`.
     """
-
-    body: PlanarBody
-    T: float
-    x0: np.ndarray
-    x1: np.ndarray
-    coefficients: np.ndarray
-    limits: object = None
-
-    def plan_kwargs(self) -> dict:
-        """Keywords of :func:`acroplan.plan` for this problem (``limits=Limits()`` when unlimited)."""
-        from ...core.limits import Limits
-
-        names = self.body.state_names
-        kw = {name: [float(a), float(b)] for name, a, b in zip(names, self.x0, self.x1)}
-        return dict(times=[0.0, self.T], limits=self.limits if self.limits is not None else Limits(), **kw)
 
 
 def random_segment(rng, n_links: int = 3, *, momentum: bool = False, limited: bool = False) -> PlanarSegment:
@@ -201,9 +176,7 @@ def random_segment(rng, n_links: int = 3, *, momentum: bool = False, limited: bo
     if momentum:
         w0 = rng.uniform(0.3, 2.0) * rng.choice([-1.0, 1.0])
         body = PlanarBody(body.links, P0=float(body.locked_inertia(q0) * w0))
-    T = float(rng.uniform(1.0, 3.0))
-    c = np.zeros((m, 6))
-    c[:, :4] = rng.normal(scale=[1.0, 1.0, 0.6, 0.3], size=(m, 4))
+    T, c = random_rates(rng, m)
     x0 = np.concatenate([[rng.uniform(-np.pi, np.pi)], q0])
     basis = Legendre(6)
     x1, _ = backend.endpoint(body, basis, x0, T, c)

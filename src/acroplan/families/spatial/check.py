@@ -50,8 +50,7 @@ def _cached(table: SpatialLinkTable) -> SpatialPinocchioBody:
 
 def pinocchio_body(body) -> SpatialPinocchioBody:
     """The Pinocchio model of ``body``'s link table (cached per table)."""
-    table = getattr(body, "links", body)
-    return _cached(table if isinstance(table, SpatialLinkTable) else SpatialLinkTable(table))
+    return _cached(SpatialLinkTable.of(body))
 
 
 def pinocchio_momentum_map(body, shape):

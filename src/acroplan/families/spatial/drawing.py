@@ -22,7 +22,7 @@ import math
 
 import numpy as np
 
-from ...core.animation import auto_speed, states_at, write_frames
+from ...core.animation import auto_speed, states_evenly, write_frames
 from . import rotations as rot
 from .solids import equivalent_boxes, posed, shade, solids_of
 
@@ -132,9 +132,11 @@ def _setup(ax, scale, center=(0.0, 0.0, 0.0), *, small: bool = False):
     ax.view_init(elev=18, azim=-60)
 
 
-def _states(result, t, samples=None):
-    """The states at ``t``, one row a time (exact, or from ``samples``: core.animation.states_at)."""
-    return states_at(result, t, samples, unit_rows=4).T
+def _states(result, n: int, samples=None):
+    """``n`` equally spaced times of the plan and the states at them, one row a time
+    (:func:`~acroplan.core.animation.states_evenly`, the attitude renormalised)."""
+    t, X = states_evenly(result, n, samples, unit_rows=4)
+    return t, X.T
 
 
 def _title(body, t=None):
@@ -146,6 +148,18 @@ def _title(body, t=None):
 def strobe(result, *, poses: int = 6, fig=None, title: str | None = None, samples=None):
     """The body at ``poses`` equally spaced times of a plan, one 3-D panel each.
 
+    Parameters
+    ----------
+    result : PlanResult
+        A plan of a :class:`~acroplan.families.spatial.model.SpatialBody`.
+    poses : int
+    fig : matplotlib.figure.Figure, optional
+        Drawn into when given; otherwise a new figure is made.
+    title : str, optional
+        Default: the angular momentum.
+    samples : (t, X), optional
+        Sampled states to draw from (:func:`~acroplan.core.animation.states_at`).
+
     Returns
     -------
     matplotlib.figure.Figure
@@ -153,8 +167,7 @@ def strobe(result, *, poses: int = 6, fig=None, title: str | None = None, sample
     from matplotlib.figure import Figure
 
     body = result.system
-    t = np.linspace(result.times[0], result.times[-1], poses)
-    X = _states(result, t, samples)
+    t, X = _states(result, poses, samples)
     solids = solids_of(body)
     scale = _size(body, X, solids)
     fig = fig or Figure(figsize=(2.6 * poses, 3.5))
@@ -195,8 +208,7 @@ def attitude_figure(result, *, seq: str = "yeadon", samples: int = 400, fig=None
     from matplotlib.figure import Figure
 
     body = result.system
-    t = np.linspace(result.times[0], result.times[-1], samples)
-    X = _states(result, t).T
+    t, X = states_evenly(result, samples)
     E = np.degrees(np.unwrap(np.radians(rot.to_euler(X[:4], seq)), axis=1))
     names = rot.EULER_NAMES if seq.lower() == "yeadon" else tuple(seq)
     fig = fig or Figure(figsize=(8.0, 5.2))
@@ -242,8 +254,7 @@ def animate(result, path, *, fps: int = 25, speed: float | None = None, dpi: int
     mp4_path : path, optional
         Also an MP4 when ffmpeg is on the PATH.
     samples : (t, X), optional
-        Draw from these sampled states (an output folder's ``trajectory.csv``:
-        :func:`~acroplan.core.animation.samples_from_csv`) instead of evaluating the result.
+        Sampled states to draw from (:func:`~acroplan.core.animation.states_at`).
 
     Returns
     -------
@@ -258,8 +269,7 @@ def animate(result, path, *, fps: int = 25, speed: float | None = None, dpi: int
     T = result.times[-1] - result.times[0]
     speed = auto_speed(T, speed)
     frames = int(min(max_frames, max(2, math.ceil(T / speed * fps) + 1)))
-    t = np.linspace(result.times[0], result.times[-1], frames)
-    X = _states(result, t, samples)
+    t, X = _states(result, frames, samples)
     solids = solids_of(body)
     scale = _size(body, X, solids)
     fig = Figure(figsize=(5.6, 5.6), dpi=dpi)

@@ -100,8 +100,8 @@ import numpy as np
 from ...core import backend
 from ...core.errors import InvalidInputError
 from ...core.system import register_torque_model
-from ..tree.motion import basis_tables, coefficient_jacobian, joint_motion, joint_rows, segment_arrays
-from ..tree.pin import INSTALL_HINT, require_pinocchio, thread_data
+from ..tree.motion import TreeInverseDynamics, TreeTorque, basis_tables, coefficient_jacobian, joint_motion, joint_rows, segment_arrays
+from ..tree.pin import require_pinocchio, thread_data, without_gravity
 from .collocation import momentum_samples
 from .dynamics import MAX_COMPILED_JOINTS, joint_torques
 from .links import SpatialLinkTable
@@ -115,23 +115,17 @@ __all__ = ["SpatialInverseDynamics", "inverse_dynamics", "SpatialTorque", "attit
 @functools.lru_cache(maxsize=64)
 def _model(table: SpatialLinkTable) -> SpatialPinocchioBody:
     """The Pinocchio model of ``table`` (joints depth first), without gravity; cached, read only."""
-    pin = require_pinocchio()
-    pb = build_model(table)  # SpatialLinkTable.topological_order is depth first
-    pb.model.gravity = pin.Motion.Zero()
-    return pb
+    return without_gravity(build_model(table))  # SpatialLinkTable.topological_order is depth first
 
 
 @dataclasses.dataclass(frozen=True)
-class SpatialInverseDynamics:
-    """The joint torques of a motion and the root's motion they imply (:func:`inverse_dynamics`).
+class SpatialInverseDynamics(TreeInverseDynamics):
+    """What :func:`inverse_dynamics` gives: ``tau``, ``root_residual`` as in
+    :class:`~acroplan.families.tree.motion.TreeInverseDynamics` (the free flyer's six rows: force,
+    then moment, in the root frame), and the root's motion.
 
     Attributes
     ----------
-    tau : numpy.ndarray, shape (m, K)
-        Joint torques, in state order of the joints (N m with SI link tables).
-    root_residual : numpy.ndarray, shape (6, K)
-        RNEA's free-flyer rows :math:`F_{root}` (force, then moment, root frame): the external
-        wrench the motion would need; zero up to rounding for a free body.
     root_velocity, root_acceleration : numpy.ndarray, shape (6, K)
         :math:`\\nu = (v, \\Omega)` and :math:`\\dot\\nu` of the root frame in the root frame (the
         root at the origin), from (1) and (2).
@@ -141,8 +135,6 @@ class SpatialInverseDynamics:
         asked for.
     """
 
-    tau: np.ndarray
-    root_residual: np.ndarray
     root_velocity: np.ndarray
     root_acceleration: np.ndarray
     partials: np.ndarray | None = None
@@ -273,7 +265,7 @@ def _checked(system, basis, x0, T, c, s):
 
 
 @dataclasses.dataclass(frozen=True)
-class SpatialTorque:
+class SpatialTorque(TreeTorque):
     """The torque model of a :class:`~acroplan.families.spatial.model.SpatialBody`: its joint torques
     along a segment and their exact Jacobian in the input coefficients (module docstring), for
     :class:`acroplan.core.optimal.TorqueOptimal`, torque limits (``tau_max``) and the torques of a
@@ -294,24 +286,11 @@ class SpatialTorque:
     row. :meth:`evaluate` also returns the free-flyer residual and the attitude.
     """
 
-    joint_names: tuple | None = None
+    KIND = "spatial"
+    BODY = "SpatialBody"
 
-    def __post_init__(self):
-        if self.joint_names is not None:
-            object.__setattr__(self, "joint_names", tuple(self.joint_names))
-
-    def unsupported(self, system) -> str | None:
-        """Why the model cannot give the torques of ``system`` (``None`` when it can)."""
-        if not isinstance(system, SpatialBody):
-            return f"SpatialTorque models spatial bodies, not {type(system).__name__}"
-        if self.joint_names is not None and self.joint_names != system.links.joint_names:
-            return (f"this SpatialTorque is for the joints {list(self.joint_names)}, the body has "
-                    f"{list(system.links.joint_names)}: use the body's torque_model()")
-        try:
-            require_pinocchio()
-        except InvalidInputError:
-            return f"the torques of spatial bodies need Pinocchio: {INSTALL_HINT}"
-        return None
+    def _models(self, system) -> bool:
+        return isinstance(system, SpatialBody)
 
     def motion(self, system, basis, x0, T, c, s, *, jacobian: bool = False):
         """The motion of the segment at ``s``: the attitude (4, K) from the compiled integrator, and
@@ -337,9 +316,7 @@ class SpatialTorque:
     def evaluate(self, system, basis, x0, T, c, s, *, derivatives: bool = False) -> SpatialInverseDynamics:
         """:func:`inverse_dynamics` along the segment (its ``partials`` in the coefficients, shape
         (m, K, m n), with ``derivatives``)."""
-        why = self.unsupported(system)
-        if why is not None:
-            raise InvalidInputError("system", why, "plan a SpatialBody (with Pinocchio installed)")
+        self._require(system)
         if not derivatives:
             att, q, u, du = self.motion(system, basis, x0, T, c, s)
             return inverse_dynamics(system, att, q, u, du)
@@ -361,9 +338,7 @@ class SpatialTorque:
         return self.evaluate(system, basis, x0, T, c, s).tau
 
     def _compiled_for(self, system) -> bool:
-        why = self.unsupported(system)
-        if why is not None:
-            raise InvalidInputError("system", why, "plan a SpatialBody (with Pinocchio installed)")
+        self._require(system)
         return system.n_inputs <= MAX_COMPILED_JOINTS
 
     def compiled(self, system, basis, x0, T, c, s, *, jacobian: bool = False):
@@ -401,8 +376,7 @@ class SpatialTorque:
         return out.tau, out.partials
 
     def __repr__(self):
-        names = "" if self.joint_names is None else f"joint_names={self.joint_names!r}"
-        return f"SpatialTorque({names})"
+        return self._repr()
 
 
 def _factory(body) -> SpatialTorque:

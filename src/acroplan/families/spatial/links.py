@@ -161,10 +161,8 @@ class SpatialLink(LinkRecord):
 
     Parameters
     ----------
-    name : str
-        A Python identifier, unique in the table.
-    parent : str or None
-        The parent link's name; ``None`` for the root (exactly one).
+    name, parent
+        As in :class:`~acroplan.families.tree.links.LinkRecord`.
     mass : float
         >= 0 (0 for the massless links of multi-axis joints).
     inertia : (3,) or (3, 3)
@@ -177,11 +175,8 @@ class SpatialLink(LinkRecord):
         The joint axis in the **parent's** frame (normalised when the table is built).
     rotation : 3 x 3, optional
         The link frame's orientation relative to the parent's at joint angle 0 (default identity).
-    joint_name : str, optional
-    lower, upper : float, optional
-        Joint-angle limits (rad).
-    velocity : float, optional
-        Joint-rate limit (rad/s, > 0).
+    joint_name, lower, upper, velocity
+        The joint's name and limits (:class:`~acroplan.families.tree.links.LinkRecord`).
     shapes : tuple, optional
         The solids the link is drawn with (never the dynamics): each
         ``(kind, params, origin, rotation)``, ``kind`` ``"stadium_solid"`` (params ``r0, t0, r1,

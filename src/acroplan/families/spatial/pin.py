@@ -20,51 +20,35 @@ import dataclasses
 import numpy as np
 
 from ...core.errors import InvalidInputError
-from ..tree.pin import build_tree, require_pinocchio
+from ..tree.pin import PinocchioTree, build_tree, require_pinocchio
 from .links import SpatialLinkTable
 
 __all__ = ["SpatialPinocchioBody", "build_model"]
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
-class SpatialPinocchioBody:
-    """A Pinocchio model of a spatial link table, and where each joint sits in ``q`` and ``v``.
-
-    Attributes
-    ----------
-    model : pinocchio.Model
-    links : SpatialLinkTable
-    joint_ids : tuple of int, length n_links
-        Pinocchio joint index of each link (table order); the root's is the free flyer.
+class SpatialPinocchioBody(PinocchioTree):
+    """A Pinocchio model of a spatial link table on a free-flyer root: a
+    :class:`~acroplan.families.tree.pin.PinocchioTree` (``model``, ``links``: a
+    :class:`~acroplan.families.spatial.links.SpatialLinkTable`, ``joint_ids``, the root's the free
+    flyer, ``idx_q``, ``idx_v``) with the attitude in its configuration.
     """
-
-    model: object
-    links: SpatialLinkTable
-    joint_ids: tuple[int, ...]
-
-    @property
-    def idx_q(self) -> list[int]:
-        """Positions of the joint angles (state order) in Pinocchio's ``q``."""
-        return [self.model.joints[self.joint_ids[i]].idx_q for i in self.links.joints]
-
-    @property
-    def idx_v(self) -> list[int]:
-        """Columns of the joint rates (state order) in ``v`` and the centroidal map."""
-        return [self.model.joints[self.joint_ids[i]].idx_v for i in self.links.joints]
 
     def configuration(self, state) -> np.ndarray:
         """Pinocchio's ``q`` for the state :math:`(q_w, q_x, q_y, q_z, s)`, the root at the origin.
+
+        Parameters
+        ----------
+        state : array_like, shape (4 + n_links - 1,)
+            The attitude (a quaternion, normalised here) and the joint angles.
 
         Returns
         -------
         numpy.ndarray, shape (model.nq,)
         """
         x = np.asarray(state, dtype=float)
-        q = np.zeros(self.model.nq)
         w, a, b, c = x[:4] / np.linalg.norm(x[:4])
-        q[3:7] = (a, b, c, w)
-        q[self.idx_q] = x[4:]
-        return q
+        return self._configuration((0.0, 0.0, 0.0, a, b, c, w), x[4:])
 
 
 def _axis_joint(pin, axis):
@@ -88,8 +72,8 @@ def build_model(links) -> SpatialPinocchioBody:
     SpatialPinocchioBody
     """
     pin = require_pinocchio()
-    table = getattr(links, "links", links)
-    table = table if isinstance(table, SpatialLinkTable) else SpatialLinkTable(table)
+    table = SpatialLinkTable.of(links)
+
     def joint_of(link):
         Rf = link.rotation_matrix
         return _axis_joint(pin, Rf.T @ np.asarray(link.axis)), pin.SE3(Rf, np.asarray(link.joint, dtype=float))

@@ -26,23 +26,21 @@ from typing import Mapping
 
 import numpy as np
 
-from ..tree.urdf import (joint_limits, limit_overrides, load_model, revolute_motion,
-                         robot_xml, table_names, urdf_links)
+from ..tree.urdf import read_tree, revolute_motion, robot_xml
 from .links import RESERVED_NAMES, SpatialLink, SpatialLinkTable
 
 __all__ = ["read_link_table", "read_urdf", "to_urdf"]
 
 
 def read_link_table(path, *, limits: bool = True, overrides: Mapping[str, Mapping] | None = None) -> SpatialLinkTable:
-    """The link table of a URDF with revolute joints (module docstring).
+    """The link table of a URDF with revolute joints (module docstring), read by
+    :func:`~acroplan.families.tree.urdf.read_tree` on a free-flyer root.
 
     Parameters
     ----------
-    path : str or pathlib.Path
-    limits : bool
-        Read the joint limits from the URDF (default) or leave them out.
-    overrides : mapping of joint name to mapping, optional
-        Per joint (URDF or table name), any of ``lower``, ``upper``, ``velocity`` (``None`` drops it).
+    path, limits, overrides
+        As in :func:`~acroplan.families.tree.urdf.read_tree`: the URDF file, whether its joint
+        limits are read (default) or left out, and per joint the limits that replace its own.
 
     Returns
     -------
@@ -52,39 +50,36 @@ def read_link_table(path, *, limits: bool = True, overrides: Mapping[str, Mappin
     Raises
     ------
     InvalidInputError
-        Pinocchio missing, the file missing, unreadable, too large or with more than
-        :data:`~acroplan.core.validate.MAX_LINKS` moving links (counted before Pinocchio reads it),
-        a joint that is not revolute (named), a mass, centre of mass or inertia that is not finite,
-        out of range or no rigid body's (the link named; a massless link must have no inertia), an
-        unknown override.
+        As :func:`~acroplan.families.tree.urdf.read_tree` (the file, a joint that is not revolute,
+        the limits, an unknown override), and for a mass, centre of mass or inertia that is not
+        finite, out of range or no rigid body's (the link named; a massless link must have no
+        inertia).
     """
-    pin, model, data = load_model(path, "freeflyer")
-    link_names, joint_names = set(), set()
-    rows = []
-    for jid in range(1, model.njoints):
-        axis = None
-        if jid > 1:
-            S = revolute_motion(model, data, jid, "spatial", "a spatial body has only revolute joints (revolute or "
-                                "continuous); make a multi-axis joint of revolute joints through massless links")
-            axis = S[3:] / np.linalg.norm(S[3:])
-        rows.append((jid, *table_names(model, jid, pin, link_names, joint_names, RESERVED_NAMES), axis))
-    over = limit_overrides({k: r[0] for r in rows[1:] for k in (r[3], r[4])}, [r[3] for r in rows[1:]], overrides)
-    names = {r[0]: r[1] for r in rows}
-    links = []
-    for jid, tlink, lname, jname, tname, axis in rows:
-        Y = model.inertias[jid]
-        mass, com, inertia = float(Y.mass), np.asarray(Y.lever, dtype=float), np.asarray(Y.inertia, dtype=float)
-        if jid == 1:
-            links.append(SpatialLink(tlink, None, mass, inertia, com=tuple(com)))
-            continue
-        P = model.jointPlacements[jid]
-        Rf = np.asarray(P.rotation, dtype=float)
-        lo, up, vel = joint_limits(model, jid, over, limits)
-        rotation = None if np.allclose(Rf, np.eye(3), rtol=0.0, atol=1e-15) else Rf
-        links.append(SpatialLink(tlink, names[model.parents[jid]], mass, inertia, com=tuple(com),
-                                 joint=tuple(np.asarray(P.translation, dtype=float)), axis=tuple(Rf @ axis),
-                                 rotation=rotation, joint_name=tname, lower=lo, upper=up, velocity=vel))
-    return urdf_links(SpatialLinkTable, links, [r[2] for r in rows])
+    return read_tree(path, "freeflyer", SpatialLinkTable, RESERVED_NAMES, _joint_axis, _link, limits=limits,
+                     overrides=overrides)
+
+
+def _joint_axis(model, data, jid: int) -> np.ndarray:
+    """The unit axis of a revolute joint in its own frame (any other joint refused)."""
+    S = revolute_motion(model, data, jid, "spatial", "a spatial body has only revolute joints (revolute or "
+                        "continuous); make a multi-axis joint of revolute joints through massless links")
+    return S[3:] / np.linalg.norm(S[3:])
+
+
+def _link(model, data, row, parent, lims) -> SpatialLink:
+    """The spatial link of a URDF joint's row (:func:`~acroplan.families.tree.urdf.read_tree`): its
+    inertia in its frame, its joint's placement and its axis in the parent's frame."""
+    jid, tlink, _, _, tname, axis = row
+    Y = model.inertias[jid]
+    mass, com, inertia = float(Y.mass), np.asarray(Y.lever, dtype=float), np.asarray(Y.inertia, dtype=float)
+    if parent is None:
+        return SpatialLink(tlink, None, mass, inertia, com=tuple(com))
+    P = model.jointPlacements[jid]
+    Rf = np.asarray(P.rotation, dtype=float)
+    lo, up, vel = lims()
+    rotation = None if np.allclose(Rf, np.eye(3), rtol=0.0, atol=1e-15) else Rf
+    return SpatialLink(tlink, parent, mass, inertia, com=tuple(com), joint=tuple(np.asarray(P.translation, dtype=float)),
+                       axis=tuple(Rf @ axis), rotation=rotation, joint_name=tname, lower=lo, upper=up, velocity=vel)
 
 
 def read_urdf(path, L=None, *, angular_momentum=None, limits: bool = True, overrides=None):
@@ -107,11 +102,8 @@ def to_urdf(links, name: str = "spatial_body", effort: float = 1000.0) -> str:
 
     Each joint's ``<origin>`` is the link's ``joint`` with the ``rpy`` of its ``rotation``
     (:math:`R = R_z(y) R_y(p) R_x(r)`), its ``<axis>`` the table's axis in the joint's frame
-    (:math:`R_{fixed}^\\top a`); a joint with both position limits is ``revolute``, one without is
-    ``continuous`` (a one-sided limit is written with the open side at :math:`\\pm 10^{300}`).
-    Massless links are written without ``<inertial>``. Pinocchio reads the document back
-    (:func:`read_urdf`) with the same masses, inertias, joints and limits; it numbers the joints
-    depth-first in the URDF's order, so they may come back in another order.
+    (:math:`R_{fixed}^\\top a`), written by :func:`~acroplan.families.tree.urdf.robot_xml`.
+    Massless links are written without ``<inertial>``.
 
     Parameters
     ----------
@@ -119,16 +111,18 @@ def to_urdf(links, name: str = "spatial_body", effort: float = 1000.0) -> str:
     name : str
         The robot's name.
     effort : float
-        The ``effort`` attribute of each ``<limit>`` (URDF requires one; acroplan does not use it).
+        The ``effort`` of each ``<limit>`` (:func:`~acroplan.families.tree.urdf.robot_xml`).
 
     Returns
     -------
     str
+        Read back by Pinocchio (:func:`read_urdf`) with the same masses, inertias, joints and
+        limits; it numbers the joints depth-first in the URDF's order, so they may come back in
+        another order.
     """
     from scipy.spatial.transform import Rotation
 
-    table = getattr(links, "links", links)
-    table = table if isinstance(table, SpatialLinkTable) else SpatialLinkTable(table)
+    table = SpatialLinkTable.of(links)
 
     def frame(link):
         Rf = link.rotation_matrix

@@ -67,7 +67,7 @@ def figure(result, *, frames: int = FRAMES, samples=None, title: str | None = No
     frames : int
         Frames of the animation (evenly spaced in time).
     samples : (t, X), optional
-        Sampled states to draw from (an output folder's ``trajectory.csv``); default: evaluated.
+        Sampled states to draw from (:func:`~acroplan.core.animation.states_at`).
     title : str, optional
         Default: the body's links and :math:`|L|`, after ``name`` (an output folder's).
     name : str, optional
@@ -75,12 +75,11 @@ def figure(result, *, frames: int = FRAMES, samples=None, title: str | None = No
     import plotly.graph_objects as go
     from plotly.subplots import make_subplots
 
-    from ...core.animation import states_at
+    from ...core.animation import states_at, states_evenly
 
     body = result.system
     title = title or ((f"{name}: " if name else "") + _title(body))
-    t = np.linspace(float(result.times[0]), float(result.times[-1]), max(2, int(frames)))
-    X = states_at(result, t, samples, unit_rows=4)
+    t, X = states_evenly(result, max(2, int(frames)), samples, unit_rows=4)
     dense_t = np.linspace(t[0], t[-1], 400)
     D = states_at(result, dense_t, samples, unit_rows=4)
     euler = np.degrees(np.unwrap(np.radians(rot.to_euler(D[:4], "yeadon")), axis=1))

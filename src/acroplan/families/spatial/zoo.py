@@ -16,7 +16,7 @@ import dataclasses
 
 import numpy as np
 
-from ...core.errors import InvalidInputError
+from ..tree.segment import TreeSegment, link_count, random_rates
 from . import rotations as rot
 from .links import SpatialLink
 from .model import SpatialBody
@@ -243,11 +243,10 @@ def random_body(rng, n_links: int, L=(0.0, 0.0, 0.0), *, tree: bool = False) -> 
     -------
     SpatialBody
     """
-    if isinstance(n_links, bool) or not isinstance(n_links, (int, np.integer)) or n_links < 2:
-        raise InvalidInputError("n_links", f"must be a whole number >= 2, got {n_links!r}", "give for example 3")
+    n_links = link_count(n_links)
     rng = np.random.default_rng(rng)
     links, lengths = [], []
-    for k in range(int(n_links)):
+    for k in range(n_links):
         length = float(rng.uniform(0.2, 0.8))
         b, c = rng.uniform(0.05, 0.2, 2)
         mass = float(rng.uniform(1.0, 30.0))
@@ -268,33 +267,13 @@ def random_body(rng, n_links: int, L=(0.0, 0.0, 0.0), *, tree: bool = False) -> 
 
 
 @dataclasses.dataclass(frozen=True)
-class SpatialSegment:
-    """One random single-segment problem of a spatial body (:func:`random_segment`).
-
-    Attributes
-    ----------
-    body : SpatialBody
-    T : float
-    x0, x1 : numpy.ndarray, shape (4 + m,)
-        Start and target; ``x1`` is where ``coefficients`` take ``x0`` in time ``T``.
-    coefficients : numpy.ndarray, shape (m, 6)
-        The joint rates that reach ``x1`` (Legendre basis on ``s = t / T``): the proof of
-        reachability.
+class SpatialSegment(TreeSegment):
+    """One random single-segment problem of a spatial body (:func:`random_segment`): a
+    :class:`~acroplan.families.tree.segment.TreeSegment` (its attributes and
+    :meth:`~acroplan.families.tree.segment.TreeSegment.plan_kwargs`) whose ``body`` is a
+    :class:`SpatialBody`, ``x0``, ``x1`` its states :math:`(q_w, q_x, q_y, q_z, s)` of shape
+    (4 + m,), and ``limits`` None.
     """
-
-    body: SpatialBody
-    T: float
-    x0: np.ndarray
-    x1: np.ndarray
-    coefficients: np.ndarray
-
-    def plan_kwargs(self) -> dict:
-        """Keywords of :func:`acroplan.plan` for this problem (no limits)."""
-        from ...core.limits import Limits
-
-        names = self.body.state_names
-        kw = {name: [float(a), float(b)] for name, a, b in zip(names, self.x0, self.x1)}
-        return dict(times=[0.0, self.T], limits=Limits(), **kw)
 
 
 def random_segment(rng, n_links: int = 3, *, momentum: bool = False, tree: bool = False) -> SpatialSegment:
@@ -324,9 +303,7 @@ def random_segment(rng, n_links: int = 3, *, momentum: bool = False, tree: bool 
         w *= rng.uniform(0.3, 2.0) / np.linalg.norm(w)
         L = rot.to_matrix(q0) @ body.locked_inertia(s0) @ w
         body = SpatialBody(body.links, L=tuple(L))
-    T = float(rng.uniform(1.0, 3.0))
-    c = np.zeros((m, 6))
-    c[:, :4] = rng.normal(scale=[1.0, 1.0, 0.6, 0.3], size=(m, 4))
+    T, c = random_rates(rng, m)
     x0 = np.concatenate([q0, s0])
     x1, _ = backend.endpoint(body, Legendre(6), x0, T, c)
     x1 = np.asarray(x1, dtype=float)

@@ -33,7 +33,26 @@ def combine_rigid(pieces) -> tuple[float, np.ndarray, np.ndarray]:
 
 
 class LinkRecord:
-    """Mixin of a family's link dataclass: building it from plain data, naming the field."""
+    """Mixin of a family's link dataclass: building it from plain data, naming the field.
+
+    Attributes
+    ----------
+    name : str
+        A Python identifier, unique in the table.
+    parent : str or None
+        The parent link's name; ``None`` for the root (exactly one).
+    joint_name : str, optional
+        Name of the joint to the parent (default: ``name``); a Python identifier.
+    lower, upper : float, optional
+        Joint-angle limits (rad).
+    velocity : float, optional
+        Joint-rate limit :math:`|\\dot q| \\le` ``velocity`` (rad/s, > 0).
+
+    Notes
+    -----
+    These are the fields every family's link has (each family adds its link's physics); they are
+    checked by :func:`check_joint_fields` when a table is built.
+    """
 
     __slots__ = ()
     #: the fields every link needs
@@ -161,6 +180,15 @@ class TreeLinkTable(LinkTree):
         object.__setattr__(self, "links", links)
         object.__setattr__(self, "_derived", {"root": root, "parents": tuple(parents), "joints": joints,
                                               "joint_names": tuple(jnames)})
+
+    @classmethod
+    def of(cls, links):
+        """The table of ``links``: a table of this type as it is, else the table of a body (its
+        ``links``) or built from a sequence of links (or of mappings of their fields)."""
+        if isinstance(links, cls):
+            return links
+        table = getattr(links, "links", links)
+        return table if isinstance(table, cls) else cls(table)
 
     def _check_links(self, links) -> None:
         """A check of the whole table (none by default)."""

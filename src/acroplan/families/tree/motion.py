@@ -11,16 +11,25 @@ so a function :math:`\\tau(q, u, \\dot u)` of the joint motion has
 
 .. math::  \\frac{\\partial\\tau}{\\partial c} = \\partial_q\\tau\\; T I(s) + \\partial_u\\tau\\; V(s)
            + \\partial_{\\dot u}\\tau\\; V'(s) / T .
+
+:class:`TreeTorque` is the base of the two torque models: the joints a model is for, and whether it
+can give a system's torques; :class:`TreeInverseDynamics` the base of what their inverse dynamics
+return.
 """
 
 from __future__ import annotations
+
+import dataclasses
+from typing import ClassVar
 
 import numpy as np
 
 from ...core.basis import basis_tables
 from ...core.errors import InvalidInputError
+from .pin import INSTALL_HINT, require_pinocchio
 
-__all__ = ["joint_rows", "basis_tables", "segment_arrays", "joint_motion", "coefficient_jacobian"]
+__all__ = ["joint_rows", "basis_tables", "segment_arrays", "joint_motion", "coefficient_jacobian", "TreeTorque",
+           "TreeInverseDynamics"]
 
 
 def joint_rows(name: str, value, m: int, *, what: str = "joint",
@@ -80,3 +89,72 @@ def coefficient_jacobian(dq, du, ddu, T: float, tables) -> np.ndarray:
     jac = (np.einsum("pkj,ki->pkji", dq, T * Int) + np.einsum("pkj,ki->pkji", du, V)
            + np.einsum("pkj,ki->pkji", ddu, V1 / T))
     return jac.reshape(p, K, m * V.shape[1])
+
+
+@dataclasses.dataclass(frozen=True)
+class TreeInverseDynamics:
+    """The joint torques of a motion and the root's motion they imply: the base of the families'
+    results of inverse dynamics, which add the root's velocity and acceleration.
+
+    Attributes
+    ----------
+    tau : numpy.ndarray, shape (m, K)
+        Joint torques, in state order of the joints (N m with SI link tables).
+    root_residual : numpy.ndarray, shape (r, K)
+        RNEA's rows of the root joint (``r`` its degrees of freedom) :math:`F_{root}`: the external
+        wrench the motion would need; zero up to rounding for a free body.
+    """
+
+    tau: np.ndarray
+    root_residual: np.ndarray
+
+
+@dataclasses.dataclass(frozen=True)
+class TreeTorque:
+    """The base of the torque models of tree bodies: the joints a model is for, and why it cannot
+    give the torques of a system (:meth:`unsupported`).
+
+    A subclass sets ``KIND`` (``"planar"``: the family, in messages) and ``BODY`` (the body's class
+    name), and defines ``_models(system)``: whether ``system`` is a body of the family.
+
+    Parameters
+    ----------
+    joint_names : tuple of str, optional
+        One per torque row (the body's joints, in state order), filled in by the body's
+        ``torque_model()``; ``None``: a model for any body of the family.
+    """
+
+    joint_names: tuple | None = None
+    KIND: ClassVar[str] = "tree"
+    BODY: ClassVar[str] = "body"
+
+    def __post_init__(self):
+        if self.joint_names is not None:
+            object.__setattr__(self, "joint_names", tuple(self.joint_names))
+
+    def _models(self, system) -> bool:  # pragma: no cover - every family defines it
+        raise NotImplementedError
+
+    def unsupported(self, system) -> str | None:
+        """Why the model cannot give the torques of ``system`` (``None`` when it can)."""
+        name = type(self).__name__
+        if not self._models(system):
+            return f"{name} models {self.KIND} bodies, not {type(system).__name__}"
+        if self.joint_names is not None and self.joint_names != system.links.joint_names:
+            return (f"this {name} is for the joints {list(self.joint_names)}, the body has "
+                    f"{list(system.links.joint_names)}: use the body's torque_model()")
+        try:
+            require_pinocchio()
+        except InvalidInputError:
+            return f"the torques of {self.KIND} bodies need Pinocchio: {INSTALL_HINT}"
+        return None
+
+    def _require(self, system) -> None:
+        """The error of :meth:`unsupported`, when there is one."""
+        why = self.unsupported(system)
+        if why is not None:
+            raise InvalidInputError("system", why, f"plan a {self.BODY} (with Pinocchio installed)")
+
+    def _repr(self, *extra: str) -> str:
+        names = "" if self.joint_names is None else f"joint_names={self.joint_names!r}"
+        return f"{type(self).__name__}({', '.join(x for x in (names, *extra) if x)})"

@@ -1,5 +1,7 @@
 """Pinocchio for tree bodies: importing it (an optional dependency, the extra ``bodies``), building
-the model of a link table, and one ``pinocchio.Data`` per model and thread.
+the model of a link table (:func:`build_tree`), the model with where each joint sits in its
+configuration and velocity vectors (:class:`PinocchioTree`, the base of the families' wrappers),
+and one ``pinocchio.Data`` per model and thread.
 
 Pinocchio (PyPI ``pin``, import name ``pinocchio``) is imported inside the functions that need it,
 never at module import, and its absence is an :class:`~acroplan.core.errors.InvalidInputError`
@@ -8,9 +10,12 @@ that says how to install it.
 
 from __future__ import annotations
 
+import dataclasses
 import threading
 
-__all__ = ["require_pinocchio", "INSTALL_HINT", "build_tree", "thread_data"]
+import numpy as np
+
+__all__ = ["require_pinocchio", "INSTALL_HINT", "build_tree", "PinocchioTree", "without_gravity", "thread_data"]
 
 INSTALL_HINT = "pip install acroplan[bodies] (or pip install pin)"
 
@@ -50,6 +55,59 @@ def build_tree(table, name: str, root_joint, joint_of, inertia_of):
         model.appendBodyToJoint(jid, inertia_of(link), pin.SE3.Identity())
         ids[i] = jid
     return model, tuple(ids)
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class PinocchioTree:
+    """A Pinocchio model of a link table, and where each link's joint sits in ``q`` and ``v``: the
+    base of the families' wrappers, which add the root's coordinates (``configuration``).
+
+    Attributes
+    ----------
+    model : pinocchio.Model
+    links : TreeLinkTable
+        The family's link table (:class:`~acroplan.families.tree.links.TreeLinkTable`).
+    joint_ids : tuple of int, length n_links
+        Pinocchio joint index of each link (table order); the root's is its root joint.
+    """
+
+    model: object
+    links: object
+    joint_ids: tuple[int, ...]
+
+    @property
+    def idx_q(self) -> list[int]:
+        """Positions of the joint angles (state order) in Pinocchio's ``q``."""
+        return [self.model.joints[self.joint_ids[i]].idx_q for i in self.links.joints]
+
+    @property
+    def idx_v(self) -> list[int]:
+        """Columns of the joint rates (state order) in ``v`` and the centroidal map."""
+        return [self.model.joints[self.joint_ids[i]].idx_v for i in self.links.joints]
+
+    def _configuration(self, root, angles) -> np.ndarray:
+        """Pinocchio's ``q``: the root joint's coordinates ``root`` first, then the joint angles
+        (state order) at :attr:`idx_q`."""
+        return _placed(self.model.nq, root, self.idx_q, angles)
+
+    def _velocity(self, root, rates) -> np.ndarray:
+        """Pinocchio's ``v``: the root joint's velocity ``root`` first, then the joint rates (state
+        order) at :attr:`idx_v`."""
+        return _placed(self.model.nv, root, self.idx_v, rates)
+
+
+def without_gravity(pb):
+    """``pb`` (a :class:`PinocchioTree`) with its model's gravity set to zero, for the inverse
+    dynamics of the free body; returned."""
+    pb.model.gravity = require_pinocchio().Motion.Zero()
+    return pb
+
+
+def _placed(size: int, head, idx: list[int], values) -> np.ndarray:
+    out = np.zeros(size)
+    out[:len(head)] = head
+    out[idx] = np.asarray(values, dtype=float).reshape(-1)
+    return out
 
 
 _LOCAL = threading.local()

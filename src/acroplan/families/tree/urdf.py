@@ -1,6 +1,7 @@
-"""What reading and writing URDF share for tree bodies (planar and spatial): the model Pinocchio
-builds, each joint checked revolute, the links' and joints' names made identifiers, the joint limits
-with their overrides, and the XML of a link's inertia and of a joint."""
+"""What reading and writing URDF share for tree bodies (planar and spatial): the reader
+(:func:`read_tree`: the model Pinocchio builds, each joint checked revolute, the links' and joints'
+names made identifiers, the joint limits with their overrides), and the writer (:func:`robot_xml`:
+the XML of a link's inertia and of a joint)."""
 
 from __future__ import annotations
 
@@ -20,7 +21,7 @@ from ...core.validate import MAX_LINKS, short
 from .pin import require_pinocchio
 from .urdfscan import captured_stderr, scan_urdf
 
-__all__ = ["identifier", "robot_xml", "limit", "frame_link_name", "load_model", "urdf_links", "revolute_motion", "table_names",
+__all__ = ["read_tree", "identifier", "robot_xml", "limit", "frame_link_name", "load_model", "urdf_links", "revolute_motion", "table_names",
            "limit_overrides", "joint_limits", "inertial_xml", "joint_xml", "LIMIT_KEYS"]
 
 #: the joint limits a URDF gives and an override may replace
@@ -112,6 +113,65 @@ def load_model(path, root: str):
     data = model.createData()
     pin.forwardKinematics(model, data, pin.neutral(model))
     return pin, model, data
+
+
+def read_tree(path, root: str, table_type, reserved, joint_of, link_of, *, limits: bool = True,
+              overrides: Mapping[str, Mapping] | None = None):
+    """The link table of a URDF: what the families' ``read_link_table`` share.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        A URDF file (:func:`load_model`).
+    root : {"planar", "freeflyer"}
+        Pinocchio's root joint.
+    table_type : type
+        The family's link table.
+    reserved : collection of str
+        Names a link or joint may not take (they get a ``_link`` or ``_joint`` suffix).
+    joint_of : callable
+        ``joint_of(model, data, jid)``: what the family reads of the moving joint ``jid`` (``>= 2``,
+        checked revolute by :func:`revolute_motion`), or its error naming the joint.
+    link_of : callable
+        ``link_of(model, data, row, parent, lims)``: the family's link of
+        ``row = (jid, table link name, URDF link name, URDF joint name, table joint name, what
+        joint_of read)`` (for the root: no joint name, ``None`` read), ``parent`` its parent's table
+        name (``None`` for the root), ``lims(sign=1.0)`` its joint's ``(lower, upper, velocity)``
+        (:func:`joint_limits`).
+    limits : bool
+        Read the joint limits from the URDF (default) or leave them out.
+    overrides : mapping of joint name to mapping, optional
+        Per joint (its URDF name or its table name), any of ``lower``, ``upper``, ``velocity``
+        (a number, or ``None`` to drop it): replaces what the URDF says.
+
+    Returns
+    -------
+    table_type
+        Root first, then the links in Pinocchio's (depth-first) order.
+
+    Raises
+    ------
+    InvalidInputError
+        Pinocchio missing, the file missing, unreadable, too large or with more than
+        :data:`~acroplan.core.validate.MAX_LINKS` moving links (counted before Pinocchio reads it),
+        a joint that is not revolute or has ``lower >= upper`` (named), a link ``table_type``
+        refuses (the URDF link named), an unknown override; and the family's errors.
+    """
+    pin, model, data = load_model(path, root)
+    link_names, joint_names = set(), set()
+    rows = []
+    for jid in range(1, model.njoints):
+        read = joint_of(model, data, jid) if jid > 1 else None
+        rows.append((jid, *table_names(model, jid, pin, link_names, joint_names, reserved), read))
+    over = limit_overrides({k: r[0] for r in rows[1:] for k in (r[3], r[4])}, [r[3] for r in rows[1:]], overrides)
+    names = {r[0]: r[1] for r in rows}
+    links = []
+    for row in rows:
+        jid = row[0]
+        parent = names[model.parents[jid]] if jid > 1 else None
+        links.append(link_of(model, data, row, parent,
+                             lambda sign=1.0, jid=jid: joint_limits(model, jid, over, limits, sign)))
+    return urdf_links(table_type, links, [r[2] for r in rows])
 
 
 def _urdfdom_error(lines: list[str]) -> str:
@@ -220,10 +280,27 @@ def inertial_xml(com, mass: float, I) -> list[str]:  # noqa: E741
 
 
 def robot_xml(table, name: str, effort: float, inertial, frame) -> str:
-    """A URDF document of the link table ``table``: a ``<link>`` per link with its ``<inertial>``
-    (``inertial(link)`` gives ``(com, mass, I)`` of :func:`inertial_xml`, or ``None`` for a link
-    without mass), a ``<joint>`` per joint (:func:`joint_xml`, ``frame(link)`` gives its
-    ``(xyz, rpy, axis)``), in the depth-first order a URDF reader needs."""
+    """A URDF document of the link table ``table``: a ``<link>`` per link with its ``<inertial>``,
+    a ``<joint>`` per joint (:func:`joint_xml`: ``revolute`` with position limits, ``continuous``
+    without), in the depth-first order a URDF reader needs; what the families' ``to_urdf`` share.
+
+    Parameters
+    ----------
+    table : TreeLinkTable
+    name : str
+        The robot's name.
+    effort : float
+        The ``effort`` attribute of each ``<limit>`` (URDF requires one; acroplan does not use it).
+    inertial : callable
+        ``inertial(link)``: ``(com, mass, I)`` of :func:`inertial_xml`, or ``None`` for a link
+        without mass.
+    frame : callable
+        ``frame(link)``: its joint's ``(xyz, rpy, axis)`` (:func:`joint_xml`).
+
+    Returns
+    -------
+    str
+    """
     out = ['<?xml version="1.0"?>', f"<robot name={quoteattr(name)}>"]
     for link in table:
         out.append(f"  <link name={quoteattr(link.name)}>")
