@@ -14,6 +14,13 @@ What runs
   the rest runs. In a ``console`` block, the lines after a ``$`` command up to the next one are its
   quoted output, compared.
 * Other fenced blocks (``toml``, ``text``, ...) are shown, not run, unless a mark below says so.
+* How a command runs: a plain ``acroplan ARGS`` (no shell syntax: pipes, redirections, variables,
+  globs, chains) runs in the test's own process through the console script's entry point
+  (``acroplan.io.cli.app.run``, with ``sys.argv`` set, stdout and stderr captured apart, exit code
+  from its ``SystemExit``), which is what the ``acroplan`` script calls; the page's commands then
+  share one process, as its Python blocks do, and the imports and compiled integrators are paid
+  once a page, not once a command. Every other command runs in ``bash``. That the installed script
+  itself starts and exits as it should is tests/test_cli_startup.py's business.
 
 Marks (HTML comments, invisible on the rendered page), each on its own line before the block
 it is about:
@@ -126,7 +133,7 @@ def parse(text: str, page: str = "<page>") -> tuple[list[Block], list[str]]:
             while body and not body[-1].strip():
                 body.pop()
             blocks.append(Block(page, i + 1, "shell", "indented", "\n".join(body), **pending))
-            pending, i, prev_blank = {}, j, False
+            pending, i, prev_blank = {}, j, not lines[j - 1].strip()  # its trailing blank lines
             continue
         prev_blank = not line.strip()
         i += 1
@@ -282,11 +289,9 @@ def run_page(text: str, workdir, page: str = "<page>", *, timeout: float = 600.0
             elif b.kind == "shell":
                 cmds = commands(b)
                 for cmd, quoted in cmds:
-                    proc = subprocess.run(["bash", "-c", cmd], env=env, capture_output=True, text=True,
-                                          timeout=timeout)
-                    last_output = proc.stdout + proc.stderr
-                    if proc.returncode != b.exit:
-                        raise DocFailure(f"{b.where}: `{cmd}` exited {proc.returncode} (the page expects "
+                    code, last_output = run_command(cmd, env, timeout)
+                    if code != b.exit:
+                        raise DocFailure(f"{b.where}: `{cmd}` exited {code} (the page expects "
                                          f"{b.exit}):\n{last_output[-3000:]}")
                     if quoted and not same_output(last_output, "\n".join(quoted), b.rtol):
                         raise DocFailure(f"{b.where}: `{cmd}`: the page quotes\n" + "\n".join(quoted)
@@ -297,6 +302,61 @@ def run_page(text: str, workdir, page: str = "<page>", *, timeout: float = 600.0
     finally:
         os.chdir(cwd)
     return report
+
+
+_SHELL_SYNTAX = re.compile(r"[|&;<>$`*?(){}\[\]~!\\]")
+
+
+def in_process(cmd: str) -> list[str] | None:
+    """The arguments of a plain ``acroplan ARGS`` command (run in this process), else ``None``."""
+    import shlex
+
+    try:
+        words = shlex.split(cmd, comments=True)
+    except ValueError:
+        return None
+    if not words or words[0] != "acroplan":
+        return None
+    # shell syntax outside quotes: leave it to bash
+    bare = re.sub(r"'[^']*'|\"[^\"]*\"", "", cmd).split("#")[0]
+    if _SHELL_SYNTAX.search(bare) or "=" in words[0]:
+        return None
+    return words[1:]
+
+
+def run_command(cmd: str, env: dict, timeout: float) -> tuple[int, str]:
+    """Run one command of a page: (exit code, stdout then stderr)."""
+    args = in_process(cmd)
+    if args is None:
+        proc = subprocess.run(["bash", "-c", cmd], env=env, capture_output=True, text=True, timeout=timeout)
+        return proc.returncode, proc.stdout + proc.stderr
+    import contextlib
+    import io
+    import warnings
+
+    from acroplan.io.cli.app import run
+
+    out, err = io.StringIO(), io.StringIO()
+    argv = sys.argv
+    sys.argv = ["acroplan", *args]
+    try:
+        # a fresh registry of shown warnings, as in a new process
+        with warnings.catch_warnings(), contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+            warnings.resetwarnings()  # then Python's own start-up filters
+            warnings.filterwarnings("default", category=DeprecationWarning, module="__main__")
+            for quiet in (DeprecationWarning, PendingDeprecationWarning, ImportWarning, ResourceWarning):
+                warnings.simplefilter("ignore", quiet, append=True)
+            try:
+                run()
+                code = 0
+            except SystemExit as e:
+                code = e.code if isinstance(e.code, int) else (0 if e.code is None else 1)
+    finally:
+        sys.argv = argv
+        import matplotlib.pyplot as plt
+
+        plt.close("all")
+    return code, out.getvalue() + err.getvalue()
 
 
 def _run_python(b: Block, namespace: dict) -> str:

@@ -56,6 +56,8 @@ took ... s, 3 points
 done
 ```
 
+    acroplan examples          # the bundled problems (in this process)
+
 <!-- docs-test: skip a sketch with placeholders -->
     acroplan plan PROBLEM.toml --out DIR
 
@@ -69,7 +71,7 @@ python -c "import sys; sys.exit(3)"
 def test_a_page_that_is_true_runs(tmp_path):
     runs = db.run_page(PAGE, tmp_path)
     ran = [r.block.line for r in runs if r.ran]
-    assert len(ran) == 7 and not any(r.ran for r in runs if r.block.skip)
+    assert len(ran) == 8 and not any(r.ran for r in runs if r.block.skip)
     assert [r.why for r in runs if not r.ran] == ["a sketch with placeholders"]
 
 
@@ -81,6 +83,7 @@ def test_a_page_that_is_true_runs(tmp_path):
     ("took ... s, 3 points", "took ... s, 4 points"),             # a console output is wrong
     ('sys.exit(3)', 'sys.exit(1)'),                               # a command exits with the wrong code
     ("print('done')", "import acroplan.no_such_module"),          # a command fails
+    ("acroplan examples ", "acroplan no-such-command "),          # an acroplan command fails (in process)
 ])
 def test_a_broken_block_fails_the_page(tmp_path, broken, why):
     assert broken in PAGE
@@ -92,6 +95,27 @@ def test_setup_parts_of_a_command_are_the_suites_own_environment():
     b = db.Block("p", 1, "shell", "indented",
                  'python3 -m venv .venv && . .venv/bin/activate && pip install ".[human]" && acroplan examples')
     assert db.commands(b) == [("acroplan examples", [])]
+
+
+@pytest.mark.parametrize("cmd, args", [
+    ("acroplan plan a.toml --out 'my out'   # a comment", ["plan", "a.toml", "--out", "my out"]),
+    ("acroplan map s.zarr --title \"P0 (kg m^2/s)\"", ["map", "s.zarr", "--title", "P0 (kg m^2/s)"]),
+    ("acroplan examples | head -3", None),                     # a pipe: bash
+    ("acroplan plan a.toml > log.txt", None),                  # a redirection: bash
+    ("acroplan plan $FILE", None),                             # a variable: bash
+    ("acroplan init a && acroplan plan a.toml", None),         # a chain: bash
+    ("python -c 'print(1)'", None),                            # not acroplan: bash
+])
+def test_plain_acroplan_commands_run_in_process_and_the_rest_in_bash(cmd, args):
+    assert db.in_process(cmd) == args
+
+
+def test_an_in_process_command_gives_its_exit_code_and_both_streams(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    code, out = db.run_command("acroplan plan no-such-file.toml --out o", dict(), 60)
+    assert code == 2 and "no-such-file.toml" in out
+    code, out = db.run_command("acroplan init my-dive", dict(), 60)
+    assert code == 0 and "wrote my-dive.toml" in out and (tmp_path / "my-dive.toml").is_file()
 
 
 def test_a_skip_needs_its_reason():
