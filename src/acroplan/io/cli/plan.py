@@ -95,28 +95,34 @@ def plan_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do_ani
         allowed = allowed_paths(allow_outside)
     except InvalidInputError as e:
         fail(str(e))
-    if problem is not None and example is None and _is_batch(problem):
+    with progress(quiet) as prog:  # (whether PROBLEM is many: a large file is parsed for it, seconds)
+        prog.phase("reading the problem")
+        batch = problem is not None and example is None and _is_batch(problem)
+    if batch:
         return _plan_batch(problem, out, force, quiet, as_json, no_plots, fmt, overrides, allowed, degrees)
     try:
         with progress(quiet) as prog:
             with prog.scope("reading the problem", unit="file"):  # (a human body imports yeadon: seconds)
                 prob = load_problem_arg(problem, example, overrides, allowed)
+            prog.phase("planning")
             fmts = check_outputs(out, force, fmt, "plan-out", [problem])
             with OutputFolder(out, force) as folder:
                 # the check the family asks for on the command line (verify_method: the acrobot's DOP853
                 # re-simulation; a body's Pinocchio check), the same in a folder of problems; the
                 # compilation, the plan, its check and the effort summary within the time limit
                 result, doc = solve_in_budget(prob, verify=verify_method(prob.system), progress=prog)
+                prog.phase("writing the results")
                 with folder.write() as tmp:
                     write_json(tmp / "solution.json", doc)
                     if result.success:
                         _write_plan_files(result, tmp, fmts, no_plots, degrees)
                         if do_animate:
                             write_animation(tmp)
+                    prog.phase(f"writing {out}")
     except InvalidInputError as e:
         fail(str(e))
     code = EXIT_BY_STATUS[result.status]
-    d = result.to_dict()
+    d = doc  # (result.to_dict() and more: the summary below reads its blocks, not a second copy)
     summary = {"command": "plan", "status": result.status.value, "message": result.message, "out": str(out),
                "segments": len(result.segments), **d["diagnostics"], "infeasible": d["infeasible"],
                "objective": result.objective, "torque_limits": result.torque_limits,
@@ -255,7 +261,9 @@ def _plan_batch(path, out, force, quiet, as_json, no_plots, fmt, overrides=None,
     from ...core.budget import budget
 
     try:
-        entries = _batch_entries(path, overrides, allowed)
+        with progress(quiet) as prog:  # (every file parsed and validated)
+            prog.phase("reading the problems")
+            entries = _batch_entries(path, overrides, allowed)
         fmts = check_outputs(out, force, fmt, "results", [path])
         valid = [(n, p) for n, p, _ in entries if p is not None]
         problems = dict(valid)
@@ -265,7 +273,8 @@ def _plan_batch(path, out, force, quiet, as_json, no_plots, fmt, overrides=None,
                 with progress(quiet) as prog:
                     jobs = [{"system": p.robot, **p.plan_kwargs(), "verify": verify_method(p.robot)} for _, p in valid]
                     results = dict(zip([n for n, _ in valid], plan_many(jobs, progress=prog)))
-            with progress(quiet), folder.write() as tmp:
+            with progress(quiet) as prog, folder.write() as tmp:
+                prog.phase("writing the results")
                 rows = []
                 for name, _, message in entries:
                     if name not in results:
