@@ -261,3 +261,45 @@ def test_batch_folder_and_file_of_many(tmp_path):
     res = run(["plan", write(tmp_path, many, "many.toml"), "--out", str(tmp_path / "o2"), "--no-plots", "--json"])
     assert res.exit_code == 0, res.output
     assert json.loads(res.output)["counts"] == {"success": 3}
+
+
+def test_degrees_switch_draws_the_figures_in_degrees_and_changes_nothing_else(tmp_path, monkeypatch):
+    """``acroplan plan --degrees``: states.png's angles and input.png's joint rate in degrees (the
+    axis labels say [deg], [deg/s]; the curves, waypoints and limit lines are the radian figure's
+    times 180/pi), while solution.json and trajectory.csv are the same bytes as without it."""
+    import acroplan.io.cli.plan as plan_cli
+
+    text = GOOD.format(theta=1.0).replace('conditions = "spline"', 'conditions = "free"')
+    text += "\n[limits]\nphi_min = \"-pi\"\nphi_max = 0.0\nu_max = 20.0\n"
+    prob = write(tmp_path, text)
+    saved = []
+    real_save = plan_cli.save
+
+    def keep(figs, folder, fmts):
+        saved.append(dict(figs))
+        real_save(figs, folder, fmts)
+
+    monkeypatch.setattr(plan_cli, "save", keep)
+    outs = {}
+    for name, extra in (("rad", []), ("deg", ["--degrees"])):
+        outs[name] = tmp_path / name
+        res = run(["plan", prob, "--out", str(outs[name]), *extra])
+        assert res.exit_code == 0, res.output
+    assert len(saved) == 2
+    rad, deg = saved  # in the order run
+    for a in ("solution.json", "trajectory.csv"):
+        assert (outs["rad"] / a).read_bytes() == (outs["deg"] / a).read_bytes(), a
+    r_axes, d_axes = rad["states"].axes, deg["states"].axes
+    assert [ax.get_ylabel() for ax in r_axes] == ["θ [rad]", "φ [rad]"]
+    assert [ax.get_ylabel() for ax in d_axes] == ["θ [deg]", "φ [deg]"]
+    for ra, da in zip(r_axes, d_axes):
+        for rl, dl in zip(ra.lines, da.lines):  # the curve, the waypoints, the limit and reference lines
+            (rt, ry), (dt, dy) = rl.get_data(), dl.get_data()
+            assert np.array_equal(np.asarray(rt, float), np.asarray(dt, float))
+            assert np.allclose(np.asarray(dy, float), np.degrees(np.asarray(ry, float)), rtol=1e-14, atol=0)
+    (ri,), (di,) = rad["input"].axes, deg["input"].axes
+    assert ri.get_ylabel() == "u = dφ/dt [rad/s]" and di.get_ylabel() == "u = dφ/dt [deg/s]"
+    assert np.allclose(di.lines[0].get_ydata(), np.degrees(ri.lines[0].get_ydata()), rtol=1e-14, atol=0)
+    limit = [ln.get_ydata()[0] for ln in di.lines if ln.get_linestyle() == ":"]
+    assert limit and np.allclose(sorted(limit), [-np.degrees(20.0), np.degrees(20.0)])
+    assert "--degrees" in run(["plan", "--help"]).output and "--degrees" in run(["simulate", "--help"]).output

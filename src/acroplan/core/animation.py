@@ -221,10 +221,12 @@ def write_frames(fig, artists: Sequence, update: Callable[[int], object], n_fram
                 progress(k + 1)
             st.update()
     duration = max(1, int(round(1000 / fps)))
-    frames[0].save(str(path), save_all=True, append_images=frames[1:], duration=duration, loop=0,
-                   optimize=False, disposal=1)
+    with stage("writing the GIF", unit="file"):  # (the encoding of hundreds of frames: seconds)
+        frames[0].save(str(path), save_all=True, append_images=frames[1:], duration=duration, loop=0,
+                       optimize=False, disposal=1)
     if mp4_path is not None and shutil.which("ffmpeg"):
-        _mp4(frames, mp4_path, fps)
+        with stage("writing the MP4", unit="file"):
+            _mp4(frames, mp4_path, fps)
     return n_frames
 
 

@@ -44,6 +44,7 @@ import heyoka as hy
 import numpy as np
 
 from . import budget
+from . import progress as progress_mod
 from .basis import InputBasis
 from .system import ControlAffineSystem
 
@@ -149,9 +150,10 @@ def _run(job: _Build, key, build, done: dict, pending: dict) -> None:
         job.done.set()
 
 
-def _compiled(key, build, done: dict, pending: dict, name: str):
+def _compiled(key, build, done: dict, pending: dict, name: str, what: str = ""):
     """``done[key]``, made by ``build()`` once: in a thread of its own (``pending`` holds it while
-    it runs), which every caller waits for within its time budget."""
+    it runs), which every caller waits for within its time budget (``what``: the progress stage's
+    detail)."""
     if key in done:
         return done[key]
     with _BUILD_LOCK:
@@ -162,7 +164,17 @@ def _compiled(key, build, done: dict, pending: dict, name: str):
             job = pending[key] = _Build()
             threading.Thread(target=_run, args=(job, key, build, done, pending), daemon=True,
                              name=f"acroplan-compile-{name}").start()
-    budget.wait(job.done)
+    # the stage "compiling" of the active progress while the caller waits (a first compilation:
+    # seconds to minutes; from heyoka's disk cache, a fraction of a second, too short to be shown)
+    prog = progress_mod.current()
+    st = prog.stage("compiling", unit="step", leave=False) if prog is not None else None
+    if st is not None:
+        st.set(0, detail=what)
+    try:
+        budget.wait(job.done)
+    finally:
+        if st is not None:
+            st.close()
     if job.error is not None:
         raise job.error
     return done[key]
@@ -178,7 +190,8 @@ def compile_for(system: ControlAffineSystem, basis_cls: type[InputBasis], n: int
     :class:`~acroplan.core.budget.BudgetExceeded` at its deadline; the compilation goes on in the
     background and its integrator is kept for the next plan. One compilation per key, however many
     threads ask."""
-    return _compiled(_key(system, basis_cls, n), lambda: _build(system, basis_cls, n), _TEMPLATES, _PENDING, str(n))
+    return _compiled(_key(system, basis_cls, n), lambda: _build(system, basis_cls, n), _TEMPLATES, _PENDING, str(n),
+                     f"integrator, {n} coefficients")
 
 
 _ONCE: dict[Hashable, object] = {}
@@ -192,7 +205,7 @@ def compile_once(key: tuple, build):
     the compilation going on in the background and kept for the next caller), one compilation
     however many threads ask; once done it is marked on this machine (:func:`compiled_before`).
     ``key``: a tuple of hashable values whose ``repr`` is the same in every process."""
-    return _compiled(key, build, _ONCE, _ONCE_PENDING, str(key[0]))
+    return _compiled(key, build, _ONCE, _ONCE_PENDING, str(key[0]), str(key[0])[:40])
 
 
 def compiled_before(key: tuple) -> bool:

@@ -9,6 +9,8 @@ here (the command line chooses Agg for itself).
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 __all__ = ["Figures", "plot_input", "plot_states", "plot_result", "plot_continuation", "plot_effort"]
@@ -64,28 +66,35 @@ def pyplot():
     return plt
 
 
-def plot_input(result, samples=None, *, ax=None):
-    """Fig. 1 style: the input over time, waypoint times as dashed lines. Returns the figure (or,
-    given ``ax``, draws there and returns ``ax``)."""
+def plot_input(result, samples=None, *, ax=None, degrees: bool = False):
+    """Fig. 1 style: the input over time, waypoint times as dashed lines. ``degrees``: the rates of
+    angles (inputs in rad/s) in deg/s, their rate limits too. Returns the figure (or, given
+    ``ax``, draws there and returns ``ax``)."""
     plt = pyplot()
     samples = samples if samples is not None else result.sample(effort=False)
     own = ax is None
     if own:
         fig, ax = plt.subplots(figsize=(7, 3.6), constrained_layout=True)
+    units = {name: _input_unit(result.system, name) for name in samples.input_names}
+    to_deg = {name: degrees and unit == "rad/s" for name, unit in units.items()}
+    shown = {name: ("deg/s" if to_deg[name] else unit) for name, unit in units.items()}
     for j, name in enumerate(samples.input_names):
-        ax.plot(samples.t, samples.inputs[j], lw=1.6, label=f"{name}(t)")
+        ax.plot(samples.t, np.degrees(samples.inputs[j]) if to_deg[name] else samples.inputs[j], lw=1.6,
+                label=f"{name}(t)")
     for tk in result.times:
         ax.axvline(tk, color="0.75", lw=0.8, ls="--", zorder=0)
     ax.set_xlabel("t [s]")
-    units = {_input_unit(result.system, name) for name in samples.input_names}
-    unit = units.pop() if len(units) == 1 else ""
-    ax.set_ylabel("u = dφ/dt [rad/s]" if samples.input_names == ("u",) else (f"input [{unit}]" if unit else "input"))
+    kinds = set(shown.values())
+    unit = kinds.pop() if len(kinds) == 1 else ""
+    ax.set_ylabel(f"u = dφ/dt [{unit or 'rad/s'}]" if samples.input_names == ("u",) else
+                  (f"input [{unit}]" if unit else "input"))
     ax.set_title("Input u(t)" if samples.input_names == ("u",) else "Inputs")
     ax.grid(alpha=0.3)
     limits = getattr(result, "limits", None)
     for j, name in enumerate(samples.input_names):
         U = limits.input_bound(name) if limits is not None else None
         if U is not None:
+            U = math.degrees(U) if to_deg[name] else U
             for v in (-U, U):
                 ax.axhline(v, color="C3", lw=0.9, ls=":", label=f"rate limit ±{U:g}" if v > 0 and j == 0 else None)
     if len(samples.input_names) > 1 or (limits is not None and limits.active):
@@ -196,7 +205,8 @@ def plot_result(result, which=None, *, per_segment: int = 200, effort: bool = Fa
     """The figures of a plan (a :class:`Figures`): by default ``input`` (Fig. 1), ``states`` (Fig. 2)
     and ``continuation`` (only when a segment was planned by path deformation), and ``effort``
     with ``effort=True``; ``which`` (a name or a sequence of names of :data:`FIGURES`) draws those
-    alone; ``degrees``: the states' angles in degrees. Reports the stage ``"figures"``
+    alone; ``degrees``: angles in degrees in the states figure (its attitude angles, joints and
+    limits: ``[deg]``) and rates of angles in deg/s in the input figure. Reports the stage ``"figures"``
     (:mod:`acroplan.core.progress`)."""
     from .progress import stage
 
@@ -220,8 +230,10 @@ def plot_result(result, which=None, *, per_segment: int = 200, effort: bool = Fa
                     figs[name] = plot_continuation(result)
                 elif name == "states":
                     figs[name] = plot_states(result, samples, degrees=degrees)
+                elif name == "input":
+                    figs[name] = plot_input(result, samples, degrees=degrees)
                 else:
-                    figs[name] = {"input": plot_input, "effort": plot_effort}[name](result, samples)
+                    figs[name] = plot_effort(result, samples)
                 st.update(detail=name)
         except BaseException:
             figs.close()

@@ -8,6 +8,13 @@ ladder, the independent check, the effort summary, figures, animation frames, sw
 least every :data:`REFRESH` seconds (its elapsed time moves even while one long step runs, so a
 line is never a bar frozen at 0/1).
 
+A *watched* progress (the command line's: ``Progress(watch=True)``) never leaves the screen silent
+for more than :data:`SILENCE` seconds while its command runs: past it, a stage open but within its
+delay is shown at once, and between stages the command's *phase* (:meth:`Progress.phase`:
+"starting", "writing the results", ...) is shown with its elapsed time (a line erased when the
+next stage appears). Its silence is counted from the process's start (:func:`process_age`), so the
+interpreter's and the command's imports count too.
+
 Where it goes: a :class:`Progress` is *active* in a ``with progress.active():`` block (``plan()``
 opens one for its own work; the command line one for a whole command). Code deep in the core
 reports to the active one through :func:`stage` and :func:`note`, and knows nothing of bars.
@@ -28,18 +35,38 @@ import time
 from typing import Callable, Iterator
 
 __all__ = ["Progress", "Stage", "current", "stage", "note", "close_notes", "auto", "resolve", "in_notebook", "DELAY",
-           "REFRESH", "INNER_STAGES"]
+           "REFRESH", "SILENCE", "INNER_STAGES", "process_age"]
 
 #: Seconds a stage runs before its line appears (quick work prints nothing).
 DELAY = 0.5
 #: Largest interval in seconds between two refreshes of a shown line.
 REFRESH = 0.25
+#: A watched progress's longest silence (seconds with nothing drawn) before it shows what runs:
+#: the open stage before its delay, or the command's phase (the module docstring). With the
+#: refreshing thread's period, the screen of a command is redrawn at least every
+#: ``SILENCE + REFRESH`` = 0.75 s (while the interpreter lock is free: a C extension that holds it,
+#: loading a compiled library, delays every thread).
+SILENCE = 0.5
 
 #: The stages code deep in the core reports by :func:`note` while one waypoint interval is planned
 #: (closed when the interval is done): a strategy's guesses, path deformation, the optimal ladder.
 INNER_STAGES = ("guesses", "path deformation", "optimal: basis sizes")
 
 _CURRENT: contextvars.ContextVar["Progress | None"] = contextvars.ContextVar("acroplan_progress", default=None)
+
+
+def process_age() -> float:
+    """Seconds since this process started (Linux: ``/proc``; elsewhere 0, as if it just had)."""
+    import os
+
+    try:
+        with open("/proc/self/stat", "rb") as f:
+            start_ticks = float(f.read().rsplit(b")", 1)[1].split()[19])
+        with open("/proc/uptime", "rb") as f:
+            uptime = float(f.read().split()[0])
+        return max(0.0, uptime - start_ticks / os.sysconf("SC_CLK_TCK"))
+    except (OSError, ValueError, IndexError, AttributeError):
+        return 0.0
 
 
 def _terminal_width() -> int:
@@ -131,20 +158,32 @@ class Progress:
     enabled : bool, optional
         Show the lines (default: :func:`auto`).
     record : bool
-        Keep every update in :attr:`events` as ``(stage, done, total)``.
+        Keep every update in :attr:`events` as ``(stage, done, total)``, and the
+        ``time.monotonic()`` of every line drawn in :attr:`draw_times`, of every wake-up of the
+        refreshing thread in :attr:`tick_times` and of every start of that thread in
+        :attr:`ticker_starts` (what a test of the silences measures).
     callback : callable, optional
         Called as ``callback(stage, done, total)`` for every update.
     file : file object, optional
         Where text lines go (default: stderr); a notebook shows widgets.
     delay : float
         Seconds before a stage's line appears (:data:`DELAY`).
+    watch : bool
+        Never silent for more than :data:`SILENCE` seconds until :meth:`close` (the command
+        line's): the open stage shown before its delay, or between stages the :meth:`phase`.
+    since : float, optional
+        With ``watch``: the ``time.monotonic()`` reading the silence is counted from (default: the
+        process's start, :func:`process_age`).
     """
 
     def __init__(self, enabled: bool | None = None, *, record: bool = False,
                  callback: Callable[[str, float, float | None], object] | None = None, file=None,
-                 delay: float = DELAY):
+                 delay: float = DELAY, watch: bool = False, since: float | None = None):
         self.enabled = auto() if enabled is None else bool(enabled)
         self.events: list[tuple[str, float, float | None]] | None = [] if record else None
+        self.draw_times: list[float] | None = [] if record else None
+        self.tick_times: list[float] | None = [] if record else None
+        self.ticker_starts: list[float] | None = [] if record else None
         self.callback = callback
         self.file = file
         self.delay = float(delay)
@@ -154,6 +193,13 @@ class Progress:
         self._stop = threading.Event()
         #: how many times a shown line was drawn (updates and refreshes; for the record)
         self.draws = 0
+        self.watch = bool(watch)
+        #: ``time.monotonic()`` of the last line drawn (of the start, before any)
+        self.last_draw = (time.monotonic() - process_age()) if since is None else float(since)
+        self._phase: Stage | None = None
+        self._phase_name = "starting"
+        if self.watch:
+            self._start_ticker()
 
     # ------------------------------------------------------------------ stages
     def stage(self, name: str, total: float | None = None, *, unit: str = "", leave: bool = True,
@@ -191,11 +237,20 @@ class Progress:
         finally:
             _CURRENT.reset(token)
 
+    def phase(self, name: str) -> None:
+        """Name what a watched progress's command does from now on between its stages ("writing
+        the results"): shown with its elapsed time when the screen has been silent
+        :data:`SILENCE` seconds and no stage is open."""
+        with self._lock:
+            self._hide_phase()
+            self._phase_name = str(name)
+
     def close(self) -> None:
         """Close every open stage and stop the refreshing thread."""
         with self._lock:
             for st in list(self._open.values()):
                 st.close()
+            self._hide_phase()
         self._stop.set()
 
     # ------------------------------------------------------------------ internals
@@ -212,6 +267,8 @@ class Progress:
             if st.bar is None:
                 if time.monotonic() - st.start < self.delay and not force:
                     return
+                if st is not self._phase:
+                    self._hide_phase()  # (a stage takes the phase's place)
                 st.bar = self._bar(st)
             bar = st.bar
             bar.total = _bar_total(st)
@@ -220,7 +277,21 @@ class Progress:
             if st.done != bar.n:
                 bar.update(st.done - bar.n)  # (tqdm's rate and time left follow its updates)
             bar.refresh()
-            self.draws += 1
+            self._drawn()
+
+    def _hide_phase(self) -> None:
+        """Erase the phase's line, if shown (a stage appears, the phase changes, the end)."""
+        ph, self._phase = self._phase, None
+        if ph is not None and ph.bar is not None:
+            ph.bar.close()  # (leave=False: the line is erased)
+            ph.bar = None
+            self._drawn()
+
+    def _drawn(self) -> None:
+        self.draws += 1
+        self.last_draw = time.monotonic()
+        if self.draw_times is not None:
+            self.draw_times.append(self.last_draw)
 
     def _bar(self, st: Stage):
         import shutil
@@ -245,26 +316,45 @@ class Progress:
                 st.bar.refresh()
                 st.bar.close()
                 st.bar = None
+                self._drawn()
 
     def _start_ticker(self) -> None:
         if not self.enabled or (self._ticker is not None and self._ticker.is_alive()):
             return
         self._stop.clear()
+        if self.ticker_starts is not None:
+            self.ticker_starts.append(time.monotonic())
         self._ticker = threading.Thread(target=self._tick, name="acroplan-progress", daemon=True)
         self._ticker.start()
 
+    def _wait(self) -> float:
+        """Seconds to the next wake-up: :data:`REFRESH`, or for a watched progress sooner when its
+        silence reaches :data:`SILENCE` before (so that a command's first line comes at once)."""
+        if not self.watch:
+            return REFRESH
+        return min(REFRESH, max(0.02, SILENCE - (time.monotonic() - self.last_draw)))
+
     def _tick(self) -> None:
         """Refresh every shown stage (and show those past the delay) every :data:`REFRESH` s, until
-        no stage is open."""
-        while not self._stop.wait(REFRESH):
+        no stage is open; a watched progress until :meth:`close`, showing the open stages or its
+        phase once the screen has been silent :data:`SILENCE` s."""
+        while not self._stop.wait(self._wait()):
             with self._lock:
+                if self.tick_times is not None:
+                    self.tick_times.append(time.monotonic())
                 stages = [st for st in self._open.values() if not st.closed and st.show]
-                if not stages:
+                if not stages and not self.watch:
                     self._ticker = None  # (a stage opened from now on starts another)
                     return
+                now = time.monotonic()
+                silent = self.watch and now - self.last_draw >= SILENCE
                 for st in stages:
-                    if st.bar is not None or time.monotonic() - st.start >= self.delay:
+                    if st.bar is not None or now - st.start >= self.delay or silent:
                         self._show(st, force=True)
+                if self.watch and not stages and (silent or self._phase is not None):
+                    if self._phase is None:
+                        self._phase = Stage(self, self._phase_name, None, "", leave=False)
+                    self._show(self._phase, force=True)
 
 
 def _bar_total(st: Stage):

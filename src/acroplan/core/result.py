@@ -404,7 +404,7 @@ class PlanResult:
         kwargs.setdefault("allow_nan", False)
         return json.dumps(self.to_dict(), **kwargs)
 
-    def plot(self, which=None, *, ax=None, per_segment: int = 200, effort: bool = False):
+    def plot(self, which=None, *, ax=None, per_segment: int = 200, effort: bool = False, degrees: bool = False):
         """Figures in the text's styles, as one type: a :class:`~acroplan.core.plotting.Figures`
         (a dict of matplotlib figures by name, each shown once in a notebook, with ``savefig``).
 
@@ -423,6 +423,10 @@ class PlanResult:
             Samples per segment.
         effort : bool
             With the default figures, also ``"effort"``.
+        degrees : bool
+            Angles in degrees: ``"states"`` (attitude angles, joints, their limits; axes in
+            ``[deg]``) and the rates of angles in ``"input"`` (``[deg/s]``). Default radians.
+            (Not the ``degrees`` of :func:`acroplan.plan`, which says how its arguments are given.)
 
         Returns
         -------
@@ -432,7 +436,7 @@ class PlanResult:
         from . import plotting
 
         if ax is None:
-            return plotting.plot_result(self, which, per_segment=per_segment, effort=effort)
+            return plotting.plot_result(self, which, per_segment=per_segment, effort=effort, degrees=degrees)
         which = which or "states"
         if which not in ("input", "states", "effort"):
             raise ValueError(f"which: with ax, must be 'input', 'states' or 'effort', got {which!r}")
@@ -441,7 +445,7 @@ class PlanResult:
             plotting.plot_effort(self, self.sample(per_segment), ax=ax)
         else:
             fn = plotting.plot_input if which == "input" else plotting.plot_states
-            fn(self, self.sample(per_segment, effort=False), ax=ax)
+            fn(self, self.sample(per_segment, effort=False), ax=ax, degrees=degrees)
         return plotting.Figures({which: ax.figure})
 
     def animate(self, path=None, **kwargs):

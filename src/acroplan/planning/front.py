@@ -152,13 +152,25 @@ def plan(system: ControlAffineSystem, *, times, conditions: str | None = None, m
     'success'
     """
     started = budget_clock()  # the time limit covers the family's preparation and the validation too
-    prepare(system)  # its family's strategies, torque model and starts (core.family.prepare)
-    req = PlanRequest.build(system, times=times, conditions=conditions, method=method, basis=basis,
-                            n_coefficients=n_coefficients, limits=limits, u_max=u_max, state_bounds=state_bounds,
-                            input_bounds=input_bounds, verify=verify, tol=tol, max_evaluations=max_evaluations,
-                            time_limit=time_limit, start_rate=start_rate, end_rate=end_rate, degrees=degrees,
-                            objective=objective, tau_max=tau_max, capacity=capacity, **waypoints)
-    return solve(req, progress=progress, started=started)
+    outer = progress_mod.current()
+    prog = progress_mod.resolve(progress)
+    owned = prog is not outer and not isinstance(progress, progress_mod.Progress)
+    try:
+        with prog.active():
+            # the stage "preparing the plan": the family's modules imported the first time (a body's
+            # numerics: seconds on a cold start), the arguments validated
+            with prog.scope("preparing the plan", unit="step"):
+                prepare(system)  # its family's strategies, torque model and starts (core.family.prepare)
+                req = PlanRequest.build(system, times=times, conditions=conditions, method=method, basis=basis,
+                                        n_coefficients=n_coefficients, limits=limits, u_max=u_max,
+                                        state_bounds=state_bounds, input_bounds=input_bounds, verify=verify, tol=tol,
+                                        max_evaluations=max_evaluations, time_limit=time_limit,
+                                        start_rate=start_rate, end_rate=end_rate, degrees=degrees,
+                                        objective=objective, tau_max=tau_max, capacity=capacity, **waypoints)
+            return solve(req, progress=prog, started=started)
+    finally:
+        if owned:
+            prog.close()
 
 
 def solve(req: PlanRequest, *, progress=None, started: float | None = None) -> PlanResult:

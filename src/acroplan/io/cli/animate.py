@@ -85,8 +85,9 @@ def animate_cmd(folder, speed, fps, quiet):
     import warnings
 
     try:
-        with warnings.catch_warnings(record=True) as caught, progress(quiet):
+        with warnings.catch_warnings(record=True) as caught, progress(quiet) as prog:
             warnings.simplefilter("always")
+            prog.phase("animating")  # (loading the motion, the frames, the GIF, the strobe)
             n = write_animation(folder, speed=speed, fps=fps)
         for w in caught:
             if "frames" in str(w.message):

@@ -130,12 +130,18 @@ def check_outputs(out, force: bool, fmt: str, hint: str, inputs=()) -> tuple[str
 
 
 def save(figs: dict, folder: Path, fmts) -> None:
+    """Write each figure as ``folder/NAME.FORMAT`` (120 dpi) and close it; the stage "writing
+    figures" (a PNG of a figure of many panels takes a quarter of a second and more)."""
     import matplotlib.pyplot as plt
 
+    from ...core.progress import stage
+
     try:
-        for name, fig in figs.items():
-            for f in fmts:
-                fig.savefig(folder / f"{name}.{f}", dpi=120)
+        with stage("writing figures", len(figs) * len(fmts), unit="file") as st:
+            for name, fig in figs.items():
+                for f in fmts:
+                    fig.savefig(folder / f"{name}.{f}", dpi=120)
+                    st.update(detail=f"{name}.{f}")
     finally:
         for fig in figs.values():
             plt.close(fig)
@@ -146,10 +152,13 @@ def progress(quiet: bool = False):
     """The command's progress (:mod:`acroplan.core.progress`), active for the whole command: one
     line on stderr per stage that lasts more than half a second (planning, the independent check,
     the effort summary, sampling, figures, animation frames), refreshed at least every quarter
-    second; only on a terminal, and not with --quiet."""
+    second, and watched (``Progress(watch=True)``): from the process's start to the end of the
+    command the screen is never silent for more than half a second, the command's phase
+    (:meth:`~acroplan.core.progress.Progress.phase`: "starting", "writing the results") shown
+    between its stages; only on a terminal, and not with --quiet."""
     from ...core.progress import Progress
 
-    prog = Progress(enabled=sys.stderr.isatty() and not quiet, file=sys.stderr)
+    prog = Progress(enabled=sys.stderr.isatty() and not quiet, file=sys.stderr, watch=True)
     try:
         with prog.active():
             yield prog

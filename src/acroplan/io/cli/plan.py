@@ -21,6 +21,9 @@ from .common import (EXIT_BY_STATUS, allow_outside_option, allowed_paths, check_
 @click.option("--no-plots", is_flag=True, help="Skip the figures.")
 @click.option("--format", "fmt", default="png", show_default=True, help="Figure formats: png, pdf or png,pdf.")
 @click.option("--animate", "do_animate", is_flag=True, help="Also write motion.gif and strobe.png.")
+@click.option("--degrees", is_flag=True, help="Figures with angles in degrees (states.png in [deg], input.png's joint rates in "
+                   "[deg/s]); default radians. Only the figures: solution.json and trajectory.csv stay in "
+                   "radians, and the file's [options] degrees (how its values are written) is another thing.")
 @click.option("--time-limit", type=click.FloatRange(min=0, min_open=True), default=None,
               help="Wall-clock budget of each plan in seconds, compiling the integrator, the plan, its check and "
                    "its effort summary included (default: the file's [options] time_limit, else 60).")
@@ -31,7 +34,7 @@ from .common import (EXIT_BY_STATUS, allow_outside_option, allowed_paths, check_
               help="Torque limit |tau| <= VALUE: a number for every joint, or JOINT=VALUE (repeatable; joints "
                    "not named have none). Overrides the file's [options] tau_max; implies an optimal plan.")
 @allow_outside_option
-def plan_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do_animate, time_limit, objective,
+def plan_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do_animate, degrees, time_limit, objective,
              tau_max, allow_outside):
     """Plan a motion through the waypoints of PROBLEM (a TOML file) and write the results.
 
@@ -48,6 +51,8 @@ def plan_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do_ani
                          keys, any [body]), 200 samples per segment
       input.png          the joint rates u(t), the text's Fig. 1
       states.png         theta(t) and each joint angle, waypoints marked, the text's Fig. 2
+                         (a body in 3-D: Yeadon's somersault, tilt and twist); in radians,
+                         in degrees with --degrees
       continuation.png   target path against what was reached, smallest singular value
       effort.png         joint torques (limits dotted) and power, when the body gives torques
     On exit code 3 (infeasible) or 4 (not converged) only solution.json is written. A planar
@@ -79,6 +84,7 @@ def plan_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do_ani
       acroplan plan --example pike-dive --out pike-dive-out
       acroplan plan --example three-rods-turn --out rods --animate
       acroplan plan my-dive.toml --out my-dive-out --force --format png,pdf --animate
+      acroplan plan --example falling-cat --out cat --degrees
       acroplan plan my-dive.toml --out optimal --objective energy --tau-max phi=40
       acroplan plan many-dives/ --out results --no-plots
     """
@@ -89,28 +95,34 @@ def plan_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do_ani
         allowed = allowed_paths(allow_outside)
     except InvalidInputError as e:
         fail(str(e))
-    if problem is not None and example is None and _is_batch(problem):
-        return _plan_batch(problem, out, force, quiet, as_json, no_plots, fmt, overrides, allowed)
+    with progress(quiet) as prog:  # (whether PROBLEM is many: a large file is parsed for it, seconds)
+        prog.phase("reading the problem")
+        batch = problem is not None and example is None and _is_batch(problem)
+    if batch:
+        return _plan_batch(problem, out, force, quiet, as_json, no_plots, fmt, overrides, allowed, degrees)
     try:
         with progress(quiet) as prog:
             with prog.scope("reading the problem", unit="file"):  # (a human body imports yeadon: seconds)
                 prob = load_problem_arg(problem, example, overrides, allowed)
+            prog.phase("planning")
             fmts = check_outputs(out, force, fmt, "plan-out", [problem])
             with OutputFolder(out, force) as folder:
                 # the check the family asks for on the command line (verify_method: the acrobot's DOP853
                 # re-simulation; a body's Pinocchio check), the same in a folder of problems; the
                 # compilation, the plan, its check and the effort summary within the time limit
                 result, doc = solve_in_budget(prob, verify=verify_method(prob.system), progress=prog)
+                prog.phase("writing the results")
                 with folder.write() as tmp:
                     write_json(tmp / "solution.json", doc)
                     if result.success:
-                        _write_plan_files(result, tmp, fmts, no_plots)
+                        _write_plan_files(result, tmp, fmts, no_plots, degrees)
                         if do_animate:
                             write_animation(tmp)
+                    prog.phase(f"writing {out}")
     except InvalidInputError as e:
         fail(str(e))
     code = EXIT_BY_STATUS[result.status]
-    d = result.to_dict()
+    d = doc  # (result.to_dict() and more: the summary below reads its blocks, not a second copy)
     summary = {"command": "plan", "status": result.status.value, "message": result.message, "out": str(out),
                "segments": len(result.segments), **d["diagnostics"], "infeasible": d["infeasible"],
                "objective": result.objective, "torque_limits": result.torque_limits,
@@ -153,12 +165,13 @@ def write_csv(result, path: Path, per_segment: int = 200, *, effort: bool = True
             st.update(min(CSV_BLOCK, len(data) - i))
 
 
-def _write_plan_files(result, folder: Path, fmts, no_plots: bool) -> None:
-    """trajectory.csv and, unless ``no_plots``, the figures (effort.png when the plan gives torques)."""
+def _write_plan_files(result, folder: Path, fmts, no_plots: bool, degrees: bool = False) -> None:
+    """trajectory.csv and, unless ``no_plots``, the figures (effort.png when the plan gives torques;
+    ``degrees``: their angles in degrees)."""
     write_csv(result, folder / "trajectory.csv")
     if no_plots:
         return
-    save(result.plot(effort=result.has_torques), folder, fmts)
+    save(result.plot(effort=result.has_torques, degrees=degrees), folder, fmts)
 
 
 def _is_batch(path: Path) -> bool:
@@ -241,14 +254,16 @@ def _short_key(key) -> str:
     return r if len(r) <= 60 and r.isprintable() else repr(r)[:57] + "..."
 
 
-def _plan_batch(path, out, force, quiet, as_json, no_plots, fmt, overrides=None, allowed=()):
+def _plan_batch(path, out, force, quiet, as_json, no_plots, fmt, overrides=None, allowed=(), degrees=False):
     import csv
 
     from ...batch import plan_many
     from ...core.budget import budget
 
     try:
-        entries = _batch_entries(path, overrides, allowed)
+        with progress(quiet) as prog:  # (every file parsed and validated)
+            prog.phase("reading the problems")
+            entries = _batch_entries(path, overrides, allowed)
         fmts = check_outputs(out, force, fmt, "results", [path])
         valid = [(n, p) for n, p, _ in entries if p is not None]
         problems = dict(valid)
@@ -258,7 +273,8 @@ def _plan_batch(path, out, force, quiet, as_json, no_plots, fmt, overrides=None,
                 with progress(quiet) as prog:
                     jobs = [{"system": p.robot, **p.plan_kwargs(), "verify": verify_method(p.robot)} for _, p in valid]
                     results = dict(zip([n for n, _ in valid], plan_many(jobs, progress=prog)))
-            with progress(quiet), folder.write() as tmp:
+            with progress(quiet) as prog, folder.write() as tmp:
+                prog.phase("writing the results")
                 rows = []
                 for name, _, message in entries:
                     if name not in results:
@@ -271,7 +287,7 @@ def _plan_batch(path, out, force, quiet, as_json, no_plots, fmt, overrides=None,
                     sub.mkdir()
                     write_json(sub / "solution.json", doc)
                     if r.success:
-                        _write_plan_files(r, sub, fmts, no_plots)
+                        _write_plan_files(r, sub, fmts, no_plots, degrees)
                     d = r.to_dict()["diagnostics"]
                     rows.append({"name": name, "status": str(r.status), "message": r.message.splitlines()[0],
                                  "segments": len(r.segments), "evaluations": d["evaluations"],

@@ -22,8 +22,10 @@ from .plan import write_csv
 @click.option("--no-plots", is_flag=True, help="Skip the figures.")
 @click.option("--format", "fmt", default="png", show_default=True, help="Figure formats: png, pdf or png,pdf.")
 @click.option("--animate", "do_animate", is_flag=True, help="Also write motion.gif and strobe.png.")
+@click.option("--degrees", is_flag=True, help="Figures with angles in degrees (states.png in [deg], input.png's joint "
+              "rates in [deg/s]); default radians. solution.json and trajectory.csv stay in radians.")
 @allow_outside_option
-def simulate_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do_animate, allow_outside):
+def simulate_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do_animate, degrees, allow_outside):
     """The motion that the joint motions of PROBLEM's [simulate] table produce.
 
     \b
@@ -69,7 +71,7 @@ def simulate_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do
                     write_csv(result, tmp / "trajectory.csv", effort=False)
                     angles = write_angles(result, tmp / "angles.csv")
                     if not no_plots:
-                        save(result.plot(), tmp, fmts)
+                        save(result.plot(degrees=degrees), tmp, fmts)
                     if do_animate:
                         write_animation(tmp)
     except InvalidInputError as e:
