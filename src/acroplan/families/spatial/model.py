@@ -282,6 +282,14 @@ def _symbolic_map(parents):
     return out
 
 
+def _matmul(A, B):
+    """``A * B`` of sympy matrices, entry by entry over the nonzero products. sympy's own product
+    asks, for every entry, whether zero times it is zero (to catch infinities): an assumptions
+    query over the whole expression, which for a 5-link body's inertia terms took minutes."""
+    return sp.Matrix(A.rows, B.cols, lambda i, j: sp.Add(*[A[i, k] * B[k, j] for k in range(A.cols)
+                                                            if A[i, k] != 0 and B[k, j] != 0]))
+
+
 def _fields(parents):
     """The fields (f, G) of (2) in the compiled symbols."""
     x, p, I, A, _ = _symbolic_map(parents)  # noqa: E741
@@ -301,10 +309,10 @@ def _fields(parents):
     Xi = sp.Matrix([[-qx, -qy, -qz], [qw, -qz, qy], [qz, qw, -qx], [-qy, qx, qw]]) / 2
     nx, m = len(x), len(A)
     f = sp.zeros(nx, 1)
-    f[:4, 0] = Xi * (adj * (Rq.T * Lv) * inv_det)
+    f[:4, 0] = _matmul(Xi, _matmul(adj, _matmul(Rq.T, Lv)) * inv_det)
     Gm = sp.zeros(nx, m)
     for j, Aj in enumerate(A):
-        Gm[:4, j] = Xi * (adj * Aj * (-inv_det))
+        Gm[:4, j] = _matmul(Xi, _matmul(adj, Aj) * (-inv_det))
         Gm[4 + j, j] = 1
     return f, Gm
 
