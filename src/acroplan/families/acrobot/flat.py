@@ -35,8 +35,6 @@ import math
 
 import numpy as np
 from numpy.polynomial import Polynomial as _Poly
-from scipy.optimize import brentq
-
 
 from ...core.conditions import hermite_inverse
 from ...core import backend
@@ -132,6 +130,8 @@ def flat_pieces(robot, x0, x1, T: float, *, ends: dict | None = None, limits: Li
                     f"{vals.max() + target:.6g}], not {target:.6g}")
             continue
         for k in idx[np.argsort(np.abs(grid[idx] - mid))]:
+            from scipy.optimize import brentq  # here: scipy.optimize takes 0.4 s to import
+
             p = brentq(f, grid[k], grid[k + 1], xtol=1e-15, rtol=1e-15, maxiter=200)
             A, C = build(p)
             pieces = [(D, A.deriv().coef), (T - 2 * D, np.zeros(1)), (D, C.deriv().coef)]
