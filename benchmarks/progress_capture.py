@@ -112,6 +112,8 @@ def notebook(code: str, out: Path, timeout: int = 1800) -> dict:
             stamps.append((now, msg["msg_type"]))
             if msg["msg_type"] == "stream":
                 shown.append((now, msg["content"].get("text", "").strip()[-90:]))
+            elif msg["msg_type"] in ("execute_result", "display_data"):  # (the cell's result: a silence's end)
+                shown.append((now, f"({msg['msg_type']})"))
             return super().output(outs, msg, display_id, cell_index)
 
         def handle_comm_msg(self, outs, msg, cell_index):
