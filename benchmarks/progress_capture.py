@@ -32,7 +32,7 @@ import tempfile
 import time
 from pathlib import Path
 
-_STAGE = re.compile(r"([A-Za-z][A-Za-z :'.-]{2,40}?): +(?:\d+%\||\d+:\d\d)")  # "writing trajectory.csv" too
+_STAGE = re.compile(r"([A-Za-z][A-Za-z :'.-]{2,40}?): +(?:\d+%\||\d+:\d\d|\d+\.\d s)")  # "writing trajectory.csv" too
 
 
 def _gaps(times: list[float]) -> float:
@@ -103,15 +103,25 @@ def notebook(code: str, out: Path, timeout: int = 1800) -> dict:
     out.mkdir(parents=True, exist_ok=True)
     nb = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell(code)])
     stamps: list[tuple[float, str]] = []
+    shown: list[tuple[float, str]] = []  # (time, what the message drew: a widget's text, a stream's)
     t0 = time.perf_counter()
 
     class Timed(NotebookClient):
         def output(self, outs, msg, display_id, cell_index):
-            stamps.append((time.perf_counter() - t0, msg["msg_type"]))
+            now = time.perf_counter() - t0
+            stamps.append((now, msg["msg_type"]))
+            if msg["msg_type"] == "stream":
+                shown.append((now, msg["content"].get("text", "").strip()[-90:]))
+            elif msg["msg_type"] in ("execute_result", "display_data"):  # (the cell's result: a silence's end)
+                shown.append((now, f"({msg['msg_type']})"))
             return super().output(outs, msg, display_id, cell_index)
 
         def handle_comm_msg(self, outs, msg, cell_index):
-            stamps.append((time.perf_counter() - t0, "comm_msg"))
+            now = time.perf_counter() - t0
+            stamps.append((now, "comm_msg"))
+            state = msg["content"].get("data", {}).get("state", {})
+            text = " ".join(str(state[k]) for k in ("description", "value") if k in state)
+            shown.append((now, text[:90]))
             return super().handle_comm_msg(outs, msg, cell_index)
 
     client = Timed(nb, timeout=timeout, kernel_name="python3", record_timing=True)
@@ -124,7 +134,11 @@ def notebook(code: str, out: Path, timeout: int = 1800) -> dict:
     summary = {"code": code, "wall_s": round(wall, 2), "messages": len(updates), "widget_updates": widgets,
                "stages": sorted(set(_STAGE.findall(text))) or None,
                "first_update_s": round(updates[0], 2) if updates else None,
-               "longest_gap_s": round(_gaps(updates), 2), "last_update_s": round(updates[-1], 2) if updates else None}
+               "longest_gap_s": round(_gaps(updates), 2), "last_update_s": round(updates[-1], 2) if updates else None,
+               # from the first update to the last, the gaps of over a second and what was drawn before each
+               "silences": [{"at_s": round(a, 2), "for_s": round(b - a, 2), "after": text}
+                            for (a, text), (b, _) in zip(shown, shown[1:]) if b - a > 1.0]}
+    (out / "shown.json").write_text(json.dumps([[round(a, 3), text] for a, text in shown], indent=0) + "\n")
     (out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
     return summary
 

@@ -171,3 +171,8 @@ def test_in_a_notebook_animate_returns_an_inline_player(three_results, monkeypat
     html = a._repr_html_()
     assert len(re.findall(r"data:image/png;base64,", html)) == 1 + 12  # the first frame shown, then all 12
     assert 'type="range"' in html and "play" in html and "pause" in html
+    # the frames' encoding (seconds for hundreds, while the notebook shows the result) is a stage
+    prog = P.Progress(enabled=False, record=True)
+    with prog.active():
+        a._repr_html_()
+    assert ("player frames", 12, 12) in prog.events

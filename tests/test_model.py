@@ -109,3 +109,37 @@ def test_physical_validation_names_the_field():
 def test_robot_is_immutable(pike_robot):
     with pytest.raises(Exception):
         pike_robot.P0 = 3.0
+
+
+def test_the_acrobots_direct_fields_are_those_of_its_sympy_fields():
+    """Issue #24 (start-up): the acrobot's integrator fields written as heyoka expressions and its
+    checking right-hand side written out are what heyoka's from_sympy and sympy.lambdify make of its
+    sympy fields: equal expressions (the same compiled code and cache entry), the same bits."""
+    import heyoka as hy
+
+    from acroplan.core.heyoka_import import from_sympy
+    from acroplan.core.system import ControlAffineSystem
+
+    robot = acroplan.Acrobot(M1=2.0, A1=-0.5, M2=0.5, A2=-0.25, P0=1.0)
+    hx = hy.make_vars(*robot.state_names)
+    hp = tuple(hy.par[i] for i in range(len(robot.param_names)))
+    fe, Ge = robot.taylor_fields(tuple(hx), hp)
+    x, p = robot.symbols()
+    f, G = robot.symbolic()
+    s_dict = {**dict(zip(x, hx)), **dict(zip(p, hp))}
+    for r in range(2):
+        assert (fe[r] is None) == (f[r] == 0) and (fe[r] is None or fe[r] == from_sympy(f[r], s_dict))
+        assert (Ge[r][0] is None) == (G[r, 0] == 0)
+        assert Ge[r][0] is None or Ge[r][0] == from_sympy(G[r, 0], s_dict)
+    u = (sp.Symbol("_u0", real=True),)
+    ref = sp.lambdify((x, u, p), list(f + G * sp.Matrix(u)), modules="numpy")
+    assert ControlAffineSystem._numeric(robot) is not robot._numeric()  # (the written-out one)
+    rng = np.random.default_rng(24)
+    for _ in range(200):
+        xs, us = tuple(rng.normal(0, 4, 2).tolist()), tuple(rng.normal(0, 10, 1).tolist())
+        ps = tuple(rng.uniform(0.1, 3, 5).tolist())
+        assert [float(v) for v in robot._numeric()(xs, us, ps)] == [float(v) for v in ref(xs, us, ps)]
+    X, U = rng.normal(0, 4, (2, 50)), rng.normal(0, 10, (1, 50))
+    for a, b in zip(robot._numeric()(tuple(X), tuple(U), robot._param_tuple),
+                    ref(tuple(X), tuple(U), robot._param_tuple)):
+        assert np.array_equal(a, b)

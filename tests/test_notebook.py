@@ -131,3 +131,45 @@ def test_a_record_names_the_family_class_before_a_users_class_of_the_same_name()
     system = acroplan.Unicycle()
     again = acroplan.ControlAffineSystem.from_dict(system.to_dict())
     assert type(again) is type(system) and again == system and type(again) is not Unicycle
+
+
+def test_a_long_plan_in_a_notebook_shows_its_stages_and_keeps_them_moving(tmp_path):
+    """Issue #24: in a notebook, ``plan()`` of a multi-second job (a cold ``three-rods-turn``: its
+    integrators compiled into an empty cache, seconds in one step) shows its stages as ``tqdm.auto``
+    widgets, and a shown line's text changes while one long step runs (a widget is redrawn only
+    when its text changes: whole seconds of elapsed time left it unchanged for up to 1.25 s).
+    Counted, not timed: the widget texts the kernel sent, against the seconds the plan took."""
+    nbclient = pytest.importorskip("nbclient")
+    nbformat = pytest.importorskip("nbformat")
+    pytest.importorskip("ipykernel")
+    pytest.importorskip("ipywidgets")
+    code = (f"import os, time\nos.environ['ACROPLAN_HEYOKA_CACHE'] = {str(tmp_path / 'cache')!r}\n"
+            "import acroplan\n"
+            "p = acroplan.examples.load('three-rods-turn')\n"
+            "t0 = time.monotonic()\n"
+            "r = acroplan.plan(p.system, **p.plan_kwargs())\n"
+            "print(r.status, time.monotonic() - t0)\n")
+    texts: list[str] = []
+
+    class Client(nbclient.NotebookClient):
+        def handle_comm_msg(self, outs, msg, cell_index):
+            state = msg["content"].get("data", {}).get("state", {})
+            if isinstance(state.get("value"), str):
+                texts.append(state["value"])
+            return super().handle_comm_msg(outs, msg, cell_index)
+
+    nb = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell(code)])
+    Client(nb, timeout=600, kernel_name="python3").execute(cwd=str(tmp_path))
+    outs = nb.cells[0].outputs
+    printed = [o["text"] for o in outs if o.get("output_type") == "stream" and o.get("name") == "stdout"]
+    status, seconds = printed[-1].split()
+    assert status == "success" and float(seconds) >= 1.0  # (a cold compilation: seconds everywhere)
+    widgets = [o for o in outs if o.get("output_type") == "display_data"
+               and "application/vnd.jupyter.widget-view+json" in o.get("data", {})]
+    assert widgets, "no progress widget in the cell's outputs"
+    assert any(t.startswith("compiling") for t in texts), sorted(set(texts))
+    # the compilation's line moved while it ran: its texts differ (elapsed tenths, then its end)
+    compiling = [t for t in texts if "compiling" in t or "integrator" in t]
+    assert len(set(compiling)) >= 3, compiling
+    # and the cell's lines changed at least once a second on average over the plan
+    assert len(set(texts)) >= float(seconds), (len(set(texts)), seconds)

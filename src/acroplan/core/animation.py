@@ -283,7 +283,9 @@ class Animation:
 
 def player_html(gif: bytes, fps: int, *, max_frames: int = 600) -> str:
     """A self-contained HTML player of a GIF's frames (each as an embedded PNG): play, pause, a
-    frame slider, the frame's time. At most ``max_frames`` frames (every k-th beyond that)."""
+    frame slider, the frame's time. At most ``max_frames`` frames (every k-th beyond that). Under
+    the progress stage "player frames" (hundreds of frames: seconds, while a notebook shows the
+    result)."""
     import base64
     import io
     import json
@@ -291,14 +293,19 @@ def player_html(gif: bytes, fps: int, *, max_frames: int = 600) -> str:
 
     from PIL import Image, ImageSequence
 
-    with Image.open(io.BytesIO(gif)) as im:
-        frames = [f.convert("P") if f.mode == "P" else f.convert("RGB") for f in ImageSequence.Iterator(im)]
-    step = max(1, -(-len(frames) // max_frames))
     srcs = []
-    for f in frames[::step]:
-        buf = io.BytesIO()
-        f.save(buf, format="PNG", optimize=False)
-        srcs.append("data:image/png;base64," + base64.b64encode(buf.getvalue()).decode("ascii"))
+    with Image.open(io.BytesIO(gif)) as im:
+        n = getattr(im, "n_frames", 1)
+        step = max(1, -(-n // max_frames))
+        with stage("player frames", -(-n // step), unit="frame") as st:
+            for k, frame in enumerate(ImageSequence.Iterator(im)):
+                if k % step:
+                    continue
+                f = frame.convert("P") if frame.mode == "P" else frame.convert("RGB")
+                buf = io.BytesIO()
+                f.save(buf, format="PNG", optimize=False)
+                srcs.append("data:image/png;base64," + base64.b64encode(buf.getvalue()).decode("ascii"))
+                st.update()
     uid = "acroplan" + uuid.uuid4().hex[:10]
     delay = 1000.0 * step / max(fps, 1)
     return f"""<div id="{uid}" style="font-family:sans-serif;font-size:13px">

@@ -40,13 +40,15 @@ import threading
 from pathlib import Path
 from typing import Hashable, NamedTuple
 
-import heyoka as hy
 import numpy as np
 
 from . import budget
 from . import progress as progress_mod
 from .basis import InputBasis
+from .heyoka_import import from_sympy, heyoka as _heyoka
 from .system import ControlAffineSystem
+
+hy = _heyoka()  # (the command line's: without sympy, acroplan.core.heyoka_import)
 
 __all__ = ["IntegrationError", "heyoka_fields", "endpoint", "taylor_endpoint", "reference_endpoint", "sample",
            "taylor_sample", "compile_for", "compile_once", "compiled_before", "compiled_count", "compile_estimate", "CompileEstimate"]
@@ -93,24 +95,38 @@ def heyoka_fields(system: ControlAffineSystem, basis: InputBasis):
     coeffs : list of list
         The coefficients' parameters, shape (m, basis.n).
     """
-    x_sym, p_sym = system.symbols()
-    f, G = system.symbolic()
-    n_x, m, n_p, n = len(x_sym), G.shape[1], len(p_sym), basis.n
+    n_x, m, n_p, n = system.n_states, system.n_inputs, len(system.param_names), basis.n
     hx = hy.make_vars(*system.state_names)
     if n_x == 1:
         hx = [hx]
-    s_dict = {sym: var for sym, var in zip(x_sym, hx)}
-    s_dict.update({sym: hy.par[i] for i, sym in enumerate(p_sym)})
+    fe, Ge = _field_expressions(system, hx)
     coeffs = [[hy.par[n_p + 1 + j * n + i] for i in range(n)] for j in range(m)]
     u = [basis.expression(hy.time, coeffs[j]) for j in range(m)]
     rhs = []
     for r in range(n_x):
-        e = hy.from_sympy(f[r], s_dict) if f[r] != 0 else 0.0 * hx[0]
+        e = fe[r] if fe[r] is not None else 0.0 * hx[0]
         for j in range(m):
-            if G[r, j] != 0:
-                e = e + hy.from_sympy(G[r, j], s_dict) * u[j]
+            if Ge[r][j] is not None:
+                e = e + Ge[r][j] * u[j]
         rhs.append(hy.par[n_p] * e)
     return list(zip(hx, rhs)), coeffs
+
+
+def _field_expressions(system: ControlAffineSystem, hx):
+    """``(f, G)`` as heyoka expressions (``None`` where zero): the system's own
+    (:meth:`~acroplan.core.system.ControlAffineSystem.taylor_fields`), else its sympy fields converted."""
+    params = [hy.par[i] for i in range(len(system.param_names))]
+    direct = system.taylor_fields(tuple(hx), tuple(params))
+    if direct is not None:
+        return direct
+    x_sym, p_sym = system.symbols()
+    f, G = system.symbolic()
+    s_dict = {sym: var for sym, var in zip(x_sym, hx)}
+    s_dict.update(zip(p_sym, params))
+    fe = [from_sympy(f[r], s_dict) if f[r] != 0 else None for r in range(G.shape[0])]
+    Ge = [[from_sympy(G[r, j], s_dict) if G[r, j] != 0 else None for j in range(G.shape[1])]
+          for r in range(G.shape[0])]
+    return fe, Ge
 
 
 def _build(system: ControlAffineSystem, basis_cls: type[InputBasis], n: int):

@@ -17,7 +17,6 @@ import functools
 import math
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 
 from .basis import InputBasis
 from .errors import InvalidInputError
@@ -64,6 +63,8 @@ class Conditions:
         self.limits = limits if limits is not None and limits.active else None
         self.splines = None
         if kind == "spline":
+            from scipy.interpolate import CubicSpline  # here: scipy.interpolate imports scipy.optimize
+
             self.splines = [CubicSpline(times, waypoints[:, system.state_names.index(system.rate_inputs[name])],
                                         bc_type="clamped") for name in system.input_names]
 

@@ -407,6 +407,9 @@ def system_classes() -> dict[str, type]:
 def reader_for(table: str, data: Mapping) -> Family | None:
     """The family that reads the system table ``table`` (``"robot"``, ``"body"``) holding ``data``."""
     for fam in families():
+        # a family that names its tables is not asked about another's (asking imports its reader)
+        if fam.tables and table not in fam.tables:
+            continue
         if fam.read is not None and fam.reads is not None and fam.reads(table, data):
             return fam
     return None

@@ -29,7 +29,6 @@ import math
 from typing import Mapping
 
 import numpy as np
-from scipy.optimize import minimize
 
 from . import backend
 from .basis import InputBasis
@@ -350,6 +349,8 @@ def solve_with_limits(system, basis: InputBasis, x0, x1, T: float, limits: Limit
              "jac": lambda z: system.tangent_jacobian(ev(z)[0], ev(z)[1]) @ Z / scale}]
     if AZ.shape[0]:
         cons.append({"type": "ineq", "fun": lambda z: bz - AZ @ z, "jac": lambda z: -AZ})
+    from scipy.optimize import minimize  # here: scipy.optimize takes 0.4 s to import
+
     try:
         res = minimize(lambda z: (z @ Q @ z + 2 * q @ z) / unit, z0, jac=lambda z: 2 * (Q @ z + q) / unit,
                        constraints=cons, method="SLSQP", options={"maxiter": max_evaluations, "ftol": 1e-14})

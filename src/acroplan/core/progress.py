@@ -303,7 +303,7 @@ class Progress:
         size = shutil.get_terminal_size((100, 24))
         return tqdm(total=_bar_total(st), initial=st.done, desc=st.name, unit=st.unit or "it", leave=st.leave, file=self.file,
                     dynamic_ncols=sized, ncols=None if sized else size.columns, nrows=None if sized else size.lines,
-                    mininterval=0, bar_format=None if _bar_total(st) else "{desc}: {elapsed}{postfix}")
+                    mininterval=0, bar_format=_bar_format(st, in_notebook()))
 
     def _close(self, st: Stage) -> None:
         with self._lock:
@@ -355,6 +355,18 @@ class Progress:
                     if self._phase is None:
                         self._phase = Stage(self, self._phase_name, None, "", leave=False)
                     self._show(self._phase, force=True)
+
+
+def _bar_format(st: Stage, notebook: bool) -> str | None:
+    """tqdm's format of a stage's line: its count or, for a stage of one step, its elapsed time. In a
+    notebook the elapsed time is shown to a tenth of a second: a widget is redrawn only when its text
+    changes, and whole seconds change once a second, which the refreshing thread's period makes up to
+    ``1 + REFRESH`` seconds apart (a line that looks frozen); tenths change at every refresh."""
+    if not notebook:
+        return None if _bar_total(st) else "{desc}: {elapsed}{postfix}"
+    if _bar_total(st):
+        return "{l_bar}{bar}| {n_fmt}/{total_fmt} [{elapsed_s:.1f} s<{remaining}, {rate_fmt}{postfix}]"
+    return "{desc}: {elapsed_s:.1f} s{postfix}"
 
 
 def _bar_total(st: Stage):

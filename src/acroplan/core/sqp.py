@@ -31,7 +31,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.optimize import nnls
 
 from . import backend
 from .linalg import least_norm_step
@@ -71,6 +70,8 @@ def kkt_multipliers(g, A, C=None):
         return lam, (math.sqrt(float(res @ res)) / gn if gn > 0 else 0.0)
     Q, _ = np.linalg.qr(A.T, mode="complete")
     P = Q[:, A.shape[0]:]  # orthonormal basis of the null space of A: eliminates the free multipliers
+    from scipy.optimize import nnls  # here: scipy.optimize takes 0.4 s to import
+
     mu, _ = nnls(P.T @ C.T, -P.T @ g)
     lam = -np.linalg.lstsq(A.T, g + C.T @ mu, rcond=None)[0]
     res = g + A.T @ lam + C.T @ mu
@@ -157,6 +158,8 @@ def qp_step(W, g, h, A, R, r):
     mu = np.zeros(R.shape[0])
     act = rows[E[rows] @ w >= f[rows] - 1e-9 * scale] if rows.size else rows
     if act.size:
+        from scipy.optimize import nnls
+
         mu[act] = nnls(E[act].T, -w)[0]
     lam = -np.linalg.solve(RA, Y.T @ (W @ p + g + R.T @ mu))
     return p, lam, mu

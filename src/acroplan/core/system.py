@@ -41,9 +41,21 @@ import threading
 from typing import Any, Callable, ClassVar, Hashable
 
 import numpy as np
-import sympy as sp
 
 from .family import prepare, registered_class, system_classes
+
+
+class _Sympy:
+    """``sympy``, imported on first use (0.3 s): a family whose fields need no sympy at start-up
+    (:meth:`ControlAffineSystem.taylor_fields`, its own checking right-hand side) never imports it."""
+
+    def __getattr__(self, name):
+        import sympy
+
+        return getattr(sympy, name)
+
+
+sp = _Sympy()
 
 __all__ = ["ControlAffineSystem", "Infeasibility", "register_torque_model", "TORQUE_MODELS", "torque_model_of",
            "joint_inputs"]
@@ -162,6 +174,21 @@ class ControlAffineSystem(abc.ABC):
         f : sympy.Matrix, shape (n, 1)
         G : sympy.Matrix, shape (n, m)
         """
+
+    @classmethod
+    def taylor_fields(cls, x, p):
+        """The fields of :meth:`symbolic_fields` written directly as heyoka expressions of the
+        state variables ``x`` and the parameters ``p`` (``heyoka.par[i]``), or ``None`` (the default:
+        the compiled integrator converts the sympy fields). A family with small fields may give them
+        to spare sympy's import at start-up; they must be the very expressions ``heyoka.from_sympy``
+        makes of the sympy fields (the same compiled code, the same on-disk cache entry).
+
+        Returns
+        -------
+        (f, G) : list, list of lists
+            ``f[r]`` and ``G[r][j]``: a heyoka expression, or ``None`` where the field is zero.
+        """
+        return None
 
     def symbols(self) -> tuple[tuple[sp.Symbol, ...], tuple[sp.Symbol, ...]]:
         """The state and parameter symbols used by :meth:`symbolic`."""

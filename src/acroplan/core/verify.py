@@ -13,8 +13,6 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
-from scipy.integrate import solve_ivp
-
 
 from . import budget
 from .progress import note
@@ -84,6 +82,8 @@ def _dop853(system, x0, T: float, u_local, t_eval, rtol: float, atol: float):
     # max_step: an input that starts flat (u ~ 0, u' ~ 0) tempts DOP853 into a first step across the
     # whole motion whose error estimate is blind to it (measured: 2.6e-9 endpoint errors at
     # rtol 3e-14); 16 steps per segment at least keep its error control honest.
+    from scipy.integrate import solve_ivp  # here: scipy.integrate takes 0.5 s to import
+
     return solve_ivp(fun, (0.0, T), np.asarray(x0, dtype=float), method="DOP853", rtol=rtol, atol=atol,
                      max_step=T / 16, t_eval=t_eval if t_eval is not None else [T])
 

@@ -60,14 +60,13 @@ import dataclasses
 import functools
 
 import numpy as np
-import sympy as sp
 
 from ...core.basis import basis_tables
 from ...core.conditions import hermite_inverse
 from ...core.errors import InvalidInputError
 from ...core.optimal import register_starts
 from ...core.result import JointEffort
-from ...core.system import register_torque_model
+from ...core.system import register_torque_model, sp
 from .model import Acrobot
 
 __all__ = ["TorqueDerivation", "torque_expression", "torque_coefficients", "joint_torque", "kinetic_energy",

@@ -35,8 +35,6 @@ import math
 
 import numpy as np
 from numpy.polynomial import Polynomial as _Poly
-from scipy.optimize import brentq
-
 
 from ...core.conditions import hermite_inverse
 from ...core import backend
@@ -50,8 +48,14 @@ from .ratelimited import rate_limited_attempt
 __all__ = ["flat_pieces", "flat_guess", "FlatGuess", "FlatOutput", "AcrobotAuto", "TRANSITIONS", "AUTO_SIZES",
            "AUTO_BUDGET"]
 
-_X, _W = np.polynomial.legendre.leggauss(256)
-_S, _WS = (_X + 1) / 2, _W / 2
+
+@functools.cache
+def _fine_rule() -> tuple[np.ndarray, np.ndarray]:
+    """The 256-node Gauss-Legendre rule on [0, 1], ``(nodes, weights)``: made on first use (an
+    eigenvalue problem of order 256: milliseconds, but up to a second on a busy machine, when the
+    linear algebra's threads wait for a core), not when the family's strategies are imported."""
+    x, w = np.polynomial.legendre.leggauss(256)
+    return (x + 1) / 2, w / 2
 
 
 # ----------------------------------------------------------------------------------------- pieces
@@ -69,7 +73,8 @@ def _quintic(q0, v0, a0, q1, v1, a1, D):
 
 
 def _gl_integral(robot, q: _Poly, D: float) -> float:
-    return D * float(np.sum(_WS / robot.h(q(D * _S))))
+    S, WS = _fine_rule()
+    return D * float(np.sum(WS / robot.h(q(D * S))))
 
 
 def flat_pieces(robot, x0, x1, T: float, *, ends: dict | None = None, limits: Limits | None = None):
@@ -120,18 +125,21 @@ def flat_pieces(robot, x0, x1, T: float, *, ends: dict | None = None, limits: Li
         # the quintics are affine in p: evaluate the whole grid at once
         A0, C0 = build(0.0)
         A1, C1 = build(1.0)
-        tq = D * _S
+        S, WS = _fine_rule()
+        tq = D * S
         a0, a1 = A0(tq), A1(tq) - A0(tq)
         c0, c1 = C0(tq), C1(tq) - C0(tq)
         gA = 1.0 / robot.h(a0[None, :] + grid[:, None] * a1[None, :])
         gC = 1.0 / robot.h(c0[None, :] + grid[:, None] * c1[None, :])
-        vals = D * (gA @ _WS + gC @ _WS) + (T - 2 * D) / robot.h(grid) - target
+        vals = D * (gA @ WS + gC @ WS) + (T - 2 * D) / robot.h(grid) - target
         idx = np.nonzero(np.sign(vals[:-1]) * np.sign(vals[1:]) <= 0)[0]
         if idx.size == 0:
             last = (f"with transitions of {rel:g} T the dwell reaches int dt/h in [{vals.min() + target:.6g}, "
                     f"{vals.max() + target:.6g}], not {target:.6g}")
             continue
         for k in idx[np.argsort(np.abs(grid[idx] - mid))]:
+            from scipy.optimize import brentq  # here: scipy.optimize takes 0.4 s to import
+
             p = brentq(f, grid[k], grid[k + 1], xtol=1e-15, rtol=1e-15, maxiter=200)
             A, C = build(p)
             pieces = [(D, A.deriv().coef), (T - 2 * D, np.zeros(1)), (D, C.deriv().coef)]

@@ -29,10 +29,9 @@ import dataclasses
 import math
 
 import numpy as np
-import sympy as sp
 
 from ...core.errors import InvalidInputError, finite_number
-from ...core.system import ControlAffineSystem, Infeasibility
+from ...core.system import ControlAffineSystem, Infeasibility, sp
 from ...core.validate import MAX_MAGNITUDE
 from .reach import reachable_set
 
@@ -108,6 +107,16 @@ class PhysicalParameters:
             "A2": -mu * L * l,
             "P0": self.angular_momentum,
         }
+
+
+def _checking_rhs(x, u, p):
+    """The right-hand side :math:`f + G u` of the checking integrator: the code ``sympy.lambdify``
+    writes for :meth:`Acrobot.symbolic_fields` (``modules="numpy"``), written out so that the check
+    needs no sympy (``tests/test_system.py`` checks the values are the same, bit for bit)."""
+    theta, phi = x
+    (u0,) = u
+    M1, A1, M2, A2, P0 = p
+    return [P0/(A1*np.cos(phi) + M1) + u0*(-A2*np.cos(phi) - M2)/(A1*np.cos(phi) + M1), u0]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -198,6 +207,29 @@ class Acrobot(ControlAffineSystem):
         f = sp.Matrix([P0 / h, 0])
         G = sp.Matrix([-k / h, 1])
         return f, G
+
+    @classmethod
+    def taylor_fields(cls, x, p):
+        """:meth:`symbolic_fields` as the heyoka expressions ``heyoka.from_sympy`` makes of them (sympy's
+        terms in sympy's order; ``tests/test_system.py`` checks they are equal), so that a plan whose
+        integrator heyoka has on disk never imports sympy."""
+        if cls.symbolic_fields.__func__ is not Acrobot.symbolic_fields.__func__:
+            return None  # (a subclass with fields of its own)
+        import heyoka as hy
+
+        theta, phi = x
+        M1, A1, M2, A2, P0 = p
+        minus = hy.expression(-1.0)
+        c = hy.cos(phi)
+        inv_h = hy.sum([M1, hy.prod([A1, c])]) ** minus
+        f = [hy.prod([P0, inv_h]), None]
+        G = [[hy.prod([inv_h, hy.sum([hy.prod([minus, M2]), hy.prod([minus, A2, c])])])], [hy.expression(1.0)]]
+        return f, G
+
+    def _numeric(self):
+        if type(self).symbolic_fields.__func__ is not Acrobot.symbolic_fields.__func__:
+            return super()._numeric()
+        return _checking_rhs
 
     # ------------------------------------------------------------------ closed forms
     def h(self, phi):

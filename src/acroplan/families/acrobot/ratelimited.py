@@ -80,8 +80,6 @@ import functools
 import math
 
 import numpy as np
-from scipy.optimize import brentq
-
 
 from ...core import backend
 from ...core.limits import COMPLIANCE_TOL, Limits
@@ -371,6 +369,8 @@ def rate_limited_pieces(robot, x0, x1, T: float, *, limits: Limits, ends: dict |
             elif vals[k + 1] == 0.0:
                 p = float(grid[k + 1])
             else:
+                from scipy.optimize import brentq  # here: scipy.optimize takes 0.4 s to import
+
                 p = brentq(f, grid[k], grid[k + 1], xtol=1e-15, rtol=1e-15, maxiter=200)
             pieces = fam.pieces(rung, p)
             why = fam.check(pieces)

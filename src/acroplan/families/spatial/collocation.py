@@ -110,6 +110,8 @@ def _build(body, light=False):
     the 3 of :math:`y_k`."""
     import heyoka as hy
 
+    from ...core.heyoka_import import from_sympy
+
     x, p = body.symbols()
     I, A = body.symbolic_momentum_map()  # noqa: E741
     m = len(A)
@@ -117,8 +119,8 @@ def _build(body, light=False):
     uv = list(hy.make_vars(*[f"u{j}" for j in range(m)])) if m > 1 else [hy.make_vars("u0")]
     sub = {sym: v for sym, v in zip(x[4:], sv)}
     sub.update({sym: hy.par[i] for i, sym in enumerate(p)})
-    Ie = [hy.from_sympy(I[i, j], sub) for i, j in _SYM]
-    Ae = [[hy.from_sympy(A[j][i], sub) for i in range(3)] for j in range(m)]
+    Ie = [from_sympy(I[i, j], sub) for i, j in _SYM]
+    Ae = [[from_sympy(A[j][i], sub) for i in range(3)] for j in range(m)]
     a = [[Ie[_FULL[i, j]] for j in range(3)] for i in range(3)]
     c00 = a[1][1] * a[2][2] - a[1][2] * a[1][2]
     c01 = a[0][2] * a[1][2] - a[0][1] * a[2][2]

@@ -170,6 +170,10 @@ def run():
     import os
 
     matplotlib_home()  # before matplotlib is imported
+    # heyoka imported without sympy (0.3 s): an acrobot's plan needs none (acroplan.core.heyoka_import)
+    from ...core import heyoka_import
+
+    heyoka_import.WITHOUT_SYMPY = True
 
     # the command line draws to files (library code never chooses a backend); matplotlib itself is
     # imported only by the commands that draw
