@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 
-__all__ = ["Figures", "plot_input", "plot_states", "plot_result", "plot_continuation", "plot_effort"]
+__all__ = ["Figures", "save_figure", "plot_input", "plot_states", "plot_result", "plot_continuation", "plot_effort"]
 
 
 class Figures(dict):
@@ -37,7 +37,7 @@ class Figures(dict):
         for name, fig in self.items():
             for fmt in formats:
                 path = folder / f"{name}.{fmt}"
-                fig.savefig(path, dpi=dpi)
+                save_figure(fig, path, fmt, dpi)
                 paths.append(path)
         return paths
 
@@ -56,6 +56,32 @@ class Figures(dict):
 
     def __repr__(self):
         return f"Figures({', '.join(self)})"
+
+
+def save_figure(fig, path, fmt: str, dpi: int = 120) -> None:
+    """``fig.savefig(path, dpi=dpi)``, the same file, with the constrained layout computed once.
+
+    matplotlib's ``savefig`` of a figure with a layout engine draws it twice: once without output
+    to lay it out (the layout engine, then every artist again), then for the file. A PNG of an Agg
+    figure (the command line's, a notebook's) is laid out here by the engine alone, at the file's
+    dpi, and written with the engine set aside for that one draw: the same pixels, the same bytes
+    (tests/test_figures.py), a fifth less time. Any other figure or format: ``savefig`` itself."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    engine = fig.get_layout_engine()
+    if (fmt != "png" or type(engine).__name__ != "ConstrainedLayoutEngine" or type(fig.canvas) is not FigureCanvasAgg
+            or getattr(fig, "_layout_engine", None) is not engine):
+        fig.savefig(path, dpi=dpi)
+        return
+    from matplotlib import cbook
+
+    with cbook._setattr_cm(fig, dpi=dpi), cbook._setattr_cm(fig.canvas, _is_saving=True):
+        engine.execute(fig)
+    fig._layout_engine = None
+    try:
+        fig.savefig(path, dpi=dpi)
+    finally:
+        fig._layout_engine = engine
 
 
 def pyplot():

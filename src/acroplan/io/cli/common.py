@@ -134,13 +134,14 @@ def save(figs: dict, folder: Path, fmts) -> None:
     figures" (a PNG of a figure of many panels takes a quarter of a second and more)."""
     import matplotlib.pyplot as plt
 
+    from ...core.plotting import save_figure
     from ...core.progress import stage
 
     try:
         with stage("writing figures", len(figs) * len(fmts), unit="file") as st:
             for name, fig in figs.items():
                 for f in fmts:
-                    fig.savefig(folder / f"{name}.{f}", dpi=120)
+                    save_figure(fig, folder / f"{name}.{f}", f, 120)
                     st.update(detail=f"{name}.{f}")
     finally:
         for fig in figs.values():
