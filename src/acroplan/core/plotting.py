@@ -226,13 +226,15 @@ def plot_states(result, samples=None, *, ax=None, degrees: bool = False):
 FIGURES = ("input", "states", "continuation", "effort")
 
 
-def plot_result(result, which=None, *, per_segment: int = 200, effort: bool = False, degrees: bool = False
-                ) -> Figures:
+def plot_result(result, which=None, *, per_segment: int = 200, effort: bool = False, degrees: bool = False,
+                samples=None) -> Figures:
     """The figures of a plan (a :class:`Figures`): by default ``input`` (Fig. 1), ``states`` (Fig. 2)
     and ``continuation`` (only when a segment was planned by path deformation), and ``effort``
     with ``effort=True``; ``which`` (a name or a sequence of names of :data:`FIGURES`) draws those
     alone; ``degrees``: angles in degrees in the states figure (its attitude angles, joints and
-    limits: ``[deg]``) and rates of angles in deg/s in the input figure. Reports the stage ``"figures"``
+    limits: ``[deg]``) and rates of angles in deg/s in the input figure; ``samples``: the plan's
+    ``result.sample(per_segment)`` when the caller has it already (the command line, which wrote
+    trajectory.csv from it), with torques if ``effort``. Reports the stage ``"figures"``
     (:mod:`acroplan.core.progress`)."""
     from .progress import stage
 
@@ -248,7 +250,8 @@ def plot_result(result, which=None, *, per_segment: int = 200, effort: bool = Fa
         result._torque_setup()  # (InvalidInputError when the system gives no torques)
     figs = Figures()
     with stage("figures", len(names) + 1, unit="figure") as st:
-        samples = result.sample(per_segment, effort="effort" in names)
+        if samples is None or ("effort" in names and samples.torques is None):
+            samples = result.sample(per_segment, effort="effort" in names)
         st.update()
         try:
             for name in names:
