@@ -10,8 +10,8 @@ from ...core.errors import EXIT_INVALID, EXIT_SUCCESS, InvalidInputError
 from ..output import OutputFolder, check_entry_name
 from .animate import write_animation
 from .common import (EXIT_BY_STATUS, allow_outside_option, allowed_paths, check_outputs, common, documented, fail,
-                     load_problem_arg, one_line, option_overrides, override_error, progress, report, save,
-                     solve_in_budget, time_limit_of, verify_method, write_json)
+                     import_pyplot, load_problem_arg, one_line, option_overrides, override_error, progress, report,
+                     save, solve_in_budget, time_limit_of, verify_method, write_json)
 
 
 @click.command("plan")
@@ -176,6 +176,7 @@ def _write_plan_files(result, folder: Path, fmts, no_plots: bool, degrees: bool 
         return
     from ...core.plotting import plot_result
 
+    import_pyplot()
     # the figures drawn from trajectory.csv's own samples (the same 200 points a segment): sampled once
     save(plot_result(result, effort=result.has_torques, degrees=degrees, samples=samples), folder, fmts)
 
