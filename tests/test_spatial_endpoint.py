@@ -196,3 +196,19 @@ def test_compiled_maps_are_stored_and_read_back_by_the_next_process(monkeypatch,
     assert built == [1, 1] and stored.stat().st_size > 1000  # built anew and stored again
     monkeypatch.setattr(backend, "_marker", lambda key: None)  # no disk cache
     assert backend._stored(key) is None
+
+
+def test_the_store_of_compiled_maps_is_trimmed_least_recently_used_first(tmp_path):
+    """The store of compiled functions is bounded (``backend.STORE_LIMIT``): past the limit the least
+    recently used files go first (a read marks a file used), other files of the folder stay."""
+    import os
+
+    for k, age in enumerate((300, 200, 100)):
+        f = tmp_path / f"f{k}.cfunc"
+        f.write_bytes(b"x" * 1000)
+        os.utime(f, (f.stat().st_atime - age, f.stat().st_mtime - age))
+    (tmp_path / "marker").write_bytes(b"y" * 5000)
+    backend._trim(tmp_path, limit=2500)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["f1.cfunc", "f2.cfunc", "marker"]
+    backend._trim(tmp_path, limit=1000)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["f2.cfunc", "marker"]

@@ -25,6 +25,8 @@ acroplan's test suite, capped by heyoka at 20 GB). The environment variable
 ``ACROPLAN_HEYOKA_CACHE`` moves it (a folder path) or turns it off (``off``: nothing is written, and
 each new process compiles anew: about a second of processor time per structure and basis size for
 the acrobot, benchmarks/RESULTS.md "Compile time"); it is read when this module is first imported.
+The functions of :func:`compile_once` (a spatial body's momentum maps and torques) are also kept,
+whole, in its folder ``acroplan-compiled`` (:func:`_stored_or_built`, at most :data:`STORE_LIMIT`).
 
 Threads: the compiled integrator is a template; each thread works on its own copy (a copy costs
 about a millisecond, a compilation a second or more), so threads never wait on each other and never
@@ -259,7 +261,12 @@ def _stored_or_built(key, build):
     if path is not None and path.exists():
         try:
             with open(path, "rb") as f:
-                return pickle.load(f)
+                out = pickle.load(f)
+            try:
+                os.utime(path)  # used: the last to go when the store is trimmed
+            except OSError:
+                pass
+            return out
         except Exception:  # noqa: BLE001 - unreadable or stale: built again below
             pass
     out = build()
@@ -270,12 +277,41 @@ def _stored_or_built(key, build):
             with open(tmp, "wb") as f:
                 pickle.dump(out, f, protocol=pickle.HIGHEST_PROTOCOL)
             os.replace(tmp, path)
+            _trim(path.parent)
         except Exception:  # noqa: BLE001 - a read-only or full cache: built again next time
             try:
                 tmp.unlink()
             except OSError:
                 pass
     return out
+
+
+#: The most bytes of compiled functions :func:`_stored_or_built` keeps (0.7-4 MB a function: a
+#: topology's two momentum maps and its torques some 3-7 MB); the least recently used go first.
+STORE_LIMIT = 512 * 2**20
+
+
+def _trim(folder: Path, limit: int | None = None) -> None:
+    """Remove the least recently used stored functions of ``folder`` until they fit in ``limit``
+    bytes (:data:`STORE_LIMIT`): a fuzz of thousands of random topologies, or every edit of
+    acroplan's source, writes new ones."""
+    limit = STORE_LIMIT if limit is None else limit
+    files = []
+    for f in folder.glob("*.cfunc"):
+        try:
+            st = f.stat()
+        except OSError:
+            continue
+        files.append((st.st_mtime, st.st_size, f))
+    total = sum(size for _, size, _ in files)
+    for _, size, f in sorted(files, key=lambda e: e[0]):
+        if total <= limit:
+            break
+        try:
+            f.unlink()
+            total -= size
+        except OSError:
+            pass
 
 
 def compiled_before(key: tuple) -> bool:
