@@ -65,12 +65,14 @@ def save_figure(fig, path, fmt: str, dpi: int = 120) -> None:
     to lay it out (the layout engine, then every artist again), then for the file. A PNG of an Agg
     figure (the command line's, a notebook's) is laid out here by the engine alone, at the file's
     dpi, and written with the engine set aside for that one draw: the same pixels, the same bytes
-    (tests/test_figures.py), a fifth less time. Any other figure or format: ``savefig`` itself."""
+    (tests/test_figures.py), a fifth less time. Any other figure or format, or ``savefig.bbox =
+    "tight"`` in the rc parameters: ``savefig`` itself."""
+    import matplotlib as mpl
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
     engine = fig.get_layout_engine()
     if (fmt != "png" or type(engine).__name__ != "ConstrainedLayoutEngine" or type(fig.canvas) is not FigureCanvasAgg
-            or getattr(fig, "_layout_engine", None) is not engine):
+            or getattr(fig, "_layout_engine", None) is not engine or mpl.rcParams["savefig.bbox"] == "tight"):
         fig.savefig(path, dpi=dpi)
         return
     from matplotlib import cbook
