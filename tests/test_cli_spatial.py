@@ -246,3 +246,20 @@ def test_plan_the_bundled_cat_through_the_cli(tmp_path):
         lo, hi = doc["state_ranges"][name]
         link = result.system.links[result.system.links.joints[j]]
         assert link.lower - 1e-9 <= lo and hi <= link.upper + 1e-9
+
+
+def test_a_command_that_draws_imports_pyplot_without_its_docstring_tables():
+    """Issue #22 (the falling cat's command line): ``import_pyplot`` imports matplotlib.pyplot with
+    matplotlib's ``kwdoc`` (the property tables of the artists' docstrings) stubbed for the import
+    alone (the tables are docstrings' text, nothing drawn reads them), restored afterwards; a second
+    call does nothing."""
+    import subprocess
+    import sys
+
+    code = ("import matplotlib; matplotlib.use('Agg'); import matplotlib.artist as a; real = a.kwdoc\n"
+            "from acroplan.io.cli.common import import_pyplot; import_pyplot()\n"
+            "import sys; assert 'matplotlib.pyplot' in sys.modules and a.kwdoc is real\n"
+            "from matplotlib.lines import Line2D; assert 'Properties' not in (Line2D.set.__doc__ or '')\n"
+            "import_pyplot()\n")
+    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert res.returncode == 0, res.stderr

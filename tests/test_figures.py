@@ -190,3 +190,27 @@ def test_a_map_labels_a_swept_time_in_seconds():
                             "L": ("L", [1.0, 2.0], {"field": "body.angular_momentum", "units": "kg m^2/s"})})
     assert _axis_label(ds, "T") == "T  (plan.T) [s]"
     assert _axis_label(ds, "L") == "L  (body.angular_momentum) [kg m^2/s]"
+
+
+def test_a_png_laid_out_once_is_the_same_file_as_savefigs(cat, tmp_path):
+    """Issue #22 (the falling cat's command line): ``save_figure`` lays out a constrained figure once
+    instead of twice; the PNG it writes is savefig's own, byte for byte, for every figure of a plan,
+    and the figure keeps its layout engine; a PDF is savefig's."""
+    import matplotlib.pyplot as plt
+
+    from acroplan.core.plotting import save_figure
+
+    for which in ("input", "states", "effort"):
+        a = cat.plot(which, effort=True)[which]
+        a.savefig(tmp_path / f"{which}-savefig.png", dpi=120)
+        b = cat.plot(which, effort=True)[which]
+        engine = b.get_layout_engine()
+        save_figure(b, tmp_path / f"{which}.png", "png", 120)
+        assert b.get_layout_engine() is engine
+        assert (tmp_path / f"{which}.png").read_bytes() == (tmp_path / f"{which}-savefig.png").read_bytes(), which
+        plt.close(a)
+        plt.close(b)
+    fig = cat.plot("input")["input"]
+    save_figure(fig, tmp_path / "input.pdf", "pdf", 120)
+    assert (tmp_path / "input.pdf").read_bytes()[:5] == b"%PDF-"
+    plt.close(fig)

@@ -480,6 +480,7 @@ def test_issue_25_a_spatial_bodys_compiled_maps_are_waited_for_within_the_budget
 
     monkeypatch.setattr(collocation, "_MAPS", {})  # as in a process that never compiled them
     monkeypatch.setattr(backend, "_ONCE", {})
+    monkeypatch.setattr(backend, "_stored", lambda key: None)  # nor read them from an earlier process's copy
     release, started = threading.Event(), []
     real_build = collocation._build
 

@@ -246,3 +246,23 @@ def test_yeadon_euler_angles():
     assert np.allclose(rot.as_quaternion({"rotvec_deg": [0, 0, 180]}), [0, 0, 0, 1], atol=1e-15)
     with pytest.raises(InvalidInputError, match="attitude: has norm 2, not 1"):
         rot.as_quaternion([2.0, 0, 0, 0])
+
+
+def test_a_bases_values_at_one_point_are_matrix_and_integral_bit_for_bit():
+    """Issue #22 (the falling cat's command line): the Pinocchio check evaluates the joint rates and
+    angles at each call of its ODE's right-hand side by ``basis.at(s)``, a single pass on Python
+    floats for the Legendre basis; its numbers are those of ``matrix(s)`` and ``integral(s)``
+    exactly (and so their products with the coefficients), for every size and points inside and
+    outside [0, 1]; the monomial basis gives its own two calls."""
+    from acroplan.core.basis import Monomial
+
+    rng = np.random.default_rng(22)
+    for n in range(1, 19):
+        for basis in (Legendre(n), Monomial(n)):
+            c = rng.normal(size=(n, 3))
+            for s in [0.0, 0.5, 1.0, *rng.uniform(-0.3, 1.3, 200)]:
+                s = np.float64(s)
+                V, B = basis.at(s)
+                assert V.shape == B.shape == (1, n)
+                assert np.array_equal(V, basis.matrix(s)) and np.array_equal(B, basis.integral(s))
+                assert np.array_equal(V @ c, basis.matrix(s) @ c) and np.array_equal(B @ c, basis.integral(s) @ c)

@@ -163,3 +163,52 @@ def test_samples_meet_the_taylor_integrator(name):
     assert max(state_error(X[:, k], Xt[:, k]) for k in range(s.size)) <= 1e-12
     assert np.allclose(X[:, -1], collocation.endpoint(body, basis, x0, T, c, jacobian=False)[0], rtol=0, atol=1e-13)
     assert np.array_equal(X[:, 0], x0)
+
+
+def test_compiled_maps_are_stored_and_read_back_by_the_next_process(monkeypatch, tmp_path):
+    """Issue #22 (the falling cat's command line): a compiled function of ``compile_once`` is kept on
+    disk beside heyoka's cache and read back by a later process instead of being built again (heyoka's
+    own cache saves the LLVM compilation, not the code generation before it: 0.1-0.7 s a function);
+    what is read back gives the same numbers bit for bit; a damaged file is built anew; no disk cache,
+    nothing stored."""
+    cat, _ = falling_cat_turn()
+    monkeypatch.setattr(backend, "_marker", lambda key: tmp_path / "marker")
+    built = []
+
+    def build():
+        built.append(1)
+        return collocation._build(cat, light=True)
+
+    key = ("test-stored-map", cat.links.parents)
+    monkeypatch.setattr(backend, "_ONCE", {})
+    first = backend.compile_once(key, build)
+    stored = backend._stored(key)
+    assert built == [1] and stored.exists() and stored.parent == tmp_path
+    monkeypatch.setattr(backend, "_ONCE", {})  # as in the next process
+    again = backend.compile_once(key, build)
+    assert built == [1] and again is not first
+    pts = np.random.default_rng(3).normal(size=(6, 50))
+    pars = collocation._repeated(cat._param_tuple, 50)
+    assert np.array_equal(first(pts, pars=pars), again(pts, pars=pars))
+    stored.write_bytes(b"not a compiled function")
+    monkeypatch.setattr(backend, "_ONCE", {})
+    backend.compile_once(key, build)
+    assert built == [1, 1] and stored.stat().st_size > 1000  # built anew and stored again
+    monkeypatch.setattr(backend, "_marker", lambda key: None)  # no disk cache
+    assert backend._stored(key) is None
+
+
+def test_the_store_of_compiled_maps_is_trimmed_least_recently_used_first(tmp_path):
+    """The store of compiled functions is bounded (``backend.STORE_LIMIT``): past the limit the least
+    recently used files go first (a read marks a file used), other files of the folder stay."""
+    import os
+
+    for k, age in enumerate((300, 200, 100)):
+        f = tmp_path / f"f{k}.cfunc"
+        f.write_bytes(b"x" * 1000)
+        os.utime(f, (f.stat().st_atime - age, f.stat().st_mtime - age))
+    (tmp_path / "marker").write_bytes(b"y" * 5000)
+    backend._trim(tmp_path, limit=2500)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["f1.cfunc", "f2.cfunc", "marker"]
+    backend._trim(tmp_path, limit=1000)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["f2.cfunc", "marker"]

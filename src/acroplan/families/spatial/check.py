@@ -154,9 +154,9 @@ def pinocchio_segment(body, x0, T: float, basis, coefficients, *, twist=None):
     ct = c.T.copy()
 
     def fun(tau, q):
-        sig = tau / T
-        u = (basis.matrix(sig) @ ct)[0]
-        s = s0 + T * (basis.integral(sig) @ ct)[0]
+        V, B = basis.at(tau / T)
+        u = (V @ ct)[0]
+        s = s0 + T * (B @ ct)[0]
         return 0.5 * rot.xi(q) @ twist(q, s, u)
 
     sol = solve_ivp(fun, (0.0, T), x0[:4] / np.linalg.norm(x0[:4]), method="DOP853", rtol=RTOL, atol=ATOL,

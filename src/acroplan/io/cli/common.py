@@ -129,18 +129,40 @@ def check_outputs(out, force: bool, fmt: str, hint: str, inputs=()) -> tuple[str
     return fmts
 
 
+def import_pyplot() -> None:
+    """Import ``matplotlib.pyplot`` for a command that draws, without the tables of properties
+    matplotlib writes into the docstrings of its artists' ``set`` methods as it defines them (their
+    text alone, from every setter's docstring: 0.15-0.2 s of a command's start, a third of pyplot's
+    import); nothing drawn depends on them, and no docstring is read in a command. Library code
+    (a notebook's ``help()``) never comes here."""
+    if "matplotlib.pyplot" in sys.modules:
+        return
+    import matplotlib.artist as artist
+
+    real = getattr(artist, "kwdoc", None)
+    if real is None:  # another matplotlib: imported as it is
+        import matplotlib.pyplot  # noqa: F401
+        return
+    artist.kwdoc = lambda cls: ""
+    try:
+        import matplotlib.pyplot  # noqa: F401
+    finally:
+        artist.kwdoc = real
+
+
 def save(figs: dict, folder: Path, fmts) -> None:
     """Write each figure as ``folder/NAME.FORMAT`` (120 dpi) and close it; the stage "writing
     figures" (a PNG of a figure of many panels takes a quarter of a second and more)."""
     import matplotlib.pyplot as plt
 
+    from ...core.plotting import save_figure
     from ...core.progress import stage
 
     try:
         with stage("writing figures", len(figs) * len(fmts), unit="file") as st:
             for name, fig in figs.items():
                 for f in fmts:
-                    fig.savefig(folder / f"{name}.{f}", dpi=120)
+                    save_figure(fig, folder / f"{name}.{f}", f, 120)
                     st.update(detail=f"{name}.{f}")
     finally:
         for fig in figs.values():

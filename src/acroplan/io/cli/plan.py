@@ -10,8 +10,8 @@ from ...core.errors import EXIT_INVALID, EXIT_SUCCESS, InvalidInputError
 from ..output import OutputFolder, check_entry_name
 from .animate import write_animation
 from .common import (EXIT_BY_STATUS, allow_outside_option, allowed_paths, check_outputs, common, documented, fail,
-                     load_problem_arg, one_line, option_overrides, override_error, progress, report, save,
-                     solve_in_budget, time_limit_of, verify_method, write_json)
+                     import_pyplot, load_problem_arg, one_line, option_overrides, override_error, progress, report,
+                     save, solve_in_budget, time_limit_of, verify_method, write_json)
 
 
 @click.command("plan")
@@ -146,16 +146,18 @@ def _effort_lines(doc: dict) -> list[str]:
 CSV_BLOCK = 20_000
 
 
-def write_csv(result, path: Path, per_segment: int = 200, *, effort: bool = True) -> None:
+def write_csv(result, path: Path, per_segment: int = 200, *, effort: bool = True, samples=None):
     """``per_segment`` samples per segment: the columns of :meth:`Samples.columns` (``t``, the states,
     the inputs, and with ``effort`` when the system has a torque model ``tau_<joint>``,
     ``power_<joint>``). Written in blocks of :data:`CSV_BLOCK` rows, the stage "writing
-    trajectory.csv" reporting them (a million rows take tens of seconds)."""
+    trajectory.csv" reporting them (a million rows take tens of seconds). Returns the samples
+    (``samples``: given, they are written instead of sampling again)."""
     import numpy as np
 
     from ...core import progress as progress_mod
 
-    cols = result.sample(per_segment, effort=effort).columns()
+    samples = samples if samples is not None else result.sample(per_segment, effort=effort)
+    cols = samples.columns()
     data = np.column_stack(list(cols.values()))
     with open(path, "w", encoding="utf-8") as f, \
             progress_mod.stage("writing trajectory.csv", len(data), unit="row") as st:
@@ -163,15 +165,20 @@ def write_csv(result, path: Path, per_segment: int = 200, *, effort: bool = True
         for i in range(0, len(data), CSV_BLOCK):
             np.savetxt(f, data[i:i + CSV_BLOCK], delimiter=",", fmt="%.17g")
             st.update(min(CSV_BLOCK, len(data) - i))
+    return samples
 
 
 def _write_plan_files(result, folder: Path, fmts, no_plots: bool, degrees: bool = False) -> None:
     """trajectory.csv and, unless ``no_plots``, the figures (effort.png when the plan gives torques;
     ``degrees``: their angles in degrees)."""
-    write_csv(result, folder / "trajectory.csv")
+    samples = write_csv(result, folder / "trajectory.csv")
     if no_plots:
         return
-    save(result.plot(effort=result.has_torques, degrees=degrees), folder, fmts)
+    from ...core.plotting import plot_result
+
+    import_pyplot()
+    # the figures drawn from trajectory.csv's own samples (the same 200 points a segment): sampled once
+    save(plot_result(result, effort=result.has_torques, degrees=degrees, samples=samples), folder, fmts)
 
 
 def _is_batch(path: Path) -> bool:
