@@ -24,6 +24,10 @@ from acroplan.families.planar import (Link, LinkTable, PlanarBody, diver_with_ar
 from acroplan.families.planar.check import centroidal_momentum, simulate_with_pinocchio
 from acroplan.families.planar.pin import build_model
 
+# one worker runs this module (pyproject.toml's loadgroup): its bodies' integrators are compiled once,
+# not on both workers at once (the branched body's, 10 s, was)
+pytestmark = pytest.mark.xdist_group("test_planar")
+
 pin = pytest.importorskip("pinocchio")
 
 ACRO = dict(torso_mass=40.0, leg_mass=20.0, torso_inertia=1.8, leg_inertia=1.2, torso_length=0.35, leg_length=0.45,

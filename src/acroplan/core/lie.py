@@ -32,10 +32,15 @@ def _col(f) -> sp.Matrix:
 
 
 def bracket(f, g, x: Sequence[sp.Symbol]) -> sp.Matrix:
-    """:math:`[f, g] = Dg\\,f - Df\\,g`, simplified."""
+    """:math:`[f, g] = Dg\\,f - Df\\,g`, simplified: expanded when every entry is a polynomial
+    in ``x`` (the canonical form; ``simplify`` takes seconds on such fields for the same zeros),
+    by ``sympy.simplify`` otherwise."""
     f, g = _col(f), _col(g)
     X = sp.Matrix(x)
-    return sp.simplify(g.jacobian(X) * f - f.jacobian(X) * g)
+    out = g.jacobian(X) * f - f.jacobian(X) * g
+    if all(e.is_polynomial(*x) for e in out):
+        return out.applyfunc(sp.expand)
+    return sp.simplify(out)
 
 
 # ------------------------------------------------------------------------------ P. Hall basis
