@@ -188,7 +188,7 @@ def test_compiled_maps_are_stored_and_read_back_by_the_next_process(monkeypatch,
     again = backend.compile_once(key, build)
     assert built == [1] and again is not first
     pts = np.random.default_rng(3).normal(size=(6, 50))
-    pars = collocation._repeated(cat._param_tuple, 50)
+    pars = backend._repeated(cat._param_tuple, 50)
     assert np.array_equal(first(pts, pars=pars), again(pts, pars=pars))
     stored.write_bytes(b"not a compiled function")
     monkeypatch.setattr(backend, "_ONCE", {})

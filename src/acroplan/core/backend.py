@@ -37,6 +37,7 @@ on-disk cache, ``~/.cache/heyoka`` by default), so workers of any executor work 
 from __future__ import annotations
 
 import copy
+import functools
 import hashlib
 import threading
 from pathlib import Path
@@ -53,7 +54,8 @@ from .system import ControlAffineSystem
 hy = _heyoka()  # (the command line's: without sympy, acroplan.core.heyoka_import)
 
 __all__ = ["IntegrationError", "heyoka_fields", "endpoint", "taylor_endpoint", "reference_endpoint", "sample",
-           "taylor_sample", "compile_for", "compile_once", "compiled_before", "compiled_count", "compile_estimate", "CompileEstimate"]
+           "taylor_sample", "compile_for", "compile_once", "compiled_before", "compiled_count", "compile_estimate", "CompileEstimate",
+           "evaluate_columns"]
 
 #: Taylor integrator tolerance: machine precision for double.
 TOL = 1e-15
@@ -398,6 +400,40 @@ def compile_estimate(system: ControlAffineSystem, basis_cls: type[InputBasis], n
     seconds, growth = est
     what = fam.describe(system) if fam.describe is not None else type(system).__name__
     return CompileEstimate(float(seconds), what, growth)
+
+
+@functools.lru_cache(maxsize=32)
+def _repeated(params: tuple, n: int) -> np.ndarray:
+    """The parameters repeated for ``n`` columns, C-contiguous (what ``heyoka.cfunc`` wants), read-only."""
+    out = np.repeat(np.asarray(params, dtype=float)[:, None], n, axis=1)
+    out.setflags(write=False)
+    return out
+
+
+def evaluate_columns(fn, x, params: tuple, chunk: int) -> np.ndarray:
+    """A compiled function (a batch ``heyoka.cfunc``, :func:`compile_once`) at the columns of ``x``,
+    with the same runtime parameters ``params`` for every column, ``chunk`` columns a call (the
+    parameters' repeated array is cached per size).
+
+    Parameters
+    ----------
+    fn : heyoka.cfunc
+    x : numpy.ndarray, shape (fn's inputs, N), C-contiguous
+    params : tuple of float
+    chunk : int
+
+    Returns
+    -------
+    numpy.ndarray, shape (fn.nouts, N)
+    """
+    n = x.shape[1]
+    if n <= chunk:
+        return fn(x, pars=_repeated(params, n))
+    out = np.empty((fn.nouts, n))
+    for a in range(0, n, chunk):
+        b = min(n, a + chunk)
+        out[:, a:b] = fn(np.ascontiguousarray(x[:, a:b]), pars=_repeated(params, b - a))
+    return out
 
 
 def compiled_count() -> int:

@@ -476,15 +476,9 @@ class PlanResult:
             The result has no planned segments, or the system's family draws no animation.
         """
         from .animation import animate_result
-        from .family import family_of
 
-        if not self.segments:
-            raise InvalidInputError("result", "has no planned segments to animate", "plan a motion first")
-        fam = family_of(self.system)
-        if fam is None or fam.animate is None:
-            raise InvalidInputError("system", f"{type(self.system).__name__} has no drawing (its family offers no "
-                                    "animate hook)", "draw it yourself from result.sample()")
-        return animate_result(self, fam.animate, path, **kwargs)
+        hook = self._family_hook("animate", "has no drawing", "draw it yourself from result.sample()")
+        return animate_result(self, hook, path, **kwargs)
 
     def view(self, path=None, **kwargs):
         """An interactive 3-D view of the motion in the browser, drawn by the system's family (its
@@ -513,18 +507,26 @@ class PlanResult:
         """
         from pathlib import Path
 
-        from .family import family_of
         from .progress import in_notebook
 
-        if not self.segments:
-            raise InvalidInputError("result", "has no planned segments to view", "plan a motion first")
-        fam = family_of(self.system)
-        if fam is None or fam.view is None:
-            raise InvalidInputError("system", f"{type(self.system).__name__} has no 3-D view (its family offers no "
-                                    "view hook)", "use result.animate() for its animation")
+        hook = self._family_hook("view", "has no 3-D view", "use result.animate() for its animation")
         if path is None and in_notebook():
-            return fam.view(self, None, **kwargs)  # (the figure: the hook's contract)
-        return Path(fam.view(self, Path("view.html" if path is None else path), **kwargs))
+            return hook(self, None, **kwargs)  # (the figure: the hook's contract)
+        return Path(hook(self, Path("view.html" if path is None else path), **kwargs))
+
+    def _family_hook(self, name: str, lacks: str, hint: str):
+        """The system's family's ``name`` hook (``animate``, ``view``); :class:`InvalidInputError`
+        when the result has no segments or the family offers none."""
+        from .family import family_of
+
+        if not self.segments:
+            raise InvalidInputError("result", f"has no planned segments to {name}", "plan a motion first")
+        fam = family_of(self.system)
+        hook = None if fam is None else getattr(fam, name)
+        if hook is None:
+            raise InvalidInputError("system", f"{type(self.system).__name__} {lacks} (its family offers no {name} "
+                                    "hook)", hint)
+        return hook
 
     def to_pandas(self, per_segment: int = 200):
         """A dense sample as a pandas DataFrame: columns ``t``, the states and the inputs, and

@@ -87,7 +87,7 @@ import threading
 import numpy as np
 from scipy.linalg import lapack
 
-from ...core.backend import IntegrationError
+from ...core.backend import IntegrationError, evaluate_columns
 from .collocation_parts import (_FULL, _SYM, MAX_PANELS, MAX_TURN, MIN_PANEL, NEWTON_ITERATIONS, NEWTON_TOL,  # noqa: F401
                                 NODES, SOLUTION_TAIL_TOL, TAIL_TOL, _basis_at, _block1, _blocks, _cat, _gauss,
                                 _layout, _left, _lu_solve, _qmul, _quad, _right, _rotate, _skew, _split, _take,
@@ -179,14 +179,6 @@ def compile_map(body, light: bool = False):
 CHUNK = 4096
 
 
-@functools.lru_cache(maxsize=24)
-def _repeated(params: tuple, P: int) -> np.ndarray:
-    """The parameters repeated for ``P`` points, C-contiguous (what ``cfunc`` wants), read-only."""
-    out = np.repeat(np.asarray(params, dtype=float)[:, None], P, axis=1)
-    out.setflags(write=False)
-    return out
-
-
 def evaluate_map(body, fn, inputs) -> np.ndarray:
     """A compiled map ``fn`` (:func:`compile_map`) at the points ``inputs`` (columns: the shape and
     the rates), in chunks of :data:`CHUNK` points with the body's parameters repeated once per size.
@@ -195,17 +187,7 @@ def evaluate_map(body, fn, inputs) -> np.ndarray:
     -------
     numpy.ndarray, shape (outputs, points)
     """
-    inputs = np.ascontiguousarray(inputs, dtype=float)
-    P = inputs.shape[1]
-    params = body._param_tuple
-    if P <= CHUNK:
-        return fn(inputs, pars=_repeated(params, P))
-    out = np.empty((fn.nouts, P))
-    pars = _repeated(params, CHUNK)
-    for a in range(0, P, CHUNK):
-        b = min(P, a + CHUNK)
-        out[:, a:b] = fn(np.ascontiguousarray(inputs[:, a:b]), pars=pars if b - a == CHUNK else _repeated(params, b - a))
-    return out
+    return evaluate_columns(fn, np.ascontiguousarray(inputs, dtype=float), body._param_tuple, CHUNK)
 
 
 # ---------------------------------------------------------------------- the segment

@@ -420,21 +420,8 @@ def _parameters(links) -> tuple:
     return parameters(links)
 
 
-@functools.lru_cache(maxsize=32)
-def _repeated(params: tuple, K: int) -> np.ndarray:
-    """The parameters repeated for ``K`` points, C-contiguous (what ``cfunc`` wants), read-only."""
-    out = np.repeat(np.asarray(params, dtype=float)[:, None], K, axis=1)
-    out.setflags(write=False)
-    return out
-
-
 def _chunked(fn, x, params) -> np.ndarray:
     """``fn`` at the columns of ``x`` (C-contiguous), :data:`CHUNK` columns a call."""
-    K = x.shape[1]
-    if K <= CHUNK:
-        return fn(x, pars=_repeated(params, K))
-    out = np.empty((fn.nouts, K))
-    for a in range(0, K, CHUNK):
-        b = min(K, a + CHUNK)
-        out[:, a:b] = fn(np.ascontiguousarray(x[:, a:b]), pars=_repeated(params, b - a))
-    return out
+    from ...core.backend import evaluate_columns
+
+    return evaluate_columns(fn, x, params, CHUNK)
