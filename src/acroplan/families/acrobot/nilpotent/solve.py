@@ -40,7 +40,7 @@ def _phi_bound(prob, at, lim, cut=lambda z: z):
     ``cut`` takes the coefficients out of SLSQP's vector."""
     def jac(z):
         J = -2.0 * at(cut(z))[1][:, None] * _phi_jac(prob, cut(z), at.eps)
-        return J if z.size == J.shape[1] else np.hstack([J, np.zeros((J.shape[0], z.size - J.shape[1]))])
+        return np.hstack([J, np.zeros((J.shape[0], z.size - J.shape[1]))])  # (zero for the margin, if any)
 
     return {"type": "ineq", "fun": lambda z: lim ** 2 - at(cut(z))[1] ** 2, "jac": jac}
 
