@@ -45,20 +45,25 @@ def _text_before(chunk: bytes) -> str:
     return re.sub(r"[\u2580-\u259f]+", "", line).strip()[:90]
 
 
-def silences(out: Path, longer: float = 1.0) -> list[dict]:
-    """Where a terminal capture (``OUT/typescript``, ``OUT/timing``) shows nothing new for more than
-    ``longer`` seconds: the start of each silence, how long, and the line on screen meanwhile (the
-    command's start and its end count as draws)."""
-    data = (out / "typescript").read_bytes()
-    start = data.index(b"\n") + 1
-    clock, pos, draws = 0.0, start, [(0.0, "(the command starts)")]
-    for row in (out / "timing").read_text().split("\n"):
+def _chunks(typescript: Path, timing: Path):
+    """``(clock, bytes)`` of each piece of output script(1) recorded, after its own header line."""
+    data = typescript.read_bytes()
+    clock, pos = 0.0, data.index(b"\n") + 1
+    for row in timing.read_text().split("\n"):
         if not row.strip():
             continue
         delay, size = row.split()
         clock += float(delay)
-        chunk = data[pos:pos + int(size)]
+        yield clock, data[pos:pos + int(size)]
         pos += int(size)
+
+
+def silences(out: Path, longer: float = 1.0) -> list[dict]:
+    """Where a terminal capture (``OUT/typescript``, ``OUT/timing``) shows nothing new for more than
+    ``longer`` seconds: the start of each silence, how long, and the line on screen meanwhile (the
+    command's start and its end count as draws)."""
+    draws = [(0.0, "(the command starts)")]
+    for clock, chunk in _chunks(out / "typescript", out / "timing"):
         if chunk.strip():
             draws.append((clock, _text_before(chunk)))
     return [{"at_s": round(a, 2), "for_s": round(b - a, 2), "showing": text}
@@ -76,14 +81,8 @@ def terminal(cmd: list[str], out: Path) -> dict:
     wall = time.perf_counter() - t0
     data = typescript.read_bytes()
     start = data.index(b"\n") + 1  # after script's own header line
-    clock, pos, draws = 0.0, start, []
-    for row in timing.read_text().split("\n"):
-        if not row.strip():
-            continue
-        delay, size = row.split()
-        clock += float(delay)
-        chunk = data[pos:pos + int(size)]
-        pos += int(size)
+    draws = []
+    for clock, chunk in _chunks(typescript, timing):
         draws += [clock] * chunk.count(b"\r")  # tqdm draws a line with a carriage return
     text = data[start:].decode("utf-8", "replace")
     stages = sorted(set(_STAGE.findall(text)))
