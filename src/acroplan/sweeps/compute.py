@@ -5,6 +5,14 @@ values (:class:`~acroplan.InvalidInputError`), ``not_converged`` for any crash (
 error while building the point, computing a derived quantity or planning), as
 :func:`acroplan.plan_many` reports one; otherwise what plan() returns (or, with ``plan=False``,
 the derived quantities' status).
+
+Every point is computed with one BLAS thread (:func:`one_blas_thread`), on every executor: Dask's
+workers start with ``OPENBLAS_NUM_THREADS=1`` (its ``distributed.nanny.pre-spawn-environ``) while
+the driver's serial executor has one BLAS thread per core, and OpenBLAS's threaded products split
+their sums by thread, so the last bits of a result (seen: the acrobot's flat-output check,
+3.774758283725532e-15 against 3.552713678800501e-15 at one point of the tests' sweep) would depend
+on where a chunk ran. With one thread everywhere a sweep gives the same numbers, bit for bit, on
+any executor of one machine; its matrices are small, so the threads bought nothing.
 """
 
 from __future__ import annotations
@@ -26,7 +34,15 @@ from ..planning import plan as _plan
 from .metrics import point_metrics
 from .vocabulary import PointStatus, SweepPoint, message_code
 
-__all__ = ["compute_chunk", "evaluate_point", "run_chunk", "warm_worker"]
+__all__ = ["compute_chunk", "evaluate_point", "run_chunk", "warm_worker", "one_blas_thread"]
+
+
+def one_blas_thread():
+    """A context in which the BLAS libraries numpy and scipy loaded use one thread (module
+    docstring; ``threadpoolctl``, of the ``sweep`` extra)."""
+    from threadpoolctl import threadpool_limits
+
+    return threadpool_limits(limits=1, user_api="blas")
 
 
 def _crash(e: BaseException, where: str) -> str:
@@ -109,14 +125,15 @@ def compute_chunk(sw, chunk: int, points=None) -> dict[str, Any]:
     data = _empty(sw, idx.size)
     messages: dict[int, str] = {}
     cache: dict = {}
-    for j in range(idx.size):
-        t0 = time.perf_counter()
-        status, message = _point(sw, {f: c[j] for f, c in columns.items()}, data, j, cache)
-        code, tpl = message_code(message)
-        messages.setdefault(code, tpl)
-        data["status"][j] = status.code
-        data["message"][j] = code
-        data["seconds"][j] = time.perf_counter() - t0
+    with one_blas_thread():
+        for j in range(idx.size):
+            t0 = time.perf_counter()
+            status, message = _point(sw, {f: c[j] for f, c in columns.items()}, data, j, cache)
+            code, tpl = message_code(message)
+            messages.setdefault(code, tpl)
+            data["status"][j] = status.code
+            data["message"][j] = code
+            data["seconds"][j] = time.perf_counter() - t0
     return {"chunk": int(chunk), "points": idx, "data": data, "coords": values, "messages": messages,
             "pid": os.getpid(), "compiled": backend.compiled_count(), "seconds": time.perf_counter() - t_start}
 
@@ -125,7 +142,8 @@ def evaluate_point(sw, index: int) -> SweepPoint:
     """Point ``index`` of sweep ``sw`` computed here, as a :class:`SweepPoint` (full message)."""
     data = _empty(sw, 1)
     vals = sw.point(index)
-    status, message = _point(sw, vals, data, 0, {})
+    with one_blas_thread():
+        status, message = _point(sw, vals, data, 0, {})
     out = {k: v[0].item() for k, v in data.items() if k not in ("status", "message", "seconds")}
     return SweepPoint(int(index), vals, status, message, out)
 
