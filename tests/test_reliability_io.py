@@ -17,7 +17,7 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner
 
-from acroplan.io import output
+from acroplan.io import examples, output
 from acroplan.io.cli import json_text as _json_text
 from acroplan.io.cli import main
 
@@ -234,11 +234,24 @@ def test_a_read_only_parent_is_refused_before_planning(no_planning):
         ro.mkdir()
         ro.chmod(0o555)
 
+        problem = base / "pike-dive.toml"  # a file nobody can read (the package's may not be)
+        problem.write_text(examples.text("pike-dive"))
+        problem.chmod(0o644)
+
         def attempt():
-            res = run(["plan", "--example", "pike-dive", "--out", ro / "out" / "deeper", "--no-plots"])
+            res = run(["plan", str(problem), "--out", ro / "out" / "deeper", "--no-plots"])
             return res.exit_code, res.output
 
-        code, text = _in_child_as_nobody(attempt) if os.geteuid() == 0 else attempt()
+        if os.geteuid() == 0:
+            # the child has nobody's rights, under which a package installed in a folder of root's
+            # alone (a venv made by mktemp -d) cannot import the modules the command loads lazily;
+            # the same command into a writable folder, here, imports them (and stops at planning,
+            # refused by no_planning), so the child tests the folder's rights, not the install's
+            warm = run(["plan", str(problem), "--out", base / "warm", "--no-plots"])
+            assert "planning started before the output folder was checked" in repr(warm.exc_info[1])
+            code, text = _in_child_as_nobody(attempt)
+        else:
+            code, text = attempt()
         assert code == 2 and f"--out: cannot write in {ro}" in text, text
         assert list(ro.iterdir()) == []
     finally:
