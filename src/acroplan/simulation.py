@@ -130,7 +130,7 @@ def simulate(system: ControlAffineSystem, *, times, inputs, basis="legendre", n_
     for k, (b, c) in enumerate(coefs):
         T = float(t[k + 1] - t[k])
         try:
-            y, _ = backend.endpoint(system, b, x, T, c)
+            y = backend.state_endpoint(system, b, x, T, c)
         except backend.IntegrationError as e:
             raise InvalidInputError(f"inputs[{k}]", f"the motion leaves the numbers the integrator can carry ({e})",
                                     "give a smaller input or a shorter segment") from None
