@@ -13,6 +13,8 @@ One segment is integrated in normalised time :math:`s \\in [0, 1]`:
 together with the first-order variational equations with respect to the coefficients
 (text eq. 4-6), so that one integration gives :math:`\\Phi(c) = x(1)` and
 :math:`D\\Phi(c) = \\partial x(1)/\\partial c`.
+A simulation and a dense sample need no Jacobian: they use a second integrator of the state
+equation alone (:func:`compile_fields`), compiled once per key as the first is.
 
 Runtime parameters, in order: the system's parameters, ``T``, then the coefficients ``c`` flattened
 input-major (``c[j, i]`` at ``n_p + 1 + j*n + i``). A compiled integrator is therefore shared by
@@ -133,21 +135,15 @@ def _field_expressions(system: ControlAffineSystem, hx):
     return fe, Ge
 
 
-def _build(system: ControlAffineSystem, basis_cls: type[InputBasis], n: int):
-    sys, coeffs = heyoka_fields(system, basis_cls(n))
-    vsys = hy.var_ode_sys(sys, [c for row in coeffs for c in row], order=1)
-    n_x, m, n_p = len(sys), len(coeffs), len(system.param_names)
-    return hy.taylor_adaptive(vsys, [0.0] * n_x, tol=TOL, pars=[0.0] * (n_p + 1 + m * n),
-                              compact_mode=bool(system.compact_mode))
-
-
-def _build_fields(system: ControlAffineSystem, basis_cls: type[InputBasis], n: int):
-    """The Taylor integrator of the state equation alone (no variational equations): what a
-    simulation and a dense sample need. Its compilation is some 5-15 times cheaper than
-    :func:`_build`'s (a 4-link planar body at 14 coefficients: 1.3 s against 18.6 s cold), which
-    grows with the number of coefficients."""
+def _build(system: ControlAffineSystem, basis_cls: type[InputBasis], n: int, variational: bool = True):
+    """The Taylor integrator of the segment's state equation, with its variational equations in the
+    coefficients (``variational``) or alone: what a simulation and a dense sample need, whose
+    compilation is some 5-15 times cheaper (a 4-link planar body at 14 coefficients: 1.3 s against
+    18.6 s cold) and does not grow with the number of coefficients as the variational one does."""
     sys, coeffs = heyoka_fields(system, basis_cls(n))
     n_x, m, n_p = len(sys), len(coeffs), len(system.param_names)
+    if variational:
+        sys = hy.var_ode_sys(sys, [c for row in coeffs for c in row], order=1)
     return hy.taylor_adaptive(sys, [0.0] * n_x, tol=TOL, pars=[0.0] * (n_p + 1 + m * n),
                               compact_mode=bool(system.compact_mode))
 
@@ -231,8 +227,8 @@ _FIELDS_PENDING: dict[tuple, _Build] = {}
 
 def compile_fields(system: ControlAffineSystem, basis_cls: type[InputBasis], n: int):
     """The compiled template of the state equation alone for (structure of ``system``, basis
-    family, size ``n``) (:func:`_build_fields`), compiled and waited for as :func:`compile_for`'s."""
-    return _compiled(("fields",) + _key(system, basis_cls, n), lambda: _build_fields(system, basis_cls, n),
+    family, size ``n``) (:func:`_build`), compiled and waited for as :func:`compile_for`'s."""
+    return _compiled(("fields",) + _key(system, basis_cls, n), lambda: _build(system, basis_cls, n, variational=False),
                      _FIELDS, _FIELDS_PENDING, f"fields-{n}", f"integrator of the states, {n} coefficients")
 
 
@@ -553,12 +549,8 @@ def state_endpoint(system: ControlAffineSystem, basis: InputBasis, x0, T: float,
     own = system.endpoint_map(basis, x0, T, c)
     if own is not None:
         return own[0]
-    ta, state, n_x = _load(system, basis, x0, T, c, fields_only=True)
-    res = ta.propagate_until(1.0, max_steps=MAX_STEPS)
-    out = state.copy()
-    if res[0] != _TIME_LIMIT or not np.isfinite(out).all():
-        raise IntegrationError(_why(res[0], ta.time))
-    return out
+    ta, state, _ = _load(system, basis, x0, T, c, fields_only=True)
+    return _propagated(ta, state)
 
 
 def taylor_endpoint(system: ControlAffineSystem, basis: InputBasis, x0, T: float, c) -> tuple[np.ndarray, np.ndarray]:
@@ -605,12 +597,18 @@ def reference_endpoint(system: ControlAffineSystem, basis: InputBasis, x0, T: fl
     return np.array(ta.state, dtype=float)
 
 
-def _taylor(system, basis, x0, T, c):
-    ta, state, n_x = _load(system, basis, x0, T, c)
+def _propagated(ta, state) -> np.ndarray:
+    """A copy of the state of the loaded integrator ``ta`` (:func:`_load`) at :math:`s = 1`."""
     res = ta.propagate_until(1.0, max_steps=MAX_STEPS)
     out = state.copy()
     if res[0] != _TIME_LIMIT or not np.isfinite(out).all():
         raise IntegrationError(_why(res[0], ta.time))
+    return out
+
+
+def _taylor(system, basis, x0, T, c):
+    ta, state, n_x = _load(system, basis, x0, T, c)
+    out = _propagated(ta, state)
     return out[:n_x], out[n_x:].reshape(n_x, -1)
 
 
