@@ -21,9 +21,9 @@ from acroplan.io.cli import main
 from acroplan.io.problem import load_problem, parse_problem
 
 # one worker runs this module, so that its module-scoped fixtures are built once (pytest-xdist's
-# loadgroup, pyproject.toml), and with it the other module that plans the platform dive
-# (tests/test_human.py, tests/test_cli_human.py): its energy ladder's integrators, compiled by
-# whichever comes first, serve the other, where two workers compiled them side by side
+# loadgroup, pyproject.toml), together with the other module that plans the platform dive
+# (tests/test_human.py and tests/test_cli_human.py, one group): the energy ladder's integrators,
+# compiled by whichever runs first, serve the other (two workers compiled them side by side)
 pytestmark = pytest.mark.xdist_group("platform-dive")
 
 pytest.importorskip("yeadon")

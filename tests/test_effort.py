@@ -143,8 +143,9 @@ def test_torque_matches_euler_lagrange_of_the_full_free_body():
     # and with the lumped coefficients: a du + b u^2 + c P0^2 - tau is zero as a rational function of
     # the parameters, the rates and cos(phi), sin(phi) taken as independent variables (stronger than
     # a trigonometric identity): exactly zero, in rational arithmetic, at 8 random rational points
-    # (a non-zero rational function of low degree vanishes at such points with probability below
-    # 1e-9 each, Schwartz-Zippel; sp.simplify(...) == 0 took 10 s, sp.cancel 3-11 s)
+    # (a non-zero numerator of degree d vanishes at a random point of numerators and denominators up
+    # to 1e9 with probability about d / 1e9, Schwartz-Zippel; sp.simplify(...) == 0 took 10 s here,
+    # sp.cancel 3-11 s)
     a, b, c = d.a.subs(lumped), d.b.subs(lumped), d.c.subs(lumped)
     e = a * S["du"] + b * S["u"] ** 2 + c * S["P0"] ** 2 - d.tau
     assert e.atoms(sp.Function) <= {sp.cos(S["phi"]), sp.sin(S["phi"])}

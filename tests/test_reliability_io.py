@@ -234,7 +234,7 @@ def test_a_read_only_parent_is_refused_before_planning(no_planning):
         ro.mkdir()
         ro.chmod(0o555)
 
-        problem = base / "pike-dive.toml"  # a file nobody can read (the package's may not be)
+        problem = base / "pike-dive.toml"  # readable by the user nobody (the package's copy may not be)
         problem.write_text(examples.text("pike-dive"))
         problem.chmod(0o644)
 
