@@ -386,7 +386,12 @@ def refine(body, basis, x0, x1, T: float, guess: LoopGuess, *, budget: int = 30,
     :math:`v_1 = b`, the rest 0): :math:`(d + 1) m` unknowns, the attitude's 3 equations (the
     joints end on target whatever :math:`z`); the shortest steps with :math:`J_z\\, \\delta z = r`,
     :math:`r` the attitude's rotation vector to the target and :math:`J_z` its Jacobian (compiled
-    integrator, tangent space), with backtracking.
+    integrator, tangent space), with backtracking. A trial step that does not reduce :math:`|r|` is
+    first corrected: one more step from the trial point with its own Jacobian, kept when it ends
+    below the current :math:`|r|` (a second-order correction: with :math:`L \ne 0` the Jacobian is
+    ill-conditioned, its weak directions (a twist made by the loop) need long steps, and the
+    strong one (the drift's somersault) then moves at second order; the corrector takes that back
+    at the cost of one evaluation instead of a backtracking cut short).
 
     With ``limits``, the joint ranges and rate limits hold inside the refinement: they are linear in
     :math:`z` on a grid of 64 times (:func:`acroplan.core.limits.linear_limits`, with a margin of
@@ -451,6 +456,17 @@ def refine(body, basis, x0, x1, T: float, guess: LoopGuess, *, budget: int = 30,
             if np.linalg.norm(r2) < (1.0 - 1e-4 * alpha) * res:
                 z, r, Jz, res, moved = z + alpha * d, r2, J2, float(np.linalg.norm(r2)), True
                 break
+            if evals < budget:  # the corrector from the trial point (docstring)
+                z2 = z + alpha * d
+                d2, _ = step(J2, r2, z2)
+                evals += 1
+                try:
+                    r3, J3 = evaluate(z2 + d2)
+                except backend.IntegrationError:
+                    r3 = None
+                if r3 is not None and np.linalg.norm(r3) < (1.0 - 1e-4 * alpha) * res:
+                    z, r, Jz, res, moved = z2 + d2, r3, J3, float(np.linalg.norm(r3)), True
+                    break
             alpha /= 4.0
         if not moved:
             break
