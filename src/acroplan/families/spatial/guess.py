@@ -59,7 +59,7 @@ from ..tree.loops import projector as _projector
 from . import rotations as rot
 
 __all__ = ["Connection", "curvature", "fast_attitudes", "LoopGuess", "loop_guesses", "refine", "AMPLITUDES",
-           "FAST_STEPS"]
+           "FAST_STEPS", "CORRECTOR_STALL"]
 
 
 class Connection:
@@ -240,6 +240,8 @@ def _decomposable(Bv, m: int):
 AMPLITUDES = (0.15, 0.3, 0.5, 0.75, 1.0, 1.3, 1.6, 2.0, 2.5)
 #: Runge-Kutta steps of the fast integration
 FAST_STEPS = 48
+#: :func:`refine` corrects its trial steps after a step that left more than this fraction of the error
+CORRECTOR_STALL = 0.5
 
 
 def loop_guesses(body, basis, x0, x1, T: float, ends: dict | None = None, limits=None, *,
@@ -386,7 +388,16 @@ def refine(body, basis, x0, x1, T: float, guess: LoopGuess, *, budget: int = 30,
     :math:`v_1 = b`, the rest 0): :math:`(d + 1) m` unknowns, the attitude's 3 equations (the
     joints end on target whatever :math:`z`); the shortest steps with :math:`J_z\\, \\delta z = r`,
     :math:`r` the attitude's rotation vector to the target and :math:`J_z` its Jacobian (compiled
-    integrator, tangent space), with backtracking.
+    integrator, tangent space), with backtracking. After a step that stalled (:math:`|r|` down by
+    less than the factor :data:`CORRECTOR_STALL`), a trial step that does not reduce :math:`|r|` is
+    first corrected: one more step from the trial point with the trial point's own Jacobian, no
+    longer than the trial step, kept when it ends below the current :math:`|r|`. With
+    :math:`L \\ne 0` the Jacobian can be ill-conditioned (the twisting somersault: singular values
+    2.3, 0.03 and 0.01 rad per unit of :math:`z`): the weak directions (the twist a loop makes) need
+    long steps, along which the strong one (the drift's somersault) moves at second order, so the
+    full step overshoots and backtracking creeps; the corrector takes that second-order part back
+    for one evaluation. Only after a stall, so that a refinement that makes progress keeps the
+    plain (shorter) steps.
 
     With ``limits``, the joint ranges and rate limits hold inside the refinement: they are linear in
     :math:`z` on a grid of 64 times (:func:`acroplan.core.limits.linear_limits`, with a margin of
@@ -436,7 +447,7 @@ def refine(body, basis, x0, x1, T: float, guess: LoopGuess, *, budget: int = 30,
         return guess.coefficients, float("inf"), 1
     evals += 1
     res = float(np.linalg.norm(r))
-    slow = 0
+    slow, stalled = 0, False
     while evals < budget and res > tol and slow < 2:
         d, blocked = step(Jz, r, z)
         before = res
@@ -451,8 +462,21 @@ def refine(body, basis, x0, x1, T: float, guess: LoopGuess, *, budget: int = 30,
             if np.linalg.norm(r2) < (1.0 - 1e-4 * alpha) * res:
                 z, r, Jz, res, moved = z + alpha * d, r2, J2, float(np.linalg.norm(r2)), True
                 break
+            if stalled and evals < budget:  # the corrector from the trial point (docstring)
+                z2 = z + alpha * d
+                d2, _ = step(J2, r2, z2)
+                if np.linalg.norm(d2) <= alpha * np.linalg.norm(d):
+                    evals += 1
+                    try:
+                        r3, J3 = evaluate(z2 + d2)
+                    except backend.IntegrationError:
+                        r3 = None
+                    if r3 is not None and np.linalg.norm(r3) < (1.0 - 1e-4 * alpha) * res:
+                        z, r, Jz, res, moved = z2 + d2, r3, J3, float(np.linalg.norm(r3)), True
+                        break
             alpha /= 4.0
         if not moved:
             break
+        stalled = res > CORRECTOR_STALL * before
         slow = slow + 1 if blocked and res > 0.7 * before else 0  # stalled against the limits
     return (c0 + K @ z).reshape(m, n), res, evals
