@@ -25,9 +25,11 @@ Stages, the first success wins (:func:`~acroplan.core.strategies.run_stages`):
    of it, from :math:`q_0 \\otimes \\exp(i r/k)` (each piece's endpoint evaluated anew).
 3. at the smallest basis size of :data:`AUTO_SIZES` (6, 10, 14) the loops fit in (they need
    :math:`\\alpha + \\beta + 1` coefficients: 10 under spline conditions), each of the three best
-   loop guesses is refined (at most :data:`REFINE_BUDGET` evaluations) and polished by deformation
-   (from the refined loop when it meets the target to 1e-8 rad, else from the guess); then
-   deformation from the base motion;
+   loop guesses is refined (at most :data:`REFINE_BUDGET` evaluations) and, when it meets the
+   target to 1e-8 rad, polished by deformation; then the three best loops of each larger size the
+   same way (more freedom to keep the joint ranges); only then is a loop that missed polished from
+   its guess (that polish often ends in the constrained solve, seconds where a refined loop takes
+   milliseconds), then deformation from the base motion;
 4. generic path deformation from the minimum-norm input (perturbed starts) at that size;
 5. each other size: the best loop guess, then generic deformation.
 
@@ -93,12 +95,21 @@ def _stages(interval: Interval, *, generic: bool) -> IntervalOutcome:
                                     interval.ends, interval.limits, conn=conn)
         return cache[n]
 
+    refined = {}
+
     def attempt(n, k, polish_failures=True):
         g = guess_list(n)
         if len(g) <= k:
             return None
-        c, err, spent = refine(system, interval.sized(n), interval.x0, interval.x1, interval.T, g[k],
-                               budget=REFINE_BUDGET, limits=interval.limits)
+        if (n, k) in refined:  # refined in an earlier stage: its evaluations are counted there
+            c, err = refined[n, k]
+            spent = 0
+            if err <= 1e-8:  # and polished there already
+                return None
+        else:
+            c, err, spent = refine(system, interval.sized(n), interval.x0, interval.x1, interval.T, g[k],
+                                   budget=REFINE_BUDGET, limits=interval.limits)
+            refined[n, k] = c, err
         if not err <= 1e-8 and not polish_failures:
             return IntervalOutcome(False, (), f"the refined {g[k].describe()} missed by {err:.2g} rad", spent)
         start = c if err <= 1e-8 else g[k].coefficients
@@ -120,7 +131,13 @@ def _stages(interval: Interval, *, generic: bool) -> IntervalOutcome:
     if not generic:  # one loop first when one can, else repeated loops first; no failed loop polished
         single = [lambda k=k: attempt(first, k, polish_failures=False) for k in range(4)]
         return run_stages(single[:1] + loops + single[1:] if _one_loop_can(g) else loops + single)
-    stages = loops if not _one_loop_can(g) else []
+    # every loop's refinement first (repeated loops before or after one loop, as one loop can or
+    # not); a loop that missed is polished from its guess only after (that polish often ends in
+    # the constrained solve: seconds, where a refined loop takes milliseconds)
+    single = [lambda k=k: attempt(first, k, polish_failures=False) for k in range(4)]
+    stages = single + loops if _one_loop_can(g) else loops + single
+    # the loops in the larger bases (more freedom to keep the joint ranges) before any polish
+    stages += [lambda n=n, k=k: attempt(n, k, polish_failures=False) for n in sizes if n > first for k in range(3)]
     stages += [lambda k=k: attempt(first, k) for k in range(4)]
     stages += [lambda: deform_attempt(interval, first, budget=AUTO_BUDGET)]
     for n in sizes:
