@@ -44,6 +44,21 @@ def test_the_bundled_cat_turns_by_repeated_loops():
     assert r.evaluations <= 60
 
 
+@pytest.mark.parametrize("name, most", [("astronaut_yaw", 400), ("twisting_somersault", 100)])
+def test_the_astronaut_and_the_diver_need_no_constrained_repair(name, most):
+    """Regressions of issue #22: the yaw's fourth segment (a loop that cannot make its turn inside the
+    abduction range at 6 coefficients) was polished from its guess into SLSQP, 1644 evaluations,
+    before the larger bases' loops were tried (221 evaluations in all now); the twisting somersault's
+    second segment (L != 0, an ill-conditioned Jacobian) went to SLSQP before the refinement's
+    corrector (37 now)."""
+    from acroplan.families.spatial import examples
+
+    body, kw = getattr(examples, name)()
+    r = acroplan.plan(body, **kw)
+    _check(body, kw, r)
+    assert r.evaluations <= most, r.evaluations
+
+
 def test_least_norm_step_is_the_shortest_feasible_step():
     rng = np.random.default_rng(0)
     for _ in range(10):
