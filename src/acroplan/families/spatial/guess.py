@@ -130,7 +130,7 @@ def fast_attitudes(body, q0, T: float, S, dS) -> np.ndarray:
     -------
     numpy.ndarray, shape (4, K)
     """
-    from .collocation import _quad, _right, compile_map, evaluate_map
+    from .collocation import _quad, compile_map, evaluate_map
 
     S = np.asarray(S, dtype=float)
     dS = np.asarray(dS, dtype=float)
@@ -138,27 +138,29 @@ def fast_attitudes(body, q0, T: float, S, dS) -> np.ndarray:
     fn = compile_map(body, light=True)
     P = K * M
     out = evaluate_map(body, fn, np.concatenate([S.reshape(m, P), dS.reshape(m, P)]))
-    # the generators of q' = M q at every grid point, (K, M, 4, 4): M = (1/2) q (x) (0, o)
-    shape_w = -np.moveaxis(out[6:9].reshape(3, K, M), 0, -1)  # -I^-1 A s', (K, M, 3)
+    # the body's rate at every grid point, (M, 3, K), each component contiguous over the motions
+    shape_w = -np.ascontiguousarray(out[6:9].reshape(3, K, M).transpose(2, 0, 1))  # -I^-1 A s'
     Lv = T * body.angular_momentum
     drift = np.linalg.norm(Lv) > 0
     N = (M - 1) // 2
     h = 1.0 / N
-    q = np.tile(np.asarray(q0, dtype=float), (K, 1))  # (K, 4)
-    if not drift:
-        Mg = _right(shape_w)
+    q = np.tile(np.asarray(q0, dtype=float)[:, None], (1, K))  # (4, K)
+    if drift:
+        Iinv = np.ascontiguousarray(out[:6].reshape(6, K, M).transpose(2, 0, 1))  # (M, 6, K), upper triangle
+        Qf = _quad(Lv).reshape(12, 4)  # (R(q)^T L T)_i = q^T Q_i q
 
-        def f(q, k):
-            return (Mg[:, k] @ q[:, :, None])[:, :, 0]
-    else:
-        Wl = np.moveaxis(out[:6].reshape(6, K, M), 0, -1)
-        Iinv = Wl[..., [0, 1, 2, 1, 3, 4, 2, 4, 5]].reshape(K, M, 3, 3)
-        Q = _quad(Lv)  # (R(q)^T L T)_i = q^T Q_i q
-
-        def f(q, k):
-            lam = np.einsum("ka,iab,kb->ki", q, Q, q)
-            o = shape_w[:, k] + (Iinv[:, k] @ lam[:, :, None])[:, :, 0]
-            return (_right(o) @ q[:, :, None])[:, :, 0]
+    def f(q, k):
+        """:math:`\\tfrac12 q \\otimes (0, \\Omega)` at grid point ``k``, q of shape (4, K)."""
+        ox, oy, oz = shape_w[k]
+        if drift:
+            lx, ly, lz = ((Qf @ q).reshape(3, 4, K) * q[None]).sum(axis=1)
+            I0, I1, I2, I3, I4, I5 = Iinv[k]
+            ox = ox + I0 * lx + I1 * ly + I2 * lz
+            oy = oy + I1 * lx + I3 * ly + I4 * lz
+            oz = oz + I2 * lx + I4 * ly + I5 * lz
+        w, x, y, z = q
+        return 0.5 * np.array([-(x * ox + y * oy + z * oz), w * ox + y * oz - z * oy,
+                               w * oy - x * oz + z * ox, w * oz + x * oy - y * ox])
 
     with np.errstate(over="ignore", invalid="ignore"):  # wild candidates blow up: ranked last (NaN)
         for step in range(N):
@@ -168,7 +170,7 @@ def fast_attitudes(body, q0, T: float, S, dS) -> np.ndarray:
             k3 = f(q + 0.5 * h * k2, k + 1)
             k4 = f(q + h * k3, k + 2)
             q = q + (h / 6.0) * (k1 + 2 * k2 + 2 * k3 + k4)
-        return (q / np.linalg.norm(q, axis=1)[:, None]).T
+        return q / np.linalg.norm(q, axis=0)[None, :]
 
 
 @dataclasses.dataclass(frozen=True)
