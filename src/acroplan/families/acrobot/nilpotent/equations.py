@@ -77,7 +77,10 @@ class NilpotentProblem:
     def x2P(self) -> float:
         return 0.0
 
-    @property
+    # x2Q and rhs_theta are constants of the problem, asked for at every evaluation of the endpoint
+    # equations (thousands per solve): computed once (functools.cached_property stores them in the
+    # instance's __dict__, which a frozen dataclass allows; equality and hashing see the fields only)
+    @functools.cached_property
     def x2Q(self) -> float:
         return (self.Q[1] - self.P[1]) / float(alpha_derivs(self.robot, self.Q[0])[0])
 
@@ -91,6 +94,10 @@ class NilpotentProblem:
 
     def rhs_theta(self) -> float:
         """The right-hand side of the third endpoint equation (module docstring)."""
+        return self._rhs_theta
+
+    @functools.cached_property
+    def _rhs_theta(self) -> float:
         r = self
         phP, phQ = self.P[0], self.Q[0]
         h1 = self.x2Q - self.x2P
