@@ -16,9 +16,9 @@ def test_xdist_groups_reach_the_scheduler(request):
 
 
 def test_every_test_process_runs_one_blas_thread():
-    """tests/conftest.py holds BLAS at one thread (unless the environment names a number), here and in the processes the tests start: with a
-    thread per core in each of pytest-xdist's workers, OpenBLAS's spinning threads made the warm
-    suite 23% slower on 2 cores (223 s against 181 s)."""
+    """tests/conftest.py holds BLAS at one thread (unless the environment names a number), here and
+    in the processes the tests start: with a thread per core in each of pytest-xdist's workers,
+    OpenBLAS's spinning threads made the warm suite 23% slower on 2 cores (223 s against 181 s)."""
     import os
     import subprocess
     import sys
