@@ -111,19 +111,52 @@ def _split(m, d):
     return m[: d + 1], m[d + 1:]
 
 
+def _trim(c):
+    """``c`` without its trailing zeros (at least one entry kept), as ``numpy.polynomial`` trims its
+    arguments: the products below then sum their terms in numpy's order, bit for bit."""
+    k = c.size
+    while k > 1 and c[k - 1] == 0:
+        k -= 1
+    return c[:k]
+
+
+def _int(c):
+    """:math:`\int_0^\varepsilon` of the polynomial ``c`` (ascending), the numbers of
+    ``numpy.polynomial.polynomial.polyint`` (``c[j] / (j + 1)`` after a zero) without its argument
+    handling, which cost more than the arithmetic at these sizes (the endpoint equations are
+    evaluated thousands of times a solve)."""
+    c = _trim(c)
+    out = np.zeros(c.size + 1)
+    out[1:] = c / np.arange(1, c.size + 1)
+    return out
+
+
+def _mul(a, b):
+    """The product of two polynomials, as ``polymul``."""
+    return _trim(np.convolve(_trim(a), _trim(b)))
+
+
+def _at1(c) -> float:
+    """The polynomial ``c`` at 1 by Horner's rule from the top, as ``polyval(1.0, c)`` sums it."""
+    v = 0.0 + c[-1]
+    for a in c[-2::-1]:
+        v = a + v
+    return float(v)
+
+
 def _integrals(m, d):
     v1, v2 = _split(m, d)
-    V1, V2 = P.polyint(v1), P.polyint(v2)
-    I = P.polyval(1.0, P.polyint(P.polymul(V2, v1)))
-    J = P.polyval(1.0, P.polyint(P.polymul(P.polymul(V2, V2), v1)))
-    return v1, v2, V1, V2, float(I), float(J)
+    V1, V2 = _int(v1), _int(v2)
+    I = _at1(_int(_mul(V2, v1)))
+    J = _at1(_int(_mul(_mul(V2, V2), v1)))
+    return v1, v2, V1, V2, I, J
 
 
 def equations(prob: NilpotentProblem, m) -> np.ndarray:
     """Residuals of the three endpoint equations at coefficients ``m`` (v1 then v2, ascending)."""
     d = prob.degree
     v1, v2, V1, V2, I, J = _integrals(m, d)
-    return np.array([P.polyval(1.0, V1) - (prob.x2Q - prob.x2P), P.polyval(1.0, V2) - (prob.Q[0] - prob.P[0]),
+    return np.array([_at1(V1) - (prob.x2Q - prob.x2P), _at1(V2) - (prob.Q[0] - prob.P[0]),
                      prob.kappa * (prob.P[0] * I + J / 2) - prob.rhs_theta()])
 
 
