@@ -121,7 +121,7 @@ def _trim(c):
 
 
 def _int(c):
-    """:math:`\int_0^\varepsilon` of the polynomial ``c`` (ascending), the numbers of
+    """:math:`\\int_0^\\varepsilon` of the polynomial ``c`` (ascending), the numbers of
     ``numpy.polynomial.polynomial.polyint`` (``c[j] / (j + 1)`` after a zero) without its argument
     handling, which cost more than the arithmetic at these sizes (the endpoint equations are
     evaluated thousands of times a solve)."""
