@@ -275,3 +275,30 @@ def test_plot_gives_the_figures_of_plot_nilpotent(ch4):
         assert set(flat.plot(samples=41)) == {"input", "states", "u1"}
     finally:
         plt.close("all")
+
+
+def test_the_iterated_integrals_are_numpy_polynomials_own_bit_for_bit():
+    """equations.py's _integrals takes numpy.polynomial's steps without its argument handling (the
+    endpoint equations are evaluated thousands of times a solve): on random coefficients of every
+    degree, with zero, trailing-zero and all-zero cases, it gives polyint / polymul / polyval's
+    numbers exactly, in the same run (so the solver's results did not change in a bit)."""
+    from numpy.polynomial import polynomial as Pn
+
+    from acroplan.families.acrobot.nilpotent.equations import _at1, _integrals, _split
+
+    rng = np.random.default_rng(3)
+    for trial in range(3000):
+        d = int(rng.integers(1, 13))
+        m = rng.normal(size=2 * (d + 1)) * 10.0 ** rng.uniform(-3, 3, size=2 * (d + 1))
+        if trial % 5 == 0:
+            m[d - 1:d + 1] = 0.0  # v1's top coefficients: trimmed by numpy
+        if trial % 7 == 0:
+            m[-1] = 0.0
+        if trial % 97 == 0:
+            m[:] = 0.0
+        v1, v2 = _split(m, d)
+        V1, V2 = Pn.polyint(v1), Pn.polyint(v2)
+        want = (Pn.polyval(1.0, V1), Pn.polyval(1.0, V2), Pn.polyval(1.0, Pn.polyint(Pn.polymul(V2, v1))),
+                Pn.polyval(1.0, Pn.polyint(Pn.polymul(Pn.polymul(V2, V2), v1))))
+        _, _, W1, W2, I, J = _integrals(m, d)
+        assert (_at1(W1), _at1(W2), I, J) == tuple(float(w) for w in want), (d, m)

@@ -11,6 +11,7 @@ import math
 import numpy as np
 import sympy as sp
 from numpy.polynomial import polynomial as P
+from numpy.polynomial.polyutils import trimseq
 
 from ....core.errors import InvalidInputError
 from ..model import Acrobot
@@ -111,29 +112,21 @@ def _split(m, d):
     return m[: d + 1], m[d + 1:]
 
 
-def _trim(c):
-    """``c`` without its trailing zeros (at least one entry kept), as ``numpy.polynomial`` trims its
-    arguments: the products below then sum their terms in numpy's order, bit for bit."""
-    k = c.size
-    while k > 1 and c[k - 1] == 0:
-        k -= 1
-    return c[:k]
-
-
 def _int(c):
     """:math:`\\int_0^\\varepsilon` of the polynomial ``c`` (ascending), the numbers of
     ``numpy.polynomial.polynomial.polyint`` (``c[j] / (j + 1)`` after a zero) without its argument
     handling, which cost more than the arithmetic at these sizes (the endpoint equations are
     evaluated thousands of times a solve)."""
-    c = _trim(c)
+    c = trimseq(c)
     out = np.zeros(c.size + 1)
     out[1:] = c / np.arange(1, c.size + 1)
     return out
 
 
 def _mul(a, b):
-    """The product of two polynomials, as ``polymul``."""
-    return _trim(np.convolve(_trim(a), _trim(b)))
+    """The product of two polynomials, as ``polymul``: its arguments trimmed of trailing zeros as it
+    trims them, so that ``np.convolve`` sums the terms in numpy's order, bit for bit."""
+    return trimseq(np.convolve(trimseq(a), trimseq(b)))
 
 
 def _at1(c) -> float:
