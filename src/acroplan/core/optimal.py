@@ -40,7 +40,8 @@ Solvers
   :math:`2T(I_m\\otimes G)`; Gauss-Newton for the torque cost) plus the constraints' curvature
   :math:`\\sum_i \\lambda_i \\nabla^2 h_i`, whose Hessians are taken by forward differences of the
   endpoint Jacobian at the first basis size (``len(z)`` evaluations; again, at most
-  :data:`MAX_REFRESH` times, after a step the model predicted poorly), carried over padded with
+  :data:`MAX_REFRESH` times, after :data:`~acroplan.core.sqp.POOR_STEPS` steps in a row the model
+  predicted poorly), carried over padded with
   zeros to the next sizes, and corrected by symmetric rank-one updates from the secant of the
   Lagrangian's gradient. Without inequalities a step solves the KKT system
   :math:`Wp + A^\\top\\lambda = -\\nabla f,\\ Ap = -h`; when :math:`W` is not positive definite

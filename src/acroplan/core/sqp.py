@@ -35,11 +35,17 @@ import numpy as np
 from . import backend
 from .linalg import least_norm_step
 
-__all__ = ["solve_small", "kkt_multipliers", "kkt_step", "qp_step", "sqp", "polish_endpoint", "MAX_REFRESH"]
+__all__ = ["solve_small", "kkt_multipliers", "kkt_step", "qp_step", "sqp", "polish_endpoint", "MAX_REFRESH", "POOR_STEPS"]
 
-#: New forward-difference constraint Hessians after a step the model predicted poorly (line
-#: search backtracked), at most this many times per solve.
+#: New forward-difference constraint Hessians after :data:`POOR_STEPS` steps in a row that the
+#: model predicted poorly (the line search backtracked), at most this many times per solve.
 MAX_REFRESH = 3
+#: Backtracked steps in a row before the constraint Hessians are refreshed. A refresh costs one
+#: endpoint evaluation per coordinate (120 at 30 coefficients of 4 inputs), more than the few
+#: iterations the symmetric rank-one corrections take to repair the model in between: refreshing
+#: after every backtracked step made the bundled twisting dives' torque optima 2-3x slower, with
+#: the same optima (benchmarks/RESULTS.md, 2026-12-03, "The SQP's curvature refreshes").
+POOR_STEPS = 3
 
 
 def solve_small(M, b):
@@ -219,7 +225,8 @@ def _line_search(prob, x, p, rho, slope, alpha, ineq):
 
 def sqp(prob, z, Hz, *, tol, kkt_tol, max_iter=40, refresh=None, max_refresh=None, ineq=None):
     """The SQP (module docstring) from ``z`` with constraint Hessians ``Hz`` (q, Nz, Nz);
-    ``refresh(z)`` gives new ones (forward differences) after a step the model predicted poorly;
+    ``refresh(z)`` gives new ones (forward differences) after :data:`POOR_STEPS` steps in a row the
+    model predicted poorly;
     ``ineq(z) -> (r, R)`` the inequalities :math:`r(z) \\le 0` and their Jacobian, when there are any.
     Returns ``(z, info)``."""
     x = _Point(prob, z, ineq)
@@ -229,7 +236,7 @@ def sqp(prob, z, Hz, *, tol, kkt_tol, max_iter=40, refresh=None, max_refresh=Non
     D = np.zeros((N, N))
     rho = 0.0
     radius = 2.0 * max(math.sqrt(max(float(z @ x.H @ z), 0.0)), 1e-3)
-    its, why, refreshed = 0, "", 0
+    its, why, refreshed, poor = 0, "", 0, 0  # poor: backtracked steps in a row
     max_refresh = MAX_REFRESH if max_refresh is None else max_refresh
     while its < max_iter:
         if kkt <= kkt_tol and max(map(abs, x.h.tolist())) <= tol and (x.r is None or x.r.max(initial=-1.0) <= 0.0):
@@ -263,7 +270,9 @@ def sqp(prob, z, Hz, *, tol, kkt_tol, max_iter=40, refresh=None, max_refresh=Non
         s = xt.z - x.z
         # the cap on the step (in the cost's metric) follows the steps taken
         radius = max(radius, 2.0 * alpha * step) if trial == 0 else max(alpha * step, 0.25 * radius, 1e-12)
-        if refresh is not None and trial > 0 and refreshed < max_refresh:  # a poor model: new Hessians
+        poor = poor + 1 if trial > 0 else 0
+        if refresh is not None and poor >= POOR_STEPS and refreshed < max_refresh:  # a poor model: new Hessians
+            poor = 0
             refreshed += 1
             Hz2 = refresh(xt.z).reshape(q, N * N)
             D[:] = 0.0
