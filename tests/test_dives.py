@@ -92,14 +92,7 @@ def test_bundled_dive_is_planned_with_its_counts_within_the_limits(plans, name):
         assert peak <= limit * (1 + 1e-6), (joint, peak, limit)
 
 
-#: the forward dive's feasible plan needs more shoulder abduction than the data's estimate (84 N m,
-#: docs/human.md): a known gap, strict so that a plan within the strength makes this test fail
-FORWARD_TOO_STRONG = pytest.mark.xfail(strict=True, reason="the forward 1 1/2 with two twists: the feasible plan's "
-                                       "left shoulder abduction peaks at 84 N m, above the estimated 56.2 N m")
-
-
-@pytest.mark.parametrize("name", [n if n != "forward-double-twist" else pytest.param(n, marks=FORWARD_TOO_STRONG)
-                                  for n in sorted(NAMED)])
+@pytest.mark.parametrize("name", sorted(NAMED))
 def test_bundled_dive_torques_are_within_the_strength_data(plans, name):
     """Every joint's peak torque of the planned dive (its torques by Pinocchio's RNEA) within the
     strength data (data/strength_3d.toml)."""

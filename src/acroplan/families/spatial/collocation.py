@@ -90,7 +90,7 @@ from scipy.linalg import lapack
 from ...core.backend import IntegrationError, evaluate_columns
 from .collocation_parts import (_FULL, _SYM, MAX_PANELS, MAX_TURN, MIN_PANEL, NEWTON_ITERATIONS, NEWTON_TOL,  # noqa: F401
                                 NODES, SOLUTION_TAIL_TOL, TAIL_TOL, _basis_at, _block1, _blocks, _cat, _gauss,
-                                _layout, _left, _lu_solve, _qmul, _quad, _right, _rotate, _skew, _split, _take,
+                                _layout, _left, _lu_solve, _qmul, _quad, _right, _skew, _split, _take,
                                 _xi)
 
 __all__ = ["endpoint", "sample", "compile_map", "evaluate_map", "NODES", "TAIL_TOL", "MAX_PANELS"]
@@ -246,16 +246,18 @@ def _momentum_kernel(N: int):
     within the plan's time budget: :func:`acroplan.core.backend.compile_once`)."""
     from ...core import backend
 
-    return backend.compile_once(("spatial-momentum-kernel", int(N)), lambda: _build_momentum_kernel(N))
+    return backend.compile_once(("spatial-momentum-kernel", 2, int(N)), lambda: _build_momentum_kernel(N))
 
 
 def _build_momentum_kernel(N: int):
     """One Newton iteration's numbers for a panel's momentum collocation, compiled (independent of
     the body: one per node count). Inputs, flat: :math:`\\Lambda` (N x 3), :math:`\\lambda_0` (3),
     :math:`\\omega` (N x 3), :math:`W` (N x 9); parameter :math:`H`. Outputs, flat: the residual
-    :math:`\\Lambda_i - \\lambda_0 - H\\sum_j \\alpha_{ij} F_j` (3N), the Jacobian
-    :math:`S = 1 - H(\\alpha \\otimes 1) \\mathrm{diag}(J_j)` (3N x 3N), :math:`F_j = \\Lambda_j \\times
-    \\Omega_j` (3N) and :math:`J_j = [\\Lambda_j]_\\times W_j - [\\Omega_j]_\\times` (9N)."""
+    :math:`\\Lambda_i - \\lambda_0 - H\\sum_j \\alpha_{ij} F_j` (3N), :math:`F_j = \\Lambda_j \\times
+    \\Omega_j` (3N), :math:`J_j = [\\Lambda_j]_\\times W_j - [\\Omega_j]_\\times` (9N) and the
+    Jacobian :math:`S = 1 - H(\\alpha \\otimes 1) \\mathrm{diag}(J_j)` (3N x 3N) column by column, so
+    that its array read row by row and transposed is ``S`` in Fortran order, which LAPACK factors in
+    place (:func:`_momentum_panel`)."""
     import heyoka as hy
 
     a = _gauss(N)[2]
@@ -280,7 +282,54 @@ def _build_momentum_kernel(N: int):
         Jb.append([[sum(C[r][k] * W[j][k][c] for k in range(3) if not isinstance(C[r][k], float)) - O[r][c]
                     for c in range(3)] for r in range(3)])
     res = [Lam[i][c] - lam0[c] - H * sum(float(a[i, j]) * F[j][c] for j in range(N)) for i in range(N) for c in range(3)]
-    out = res + [x for f in F for x in f] + [x for blk in Jb for row in blk for x in row]
+    mH = -H
+    cols = []
+    for j in range(N):          # column (j, c) of S: the block column of node j
+        for c in range(3):
+            for i in range(N):
+                hij = mH * float(a[i, j])
+                for r in range(3):
+                    e = hij * Jb[j][r][c]
+                    cols.append(e + 1.0 if (i == j and r == c) else e)
+    out = res + [x for f in F for x in f] + [x for blk in Jb for row in blk for x in row] + cols
+    return hy.cfunc(out, list(v))
+
+
+@functools.cache
+def _guess_kernel(N: int):
+    """:func:`_build_guess_kernel`, compiled once per process as :func:`_momentum_kernel`."""
+    from ...core import backend
+
+    return backend.compile_once(("spatial-momentum-guess", int(N)), lambda: _build_guess_kernel(N))
+
+
+def _build_guess_kernel(N: int):
+    """The start of a panel's Newton iteration (:func:`_momentum_panel`), compiled: inputs, flat,
+    :math:`\\lambda_0` (3), :math:`\\omega` (N x 3), :math:`W` (N x 9); parameter :math:`H`; outputs
+    :math:`\\Lambda_j = \\exp(-[\\theta_j]_\\times)\\, \\lambda_0` (N x 3), :math:`\\theta_j = H \\sum_i
+    \\alpha_{ji}\\, (\\omega_i + W_i \\lambda_0)`, by Rodrigues' formula with
+    :math:`(1 - \\cos t)/t^2 = \\tfrac12 (\\sin(t/2) / (t/2))^2` and :math:`\\sin t / t` at
+    :math:`t^2 + 10^{-300}` (a guess: its last digits change only where Newton's method starts)."""
+    import heyoka as hy
+
+    a = _gauss(N)[2]
+    v = hy.make_vars(*[f"v{i}" for i in range(12 * N + 3)])
+    lam = v[:3]
+    w = [v[3 + 3 * j:6 + 3 * j] for j in range(N)]
+    W = [[v[3 * N + 3 + 9 * j + 3 * r:3 * N + 6 + 9 * j + 3 * r] for r in range(3)] for j in range(N)]
+    H = hy.par[0]
+    Om = [[w[i][r] + W[i][r][0] * lam[0] + W[i][r][1] * lam[1] + W[i][r][2] * lam[2] for r in range(3)]
+          for i in range(N)]
+    out = []
+    for j in range(N):
+        th = [-H * sum(float(a[j, i]) * Om[i][r] for i in range(N)) for r in range(3)]
+        t = hy.sqrt(th[0] * th[0] + th[1] * th[1] + th[2] * th[2] + 1e-300)
+        s1 = hy.sin(t) / t
+        h = hy.sin(0.5 * t) / (0.5 * t)
+        s2 = 0.5 * h * h
+        tv = [th[1] * lam[2] - th[2] * lam[1], th[2] * lam[0] - th[0] * lam[2], th[0] * lam[1] - th[1] * lam[0]]
+        ttv = [th[1] * tv[2] - th[2] * tv[1], th[2] * tv[0] - th[0] * tv[2], th[0] * tv[1] - th[1] * tv[0]]
+        out += [lam[r] + s1 * tv[r] + s2 * ttv[r] for r in range(3)]
     return hy.cfunc(out, list(v))
 
 
@@ -288,50 +337,52 @@ def _momentum_panel(seg, lam, H, d):
     """Newton's method on one panel's collocation equations of :math:`\\lambda' = \\lambda \\times
     \\Omega`, :math:`\\Omega = \\omega + W \\lambda`, from the guess :math:`\\Lambda_j =
     \\exp(-[\\theta_j]_\\times)\\, \\lambda`, :math:`\\theta_j = H \\sum_i \\alpha_{ji}\\, \\Omega_i(\\lambda)` (the
-    start's momentum turned back by the body's turn to node :math:`j` at the frozen momentum). Returns
+    start's momentum turned back by the body's turn to node :math:`j` at the frozen momentum,
+    :func:`_build_guess_kernel`). Each iteration is one call of the compiled kernel
+    (:func:`_build_momentum_kernel`: the residual and ``S``) and one LAPACK solve in place. Returns
     ``(lam1, Lam, J, (lu, piv), tail)`` (``J`` the blocks :math:`\\partial(\\lambda \\times \\Omega)/\\partial
     \\lambda` at the nodes), or ``None`` when Newton's method does not converge."""
-    W, w, a, N = d["W"], d["w"], seg.a, seg.N
+    W, w, N = d["W"], d["w"], seg.N
     tol = NEWTON_TOL * seg.Lnorm
-    kern = _momentum_kernel_copy(N)
+    kern, guess = _momentum_kernel_copy(N)
+    n3 = 3 * N
     inp = np.empty(15 * N + 3)
-    inp[3 * N:3 * N + 3] = lam
-    inp[3 * N + 3:6 * N + 3] = w.ravel()
+    inp[n3:n3 + 3] = lam
+    inp[n3 + 3:6 * N + 3] = w.ravel()
     inp[6 * N + 3:] = W.ravel()
     par = np.array([H])
+    guess(inp[n3:], pars=par, outputs=inp[:n3])
     out = np.empty(kern.nouts)
-    n3 = 3 * N
-    Lam = _rotate(lam, (-H) * (a @ (w + W @ lam)))
+    res, o_s = out[:n3], 15 * N
     for _ in range(NEWTON_ITERATIONS):
-        inp[:n3] = Lam.ravel()
         kern(inp, pars=par, outputs=out)
-        step = lapack.dgesv(_block1(seg, H, out[2 * n3:].reshape(N, 3, 3)), out[:n3])[2]
-        Lam = Lam - step.reshape(-1, 3)
+        step = lapack.dgesv(out[o_s:].reshape(n3, n3).T, res, overwrite_a=1, overwrite_b=1)[2]
+        inp[:n3] -= step
         if not np.abs(step).max() > tol:
             break
     else:
         return None
-    inp[:n3] = Lam.ravel()
     kern(inp, pars=par, outputs=out)
     F = out[n3:2 * n3].reshape(N, 3)
-    J = out[2 * n3:].reshape(N, 3, 3).copy()
+    J = out[2 * n3:o_s].reshape(N, 3, 3)
     tail = H * np.abs(seg.Vi[-2:] @ F).max() / seg.Lnorm
+    Lam = inp[:n3].reshape(N, 3)
     if not (np.isfinite(tail) and np.isfinite(Lam).all()):
         return None
-    lu, piv, info = lapack.dgetrf(_block1(seg, H, J))
+    lu, piv, info = lapack.dgetrf(out[o_s:].reshape(n3, n3).T, overwrite_a=1)
     if info != 0:
         return None
     return lam + H * (seg.b @ F), Lam, J, (lu, piv), tail
 
 
 def _momentum_kernel_copy(N):
-    """This thread's copy of :func:`_momentum_kernel`."""
+    """This thread's copies of :func:`_momentum_kernel` and :func:`_guess_kernel`."""
     mine = getattr(_LOCAL, "kernels", None)
     if mine is None:
         mine = _LOCAL.kernels = {}
     own = mine.get(N)
     if own is None:
-        own = mine[N] = copy.copy(_momentum_kernel(N))
+        own = mine[N] = (copy.copy(_momentum_kernel(N)), copy.copy(_guess_kernel(N)))
     return own
 
 

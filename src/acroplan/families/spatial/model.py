@@ -567,13 +567,14 @@ class SpatialBody(TreeBody, ControlAffineSystem):
 
     def prepare_endpoint_map(self) -> bool:
         """Compile the momentum map of this topology (:func:`~acroplan.families.spatial.collocation.compile_map`),
-        and with :math:`L \\ne 0` the momentum's Newton kernel (one per process)."""
-        from .collocation import NODES, _momentum_kernel, compile_map
+        and with :math:`L \\ne 0` the momentum's Newton kernel and its start (one per process)."""
+        from .collocation import NODES, _guess_kernel, _momentum_kernel, compile_map
 
         compile_map(self)
         compile_map(self, light=True)  # the guesses' fast integration
         if any(self.L):
             _momentum_kernel(NODES)
+            _guess_kernel(NODES)
         return True
 
     # ------------------------------------------------------------------ the state space: SO(3) x R^m
