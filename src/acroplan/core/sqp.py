@@ -35,7 +35,7 @@ import numpy as np
 from . import backend
 from .linalg import least_norm_step
 
-__all__ = ["solve_small", "kkt_multipliers", "kkt_step", "qp_step", "sqp", "polish_endpoint", "MAX_REFRESH", "POOR_STEPS", "MERIT_RESOLUTION"]
+__all__ = ["solve_small", "kkt_multipliers", "kkt_step", "qp_step", "sqp", "polish_endpoint", "MAX_REFRESH", "POOR_STEPS", "MERIT_RESOLUTION", "INEQ_TOL"]
 
 #: New forward-difference constraint Hessians after :data:`POOR_STEPS` steps in a row that the
 #: model predicted poorly (the line search backtracked), at most this many times per solve.
@@ -52,6 +52,13 @@ POOR_STEPS = 3
 #: relative KKT residual instead (:func:`_below_resolution`). Without it the trunk's torque optimum
 #: stopped at a residual of 5.9e-8, a predicted decrease of 1.9e-12 on a cost of 55.
 MERIT_RESOLUTION = 1e-12
+#: An inequality :math:`r_i(z) \\le 0` holds for the stop (and :func:`_below_resolution`) when
+#: :math:`r_i \\le` this, in the limit's own units (rad/s, rad, N m): an active row evaluates to
+#: rounding (measured up to 1.6e-13 on the forward dive's rate limits), and at exactly 0 the SQP ran
+#: on at a KKT residual of 1e-10 until no step decreased the merit function (hundreds of
+#: evaluations a size). The rows lie 2e-3 inside the limits, and a result must comply to
+#: :data:`acroplan.core.limits.COMPLIANCE_TOL` (1e-9) besides.
+INEQ_TOL = 1e-11
 
 
 def solve_small(M, b):
@@ -237,7 +244,7 @@ def _below_resolution(prob, x, p, kkt, ineq):
         xt = _Point(prob, x.z + p, ineq)
     except backend.IntegrationError:
         return None
-    if xt.r is not None and xt.r.max(initial=-1.0) > 0.0:
+    if xt.r is not None and xt.r.max(initial=-1.0) > INEQ_TOL:
         return None
     if kkt_multipliers(xt.g, xt.A, xt.active())[1] >= kkt:
         return None
@@ -260,7 +267,7 @@ def sqp(prob, z, Hz, *, tol, kkt_tol, max_iter=40, refresh=None, max_refresh=Non
     its, why, refreshed, poor = 0, "", 0, 0  # poor: backtracked steps in a row
     max_refresh = MAX_REFRESH if max_refresh is None else max_refresh
     while its < max_iter:
-        if kkt <= kkt_tol and max(map(abs, x.h.tolist())) <= tol and (x.r is None or x.r.max(initial=-1.0) <= 0.0):
+        if kkt <= kkt_tol and max(map(abs, x.h.tolist())) <= tol and (x.r is None or x.r.max(initial=-1.0) <= INEQ_TOL):
             break
         its += 1
         W = (lam @ Hz2).reshape(N, N)
