@@ -89,7 +89,7 @@ from scipy.linalg import lapack
 
 from ...core.backend import IntegrationError, evaluate_columns
 from .collocation_parts import (_FULL, _SYM, MAX_PANELS, MAX_TURN, MIN_PANEL, NEWTON_ITERATIONS, NEWTON_TOL,  # noqa: F401
-                                NODES, SOLUTION_TAIL_TOL, TAIL_TOL, _basis_at, _block1, _blocks, _cat, _gauss,
+                                NODES, SOLUTION_TAIL_TOL, TAIL_TOL, _basis_at, _blocks, _cat, _gauss,
                                 _layout, _left, _lu_solve, _qmul, _quad, _right, _skew, _split, _take,
                                 _xi)
 

@@ -224,34 +224,3 @@ for _i, _j, _k in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
     _EPS[_k, _i, _j], _EPS[_k, _j, _i] = -1.0, 1.0  # [v]x[i, j] = -eps_ijk v_k
 _EPS.setflags(write=False)
 _E2 = _EPS.reshape(3, 9)
-
-
-def _rotate(v, theta):
-    """``v`` turned by the rotation vectors ``theta`` (N, 3) (Rodrigues), shape (N, 3)."""
-    t = np.sqrt((theta * theta).sum(axis=1))
-    small = t < 1e-8
-    ts = np.where(small, 1.0, t)
-    s1 = np.where(small, 1.0 - t * t / 6.0, np.sin(ts) / ts)
-    s2 = np.where(small, 0.5 - t * t / 24.0, (1.0 - np.cos(ts)) / (ts * ts))
-    K = _skew(theta)
-    tv = K @ v
-    return v + s1[:, None] * tv + s2[:, None] * (K @ tv[:, :, None])[:, :, 0]
-
-
-@functools.cache
-def _ak(N: int, k: int):
-    """:math:`\\alpha_{ij}` at the rows (i, a) and columns (j, b) of a stage system with ``k``
-    unknowns per node, as an (N, 1, N k) array."""
-    out = np.repeat(_gauss(N)[2], k, axis=1)[:, None, :]
-    out.setflags(write=False)
-    return out
-
-
-def _block1(seg, H, J):
-    """``S`` of one panel from blocks ``J`` (N, k, k) (:func:`_blocks`)."""
-    N, k = J.shape[0], J.shape[1]
-    S = (_ak(N, k) * ((-H) * np.swapaxes(J, 0, 1).reshape(k, N * k))).reshape(N * k, N * k)
-    S.flat[::N * k + 1] += 1.0
-    return S
-
-
