@@ -151,6 +151,50 @@ def test_technique_from_the_plan_and_scaled(plans):
     assert kw["right_shoulder_abduction"] == prob.waypoints["right_shoulder_abduction"]
 
 
+def test_the_techniques_flight_in_the_files_own_time_is_the_files_plan(plans):
+    """Flown in the file's flight time for the file's somersault, the technique's flight is the
+    file's plan again: the same L (the secant starts at it), the same twist, the joints on the
+    waypoints; Pinocchio checks it."""
+    from acroplan.families.spatial.potential import FLIGHT_TOL, technique_flight, technique_of
+    from acroplan.io import examples as bundled
+
+    prob, res = bundled.load("back-full-twist"), plans("back-full-twist")
+    tech = technique_of(prob, res)
+    fl = technique_flight(prob, res, tech, 1.5, 1.0, acroplan.simulate)
+    assert fl is not None and fl.result.verification == "family"
+    assert max(s.verified_error for s in fl.result.segments) < 1e-9
+    assert abs(fl.somersaults + 1.0) <= FLIGHT_TOL
+    # the plan reaches its landing to its endpoint tolerance (1e-12 on the state), so the size of
+    # L that turns exactly one somersault is the file's to about that
+    assert fl.body.L == pytest.approx(prob.system.L, rel=1e-9, abs=1e-9)
+    assert fl.twists == pytest.approx(-1.0, abs=1e-8) and abs(fl.landing_tilt) < 1e-6
+    np.testing.assert_allclose(fl.states[:, 4:], res.waypoints[:, 4:], atol=1e-9)
+    assert fl.peak_rate == pytest.approx(6.95 / 15.0, abs=0.01)    # the plan's peak rate, of the 15 rad/s limit
+
+
+def test_two_somersaults_twist_twice_through_the_techniques_flight(plans):
+    """Two somersaults in the same 1.5 s (L about doubled): the technique's flight twists more than
+    twice, and a plan through its half-way state to two somersaults and two twists succeeds, the
+    counts exact, where waypoints scaled from the file's angles left the planner searching."""
+    from acroplan.families.spatial.potential import FLIGHT_TOL, _counts, scaled_problem, technique_flight, technique_of
+    from acroplan.io import examples as bundled
+
+    prob, res = bundled.load("back-full-twist"), plans("back-full-twist")
+    tech = technique_of(prob, res)
+    fl = technique_flight(prob, res, tech, 1.5, 2.0, acroplan.simulate)
+    assert fl is not None and abs(fl.somersaults + 2.0) <= FLIGHT_TOL
+    k = fl.body.L[0] / prob.system.L[0]
+    assert fl.body.L[1:] == (0.0, 0.0) and 1.9 < k < 2.1      # along the file's L, about twice as large
+    assert -2.6 < fl.twists < -2.0                               # the same arms, twice the spin
+    body, kw = scaled_problem(prob, tech, 1.5, 2.0, 2.0, flight=fl)
+    assert body is fl.body and kw["times"] == pytest.approx([0.0, 0.75, 1.5])
+    r = acroplan.plan(body, **kw)
+    assert r.status == "success", r.message
+    assert max(s.verified_error for s in r.segments) < 1e-9
+    som, tw = _counts(r)
+    assert abs(som + 2.0) < 1e-6 and abs(tw + 2.0) < 1e-6
+
+
 def test_twist_potential_refuses_a_body_without_it(tmp_path):
     from acroplan.io.cli import main
 
@@ -173,7 +217,8 @@ def test_twist_potential_command_writes_the_table(tmp_path, monkeypatch):
 
     real = potential.scaled_problem
 
-    def scaled(problem, tech, T, n, x):
+    def scaled(problem, tech, T, n, x, flight=None):
+        assert flight is None   # the fake plan of the file has no segments to fly
         body, kw = real(problem, tech, T, n, x)
         return body, {**kw, "_target": x}
 

@@ -81,11 +81,12 @@ missing hook means the family does not offer that job, and the layer asking says
     exceeds is refused up front, unless that integrator was compiled before on this machine
     (:func:`acroplan.core.backend.compile_estimate`).
 14. ``twist_potential(problem, plan, *, flight_times, somersaults, resolution, time_limit,
-    progress) -> list`` (optional): the coach's question in 3-D, the most twist the problem's body
-    can make in each flight time and number of somersaults (``acroplan twist-potential``); each
-    cell has ``to_dict()`` and says where it stopped and why (``"proven"`` by an exact test, or
-    ``"planner stopped"``); ``plan`` is :func:`acroplan.plan`, passed in since a family does not
-    import the front doors. ``twist_potential_figure(cells) -> Figure``: its figure.
+    progress, simulate) -> list`` (optional): the coach's question in 3-D, the most twist the
+    problem's body can make in each flight time and number of somersaults (``acroplan
+    twist-potential``); each cell has ``to_dict()`` and says where it stopped and why
+    (``"proven"`` by an exact test, or ``"planner stopped"``); ``plan`` and ``simulate`` are
+    :func:`acroplan.plan` and :func:`acroplan.simulate`, passed in since a family does not import
+    the front doors. ``twist_potential_figure(cells) -> Figure``: its figure.
 15. ``attitude_angles(result, t) -> {name: array}`` (optional): the angles a user reads the
     attitude in, at the times ``t`` (a body in 3-D: Yeadon's ``somersault_turns``, ``tilt_deg``,
     ``twist_turns``, unwrapped from 0 at the start); ``acroplan simulate`` writes them

@@ -16,8 +16,19 @@ limits when the file gives ``tau_max``); a target is reached when the plan succe
 Pinocchio) **and** its motion turns the target's somersaults and twists (to :data:`COUNT_TOL`
 turns, unwrapped Yeadon angles): a plan that turns the other way between the waypoints is not.
 
-The bisection on :math:`X`: from the file's own twist count (or half a turn), doubling while the
-plan succeeds, then halving the bracket to ``resolution`` turns. It reports the most twist reached
+**The technique's flight** (:func:`technique_flight`) comes first in each cell: the file's planned
+joint motion played in the flight time :math:`T` (its rates times :math:`T_f / T`), simulated
+(``acroplan.simulate``, Pinocchio-checked) with :math:`L` along the file's, its size found by the
+secant method so that the flight turns exactly :math:`n` somersaults. Its twist at the landing and
+its tilt there say what the technique itself makes, and its states at the waypoint times are the
+interior waypoints of every target planned in the cell (a motion of the body is known to pass
+through them; waypoints scaled from the file's angles are not, and from them the planner searches
+in vain). The landing waypoint is :math:`n` somersaults, no tilt and the target's twist, with the
+file's joints.
+
+The bisection on :math:`X`: from the technique flight's twist rounded down to ``resolution`` (the
+file's own twist count, or half a turn, when there is no flight), doubling while the plan
+succeeds, then halving the bracket to ``resolution`` turns. It reports the most twist reached
 (``most``: a plan exists, Pinocchio-checked) and the least target not reached (``failed``), and
 **why** it stopped there: ``"proven"`` when the family's exact test (``check_segment``) refuses the
 segment before planning, else ``"planner stopped"`` (a plan not found within the budget proves
@@ -36,8 +47,9 @@ import numpy as np
 from ...core.errors import InvalidInputError
 from . import rotations as rot
 
-__all__ = ["TwistCell", "bisect_twist", "yeadon_turns", "sampled_states", "attitude_angles", "technique_of", "scaled_problem", "twist_potential", "twist_potential_figure",
-           "DEFAULT_RESOLUTION", "MOST_TWISTS", "COUNT_TOL"]
+__all__ = ["TwistCell", "TechniqueFlight", "bisect_twist", "yeadon_turns", "sampled_states", "attitude_angles",
+           "technique_of", "technique_flight", "scaled_problem", "twist_potential", "twist_potential_figure",
+           "DEFAULT_RESOLUTION", "MOST_TWISTS", "COUNT_TOL", "FLIGHT_TOL"]
 
 #: the bisection's resolution (turns of twist)
 DEFAULT_RESOLUTION = 0.25
@@ -45,6 +57,8 @@ DEFAULT_RESOLUTION = 0.25
 MOST_TWISTS = 8.0
 #: a plan reaches a target when its somersault and twist counts are the target's to this (turns)
 COUNT_TOL = 1e-6
+#: the technique's flight turns the cell's somersaults to this (turns; the secant on the size of L)
+FLIGHT_TOL = 1e-9
 
 
 @dataclasses.dataclass(frozen=True)
@@ -61,12 +75,30 @@ class TwistCell:
     plans: int
     seconds: float
     tries: tuple[tuple[float, str], ...]   # (target turns, status) in the order planned
+    technique_twists: float | None = None       # the technique's flight: twist at the landing (turns)
+    technique_landing_tilt: float | None = None  # ... and its tilt there (degrees)
+    technique_peak_rate: float | None = None     # ... its largest joint rate over that joint's limit (1: at it)
 
     def to_dict(self) -> dict:
         d = dataclasses.asdict(self)
         d["angular_momentum"] = list(self.angular_momentum)
         d["tries"] = [list(t) for t in self.tries]
         return d
+
+
+@dataclasses.dataclass(frozen=True)
+class TechniqueFlight:
+    """The file's joint motion flown in another flight time with another angular momentum
+    (:func:`technique_flight`)."""
+
+    body: object            # the SpatialBody with the flight's L
+    result: object          # acroplan.simulate's PlanResult (Pinocchio-checked)
+    times: np.ndarray       # the waypoint times, scaled, shape (K+1,)
+    states: np.ndarray      # the flight's states at those times, shape (K+1, n_states)
+    somersaults: float      # turns at the landing (signed: the file's direction)
+    twists: float           # turns at the landing (signed)
+    landing_tilt: float     # degrees
+    peak_rate: float        # the largest |joint rate| over its limit (inf: a joint without one is ignored)
 
 
 def yeadon_turns(result, times=None, samples: int = 4001):
@@ -123,13 +155,92 @@ def technique_of(problem, result) -> dict:
             "somersaults": float(som[-1]), "twists": float(tw[-1]), "T": float(times[-1] - times[0])}
 
 
-def scaled_problem(problem, technique: dict, flight_time: float, somersaults: float, twists: float):
+def technique_flight(problem, result, technique: dict, flight_time: float, somersaults: float, simulate=None):
+    """The technique's flight (module docstring): the joint rates of ``result`` (the file's plan,
+    every segment's input coefficients) times :math:`a = T_f / T`, on the waypoint times scaled by
+    :math:`1 / a`, flown from the file's first state by ``simulate`` (default
+    :func:`acroplan.core.simulate.simulate`) with :math:`L = k L_f`, :math:`k` by the secant
+    method on the somersault turns at the landing (from :math:`k = a\\,n / n_f`) until they are
+    ``somersaults`` to :data:`FLIGHT_TOL`; the last flight verified by Pinocchio.
+
+    Returns
+    -------
+    TechniqueFlight or None
+        None when the flight cannot be made (no ``simulate``, a segment in another basis than
+        Legendre's, a simulation that fails or whose check fails, or no convergence in 12 flights).
+    """
+    from .model import SpatialBody
+
+    if simulate is None:
+        return None
+    segs = list(getattr(result, "segments", ()) or ())
+    if not segs or any(type(sg.basis).__name__ != "Legendre" for sg in segs):
+        return None
+    tech = technique
+    a = tech["T"] / float(flight_time)
+    times = [float(t - result.times[0]) / a for t in result.times]
+    coeffs = [a * np.asarray(sg.basis_coefficients, dtype=float) for sg in segs]
+    names = problem.system.state_names
+    x0 = {k: float(v) for k, v in zip(names, result.waypoints[0])}
+    L0 = np.asarray(problem.system.L, dtype=float)
+    n = abs(float(somersaults))
+
+    def fly(k, verify):
+        body = SpatialBody(problem.system.links, L=tuple(float(v) for v in L0 * k))
+        res = simulate(body, times=times, inputs=coeffs, basis="legendre", verify=verify, **x0)
+        if str(getattr(res.status, "value", res.status)) != "success":
+            return body, res, math.nan
+        return body, res, abs(_counts(res)[0])
+
+    k0 = a * n / abs(tech["somersaults"])
+    _, _, s0 = fly(k0, False)
+    if not math.isfinite(s0) or s0 <= 0:
+        return None
+    k1 = k0 * n / s0
+    for _ in range(12):
+        _, _, s1 = fly(k1, False)
+        if not math.isfinite(s1):
+            return None
+        if abs(s1 - n) <= FLIGHT_TOL:
+            break
+        k0, s0, k1 = k1, s1, (k1 + (n - s1) * (k1 - k0) / (s1 - s0) if s1 != s0 else k1 * n / s1)
+    else:
+        return None
+    body, res, s1 = fly(k1, True)
+    if not (math.isfinite(s1) and abs(s1 - n) <= FLIGHT_TOL):
+        return None
+    tt, som, tilt, tw = yeadon_turns(res)
+    states = sampled_states(res, np.asarray(times)).T
+    lim = problem.system.default_limits()
+    rates = dict(lim.input_bounds) if lim is not None else {}
+    t_dense = np.linspace(times[0], times[-1], 2001)
+    U = np.concatenate([res.evaluate(c, effort=False).inputs for c in np.array_split(t_dense, 5)], axis=1)
+    peak = max((float(np.max(np.abs(U[i]))) / rates[nm] for i, nm in enumerate(problem.system.input_names)
+                if nm in rates and rates[nm] > 0), default=0.0)
+    return TechniqueFlight(body, res, np.asarray(times), states, float(som[-1]), float(tw[-1]), float(tilt[-1]), peak)
+
+
+def scaled_problem(problem, technique: dict, flight_time: float, somersaults: float, twists: float, flight=None):
     """``(body, plan keywords)`` of the file's ``technique`` (:func:`technique_of`) scaled (module
     docstring): ``somersaults`` and ``twists`` in turns (their magnitudes; the directions the
-    file's)."""
+    file's). With ``flight`` (a :class:`TechniqueFlight` of this flight time and somersault count):
+    its body, its times, its states at the interior waypoints, and the landing at the somersaults,
+    no tilt and ``twists``, the joints the file's."""
     from .model import SpatialBody
 
     tech = technique
+    if flight is not None:
+        sign_s = math.copysign(1.0, tech["somersaults"])
+        sign_t = math.copysign(1.0, tech["twists"]) if abs(tech["twists"]) > 1e-9 else 1.0
+        kw = problem.plan_kwargs()
+        if kw.get("conditions") is None:
+            kw.pop("conditions")
+        names = problem.system.state_names
+        X = np.array(flight.states, dtype=float)
+        X[-1, :4] = rot.from_euler([sign_s * 360.0 * abs(somersaults), 0.0, sign_t * 360.0 * abs(twists)])
+        X[-1, 4:] = [float(kw[k][-1]) for k in names[4:]]
+        kw.update(times=[float(t) for t in flight.times], **{k: [float(v) for v in X[:, i]] for i, k in enumerate(names)})
+        return flight.body, kw
     if abs(tech["somersaults"]) < 1e-9:
         raise InvalidInputError("plan.attitude", "turns no somersault from the first to the last waypoint",
                                 "give a problem file of a somersault (the bundled back-full-twist)")
@@ -150,9 +261,11 @@ def scaled_problem(problem, technique: dict, flight_time: float, somersaults: fl
 
 
 def twist_potential(problem, plan, *, flight_times=None, somersaults=None, resolution: float = DEFAULT_RESOLUTION,
-                    time_limit: float | None = None, progress=None) -> list[TwistCell]:
+                    time_limit: float | None = None, progress=None, simulate=None) -> list[TwistCell]:
     """The table of the most twist (module docstring): one :class:`TwistCell` per flight time and
-    somersault count (default the file's)."""
+    somersault count (default the file's). ``plan`` and ``simulate`` are ``acroplan.plan`` and
+    ``acroplan.simulate`` (without ``simulate``, no technique's flight: every target's waypoints
+    are the file's scaled)."""
     kw = problem.plan_kwargs()
     if kw.get("conditions") is None:
         kw.pop("conditions")
@@ -173,7 +286,7 @@ def twist_potential(problem, plan, *, flight_times=None, somersaults=None, resol
     cells = []
     for n in S:
         for T in F:
-            cells.append(_cell(problem, tech, plan, T, n, resolution, time_limit, progress))
+            cells.append(_cell(problem, tech, plan, T, n, resolution, time_limit, progress, res, simulate))
     return cells
 
 
@@ -213,15 +326,18 @@ def bisect_twist(reachable, start: float, resolution: float = DEFAULT_RESOLUTION
     return lo, hi, tries
 
 
-def _cell(problem, tech, plan, T, n, resolution, time_limit, progress):
+def _cell(problem, tech, plan, T, n, resolution, time_limit, progress, own=None, simulate=None):
     start = time.perf_counter()
     status: dict[float, tuple[str, str]] = {}
     body_L = []
     sign_s = math.copysign(1.0, tech["somersaults"])
     sign_t = math.copysign(1.0, tech["twists"]) if abs(tech["twists"]) > 1e-9 else 1.0
+    if progress is not None and simulate is not None:
+        progress(f"{n:g} somersaults in {T:g} s: the technique's flight")
+    flight = technique_flight(problem, own, tech, T, n, simulate) if own is not None else None
 
     def reachable(x):
-        body, kw = scaled_problem(problem, tech, T, n, x)
+        body, kw = scaled_problem(problem, tech, T, n, x, flight=flight)
         body_L[:] = [body.L]
         if time_limit is not None:
             kw["time_limit"] = time_limit
@@ -237,7 +353,10 @@ def _cell(problem, tech, plan, T, n, resolution, time_limit, progress):
         status[float(x)] = (st, message)
         return st == "success"
 
-    first = abs(tech["twists"]) if abs(tech["twists"]) > 0 else 0.5
+    if flight is not None:   # the technique's own twist, rounded down to the resolution
+        first = max(resolution, math.floor(abs(flight.twists) / resolution + 1e-9) * resolution)
+    else:
+        first = abs(tech["twists"]) if abs(tech["twists"]) > 0 else 0.5
     lo, hi, tries = bisect_twist(reachable, first, resolution)
     if hi is None:
         stopped, reason = "resolution", f"every target up to {MOST_TWISTS:g} twists was reached"
@@ -246,8 +365,10 @@ def _cell(problem, tech, plan, T, n, resolution, time_limit, progress):
         stopped = "proven" if st == "infeasible" else "planner stopped"
         reason = f"{hi:g} twists: {st}" + (f" ({message})" if message else "")
     L = body_L[0] if body_L else problem.system.L
+    tw, tilt, peak = ((abs(flight.twists), flight.landing_tilt, flight.peak_rate) if flight is not None
+                      else (None, None, None))
     return TwistCell(float(T), float(n), tuple(float(v) for v in L), float(lo), hi, stopped, reason, len(tries),
-                     time.perf_counter() - start, tuple((x, status[x][0]) for x, _ in tries))
+                     time.perf_counter() - start, tuple((x, status[x][0]) for x, _ in tries), tw, tilt, peak)
 
 
 def twist_potential_figure(cells):

@@ -16,7 +16,7 @@ from .momentum import _numbers_option
 
 #: the columns of twist-potential.csv
 COLUMNS = ("somersaults", "flight_time", "most_twists", "least_not_reached", "stopped", "plans", "seconds", "Lx", "Ly",
-           "Lz", "reason")
+           "Lz", "technique_twists", "technique_landing_tilt_deg", "technique_peak_rate_of_limit", "reason")
 
 
 @click.command("twist-potential")
@@ -38,13 +38,14 @@ def twist_potential_cmd(problem, example, out, force, quiet, as_json, somersault
     """The most twist PROBLEM's body can make in given flight times and numbers of somersaults.
 
     \b
-    The technique is the file's: its waypoints (Yeadon's somersault, tilt and twist, and the
-    joint angles) with the times scaled to each flight time, the somersault to each count, the
-    twist to each target, the angular momentum L = I w following the somersault rate. A bisection
-    on the twist target plans each one under the file's joint ranges and rate limits (and its
-    tau_max); each cell reports the most twist planned, the least target not reached and why it
-    stopped there: "proven" (an exact test refused it) or "planner stopped" (no plan found within
-    the budget, which proves nothing).
+    The technique is the file's: its planned joint motion, played in each flight time and
+    simulated, with the angular momentum sized so that the flight turns each number of
+    somersaults (the technique's flight: the twist and the landing tilt it makes). A bisection on
+    the twist target, from the flight's twist rounded down, plans each target through the flight's
+    states at the interior waypoints to the landing (the somersaults, no tilt, the target's twist)
+    under the file's joint ranges and rate limits (and its tau_max); each cell reports the most
+    twist planned, the least target not reached and why it stopped there: "proven" (an exact test
+    refused it) or "planner stopped" (no plan found within the budget, which proves nothing).
 
     \b
     Writes to OUT (optional):
@@ -58,6 +59,7 @@ def twist_potential_cmd(problem, example, out, force, quiet, as_json, somersault
     """
     from ...core.family import family_of
     from ...planning import plan
+    from ...simulation import simulate
 
     try:
         prob = load_problem_arg(problem, example, None, allowed_paths(allow_outside))
@@ -71,11 +73,13 @@ def twist_potential_cmd(problem, example, out, force, quiet, as_json, somersault
                                     "give a problem file of a body in 3-D (the bundled back-full-twist)")
         limit = time_limit if time_limit is not None else prob.options.get("time_limit")
         cells = fam.twist_potential(prob, plan, flight_times=F, somersaults=S, resolution=resolution,
-                                    time_limit=limit, progress=None if quiet or as_json else
+                                    time_limit=limit, simulate=simulate, progress=None if quiet or as_json else
                                     (lambda text: click.echo(f"planning {text}", err=True)))
         doc = {"command": "twist-potential", "problem": prob.name, "resolution": resolution,
-               "method": "the file's technique scaled to each flight time, somersault count and twist target; "
-                         "a bisection on the twist target, each target planned (acroplan.plan, Pinocchio-checked)",
+               "method": "the file's planned joint motion flown in each flight time with L sized for each somersault "
+                         "count (acroplan.simulate, Pinocchio-checked); a bisection on the twist target from the "
+                         "flight's twist, each target planned through the flight's interior states (acroplan.plan, "
+                         "Pinocchio-checked)",
                "cells": [c.to_dict() for c in cells]}
         if out is not None:
             with OutputFolder(out, force) as folder:
@@ -86,9 +90,10 @@ def twist_potential_cmd(problem, example, out, force, quiet, as_json, somersault
                         save({"twist-potential": fam.twist_potential_figure(cells)}, tmp, fmts)
     except InvalidInputError as e:
         fail(str(e))
-    lines = ["somersaults  flight time  most twists  least not reached  stopped"]
+    lines = ["somersaults  flight time  technique's twists  most twists  least not reached  stopped"]
     for c in cells:
-        lines.append(f"{c.somersaults:11g}  {c.flight_time:9g} s  {c.most:11g}  "
+        tech = "-" if c.technique_twists is None else f"{c.technique_twists:.3f}"
+        lines.append(f"{c.somersaults:11g}  {c.flight_time:9g} s  {tech:>18}  {c.most:11g}  "
                      f"{'-' if c.failed is None else format(c.failed, 'g'):>17}  {c.stopped}")
     if out is not None:
         lines.append(f"wrote {out}/")
@@ -103,4 +108,6 @@ def write_csv(cells, path: Path) -> None:
         for c in cells:
             w.writerow([repr(c.somersaults), repr(c.flight_time), repr(c.most), "" if c.failed is None else
                         repr(c.failed), c.stopped, c.plans, f"{c.seconds:.3f}", *(repr(v) for v in c.angular_momentum),
+                        *("" if v is None else repr(v) for v in (c.technique_twists, c.technique_landing_tilt,
+                                                                  c.technique_peak_rate)),
                         c.reason])
