@@ -4,27 +4,28 @@ somersaults (``acroplan twist-potential FILE``).
 The technique is the file's. A problem file of a twisting somersault (the bundled dives,
 ``docs/human.md``) gives waypoints in Yeadon's somersault, tilt and twist; they are read back as
 quaternions, which do not say how many turns lie between two waypoints, so the file is planned
-first and its waypoints' unwrapped Yeadon angles read from that plan (:func:`technique_of`). The
-question for a
-flight time :math:`T` and :math:`n` somersaults is asked of **the same technique scaled**: the
-waypoint times by :math:`T / T_f`, every waypoint's somersault angle by :math:`n / n_f`, its twist
-angle by :math:`X / X_f` (:math:`X` the twist target in turns), its tilt and the joint angles kept;
-the angular momentum :math:`L = I\\,\\omega` follows the somersault rate, :math:`L = L_f\\,(n / n_f)
-(T_f / T)` (the file's subscript :math:`f`). Each target is planned (``plan`` passed in, since a
+first and its waypoints' unwrapped Yeadon angles read from that plan (:func:`technique_of`).
+
+**The technique's flight** (:func:`technique_flight`) comes first in each cell of a flight time
+:math:`T` and :math:`n` somersaults: the file's planned joint motion played in the flight time
+(its rates times :math:`T_f / T`, the file's subscript :math:`f`), simulated (``acroplan.simulate``,
+Pinocchio-checked) with :math:`L` along the file's, its size found by the secant method so that
+the flight turns exactly :math:`n` somersaults. Its twist at the landing and its tilt there say
+what the technique itself makes, and its states at the waypoint times are the interior waypoints
+of every twist target :math:`X` (turns) planned in the cell: a motion of the body is known to
+pass through them, where waypoints scaled from the file's angles (below) are not, and from those
+the planner searches in vain. The landing waypoint is :math:`n` somersaults, no tilt and the
+target's twist, with the file's joints. Each target is planned (``plan`` passed in, since a
 family does not import the front doors) under the file's joint ranges and rate limits (and torque
 limits when the file gives ``tau_max``); a target is reached when the plan succeeds (checked by
 Pinocchio) **and** its motion turns the target's somersaults and twists (to :data:`COUNT_TOL`
 turns, unwrapped Yeadon angles): a plan that turns the other way between the waypoints is not.
 
-**The technique's flight** (:func:`technique_flight`) comes first in each cell: the file's planned
-joint motion played in the flight time :math:`T` (its rates times :math:`T_f / T`), simulated
-(``acroplan.simulate``, Pinocchio-checked) with :math:`L` along the file's, its size found by the
-secant method so that the flight turns exactly :math:`n` somersaults. Its twist at the landing and
-its tilt there say what the technique itself makes, and its states at the waypoint times are the
-interior waypoints of every target planned in the cell (a motion of the body is known to pass
-through them; waypoints scaled from the file's angles are not, and from them the planner searches
-in vain). The landing waypoint is :math:`n` somersaults, no tilt and the target's twist, with the
-file's joints.
+Without a flight (no ``simulate`` given, or a flight that cannot be made: :func:`technique_flight`
+says when), the targets are **the same technique scaled** (:func:`scaled_problem`): the waypoint
+times by :math:`T / T_f`, every waypoint's somersault angle by :math:`n / n_f`, its twist angle by
+:math:`X / X_f`, its tilt and the joint angles kept; the angular momentum :math:`L = I\\,\\omega`
+follows the somersault rate, :math:`L = L_f\\,(n / n_f) (T_f / T)`.
 
 The bisection on :math:`X`: from the technique flight's twist rounded down to ``resolution`` (the
 file's own twist count, or half a turn, when there is no flight), doubling while the plan
@@ -98,7 +99,7 @@ class TechniqueFlight:
     somersaults: float      # turns at the landing (signed: the file's direction)
     twists: float           # turns at the landing (signed)
     landing_tilt: float     # degrees
-    peak_rate: float        # the largest |joint rate| over its limit (inf: a joint without one is ignored)
+    peak_rate: float        # the largest |joint rate| over its limit (joints without one left out; 0: none has)
 
 
 def yeadon_turns(result, times=None, samples: int = 4001):
@@ -158,8 +159,8 @@ def technique_of(problem, result) -> dict:
 def technique_flight(problem, result, technique: dict, flight_time: float, somersaults: float, simulate=None):
     """The technique's flight (module docstring): the joint rates of ``result`` (the file's plan,
     every segment's input coefficients) times :math:`a = T_f / T`, on the waypoint times scaled by
-    :math:`1 / a`, flown from the file's first state by ``simulate`` (default
-    :func:`acroplan.core.simulate.simulate`) with :math:`L = k L_f`, :math:`k` by the secant
+    :math:`1 / a`, flown from the file's first state by ``simulate`` (``acroplan.simulate``, passed
+    in: a family does not import the front doors) with :math:`L = k L_f`, :math:`k` by the secant
     method on the somersault turns at the landing (from :math:`k = a\\,n / n_f`) until they are
     ``somersaults`` to :data:`FLIGHT_TOL`; the last flight verified by Pinocchio.
 
@@ -373,7 +374,7 @@ def _cell(problem, tech, plan, T, n, resolution, time_limit, progress, own=None,
 
 def twist_potential_figure(cells):
     """The most twist against flight time, one line per somersault count (the least target not
-    reached marked above each point)."""
+    reached marked above each point, the technique's flight dashed where the cells have one)."""
     from ...core.plotting import pyplot
 
     plt = pyplot()
@@ -383,6 +384,10 @@ def twist_potential_figure(cells):
         row = sorted((c for c in cells if c.somersaults == n), key=lambda c: c.flight_time)
         t = [c.flight_time for c in row]
         ax.plot(t, [c.most for c in row], "o-", label=f"{n:g} somersault{'s' if n != 1 else ''}: most reached")
+        flown = [c for c in row if c.technique_twists is not None]
+        if flown:
+            ax.plot([c.flight_time for c in flown], [c.technique_twists for c in flown], "--", color=ax.lines[-1].get_color(),
+                    alpha=0.7, label=f"{n:g}: the technique's flight")
         why = sorted({c.stopped for c in row if c.failed is not None})
         ax.plot([c.flight_time for c in row if c.failed is not None], [c.failed for c in row if c.failed is not None],
                 "x", color=ax.lines[-1].get_color(), label=f"{n:g}: least not reached ({', '.join(why)})")
