@@ -45,6 +45,7 @@ import time
 
 import numpy as np
 
+from ...core.backend import IntegrationError
 from ...core.errors import InvalidInputError
 from . import rotations as rot
 
@@ -169,6 +170,12 @@ def technique_flight(problem, result, technique: dict, flight_time: float, somer
     TechniqueFlight or None
         None when the flight cannot be made (no ``simulate``, a segment in another basis than
         Legendre's, a simulation that fails or whose check fails, or no convergence in 12 flights).
+
+    Raises
+    ------
+    acroplan.core.backend.IntegrationError
+        When the integrator refuses a flight (:func:`twist_potential` then falls back to the
+        scaled waypoints).
     """
     from .model import SpatialBody
 
@@ -335,7 +342,10 @@ def _cell(problem, tech, plan, T, n, resolution, time_limit, progress, own=None,
     sign_t = math.copysign(1.0, tech["twists"]) if abs(tech["twists"]) > 1e-9 else 1.0
     if progress is not None and simulate is not None:
         progress(f"{n:g} somersaults in {T:g} s: the technique's flight")
-    flight = technique_flight(problem, own, tech, T, n, simulate) if own is not None else None
+    try:
+        flight = technique_flight(problem, own, tech, T, n, simulate) if own is not None else None
+    except IntegrationError:   # a flight the integrator refuses (too fast a motion): the scaled waypoints
+        flight = None
 
     def reachable(x):
         body, kw = scaled_problem(problem, tech, T, n, x, flight=flight)
