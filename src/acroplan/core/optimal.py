@@ -599,6 +599,51 @@ class EnergyOptimal(Strategy):
                            optimality=self.diagnostics(res, one_size=interval.sizes is not None))
         return IntervalOutcome(True, (seg,), "", 0)
 
+    def joint(self, intervals, segments):
+        """The whole plan's optimum through the interior waypoints (:mod:`acroplan.core.chain`) from
+        the sequential one: ``intervals`` with only their own input conditions (no continuity from
+        the interval before), ``segments`` the sequential optimum (one per interval). Returns
+        ``(segments, message)``: the new segments when the joint optimum succeeded and costs less,
+        else the given ones, and what was done (also in each segment's ``optimality["joint"]``:
+        ``kept``, ``message``, and when kept ``cost``, ``sequential_cost``, ``evaluations``,
+        ``iterations``)."""
+        from .chain import joint_optimum
+
+        if len(intervals) < 2 or len(segments) != len(intervals) or any(not s.optimality for s in segments):
+            return tuple(segments), ""
+        system = intervals[0].system
+        model = self._model(system)
+        runs = []
+        for iv, seg in zip(intervals, segments):
+            search = _Search(self, iv, model)
+            runs.append(search.new_run(seg.basis.n))
+        out = joint_optimum(runs, [s.basis_coefficients for s in segments], tol=min(iv.tol for iv in intervals),
+                            kkt_tol=self.kkt_tol)
+        if not out.success:
+            return _not_joint(segments, out.message), out.message
+        checks = []
+        for run, c in zip(runs, out.coefficients):   # each interval's endpoint and limits, as a one-interval optimum's
+            run.z = run.prob.z(c.ravel())
+            checks.append(run.result())
+        bad = [(k, r.message) for k, r in enumerate(checks) if not r.success]
+        if bad:
+            msg = f"{out.message}; not kept: interval {bad[0][0]}: {bad[0][1]}"
+            return _not_joint(segments, msg), msg
+        new = []
+        kkt_ok = bool(math.isfinite(out.kkt) and out.kkt <= self.kkt_tol)
+        for iv, seg, run, c, cost, chk in zip(intervals, segments, runs, out.coefficients, out.costs, checks):
+            err = float(chk.final_error)
+            opt = dict(seg.optimality)
+            opt.update(cost=cost, integral_u2=float(energy(seg.basis, iv.T, c)), kkt=out.kkt, kkt_converged=kkt_ok,
+                       final_error=err, converged=bool(kkt_ok and (opt.get("one_size") or opt.get("converged_in_basis"))),
+                       joint={"kept": True, "cost": out.cost, "sequential_cost": out.start_cost,
+                              "evaluations": out.evaluations, "iterations": out.iterations, "message": out.message})
+            piece = make_segment(iv.system, seg.basis, iv.x0, iv.x1, iv.T, c, t0=seg.t0, final_error=err,
+                                 limits=iv.limits, message=f"{seg.message}; then {out.message}", method=self.name,
+                                 evaluations=seg.evaluations, iterations=seg.iterations, optimality=opt)
+            new.append(dataclasses.replace(piece, index=seg.index, interval=seg.interval, t0=seg.t0, t1=seg.t1))
+        return tuple(new), out.message
+
     def diagnostics(self, res: OptimalSolve, one_size: bool = False) -> dict:
         """The optimality diagnostics of a segment (:attr:`SegmentResult.optimality`): those of
         :meth:`OptimalSolve.to_dict` and ``kkt_tol`` (the target), ``kkt_converged`` (the relative
@@ -610,6 +655,12 @@ class EnergyOptimal(Strategy):
         d.update(kkt_tol=self.kkt_tol, kkt_converged=kkt_ok, rtol=self.rtol, one_size=bool(one_size),
                  converged=bool(kkt_ok and (one_size or res.converged_in_basis)))
         return d
+
+
+def _not_joint(segments, message):
+    """``segments`` with ``optimality["joint"]`` saying why the joint optimum was not kept."""
+    return tuple(dataclasses.replace(s, optimality={**s.optimality, "joint": {"kept": False, "message": message}})
+                 for s in segments)
 
 
 class TorqueOptimal(EnergyOptimal):

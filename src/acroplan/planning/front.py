@@ -305,6 +305,18 @@ def _plan_intervals(req: PlanRequest, X, limits, conditions, prog):
             if k + 1 < K:  # the input value the next interval starts with (free conditions)
                 last = segments[-1]
                 prev_end_input = last.input([last.t1])[:, 0]
+    joint = getattr(req.strategy, "joint", None)
+    if joint is not None and K > 1 and conditions.kind == "free" and len(segments) == K:
+        # the whole plan's optimum through the interior waypoints, from the sequential one
+        intervals = [Interval(system=system, basis=req.basis, sizes=req.sizes, x0=X[k], x1=X[k + 1],
+                              T=float(t[k + 1] - t[k]), ends=conditions.ends(k, None), limits=limits, tol=req.tol,
+                              max_evaluations=req.max_evaluations) for k in range(K)]
+        try:
+            with progress_mod.stage("optimal: the intervals together"):
+                segments, _ = joint(intervals, segments)
+        except BudgetExceeded as e:
+            return tuple(segments), (f"not converged: every interval was optimised, but {e} while optimising them "
+                                     f"together")
     return tuple(segments), None
 
 
@@ -342,9 +354,16 @@ def _optimality_note(segments, req) -> str:
     kkt = max((d["kkt"] if d["kkt"] is not None else math.inf) for d in opt)
     bad = [s.interval for s in segments if s.optimality and not s.optimality["converged"]]
     what = "integral of |u|^2" if req.objective == "energy" else "integral of |tau|^2"
+    joint = opt[0].get("joint")
+    how = ""
+    if joint is not None and joint.get("kept"):
+        how = f"; the intervals optimised together (from {joint['sequential_cost']:.10g} one after the other)"
+    elif joint is not None:
+        how = f"; the intervals optimised one after the other (together: {joint['message']})"
     return (f"; {req.objective}-optimal: {what} = {cost:.10g}, largest relative KKT residual {kkt:.1e} (target "
             f"{opt[0]['kkt_tol']:g}), " + ("converged on every interval" if not bad else
-                                            f"NOT converged on interval(s) {bad} (see each segment's optimality)"))
+                                            f"NOT converged on interval(s) {bad} (see each segment's optimality)")
+            + how)
 
 
 def _check_torque_limits(result: PlanResult, req) -> PlanResult:

@@ -1,0 +1,208 @@
+"""The optimum of a whole plan through interior waypoints: every interval's input at once.
+
+The optimal strategies (:mod:`~acroplan.core.optimal`) optimise the waypoint intervals one after
+the other; with ``conditions="free"`` interval :math:`k + 1` starts with the input interval
+:math:`k` ended with, so the plan is the best of each interval *given the ones before*. Interval
+:math:`k` takes its own optimum with its end input free, which can cost the next interval more
+than it saves (measured on the bundled back full's torque optimum: 10.8% above the whole flight's
+optimum, ``benchmarks/RESULTS.md``). Here the intervals' reduced coordinates are stacked,
+:math:`z = (z_1, \\dots, z_K)` (each :math:`c_k = c_{p,k} + Z_k z_k` carrying only the
+interval's own conditions: the first input at the start, the last at the end, rest at an interior
+waypoint on a joint limit), and one SQP (:func:`acroplan.core.sqp.sqp`) solves
+
+.. math::  \\min_z \\sum_k f_k(z_k) \\quad\\text{s.t.}\\quad h_k(z_k) = 0 ,\\quad
+           u_k(1) - u_{k+1}(0) = 0 ,\\quad r_k(z_k) \\le 0 ,
+
+the continuity of the input at each interior waypoint as linear equations (the rows
+:math:`(e_j \\otimes b(1))^\\top c_k - (e_j \\otimes b(0))^\\top c_{k+1}`, :math:`b` the basis
+values), from the sequential optimum (feasible: every endpoint reached, the input continuous), at
+each interval's basis size from its ladder. The Jacobians are block-diagonal, the continuity
+rows constant; the constraints' Hessians are each interval's forward differences (refreshed as
+the one-interval SQP does).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from . import backend
+from .optimum import KKT_TOL, OutOfEvaluations
+from .sqp import kkt_multipliers, polish_endpoint, sqp
+
+__all__ = ["ChainProblem", "ChainOutcome", "joint_optimum", "MAX_ITER"]
+
+
+class ChainProblem:
+    """The stacked problem (module docstring) over the intervals' :class:`OptimalProblem` s, in the
+    interface :func:`acroplan.core.sqp.sqp` takes: ``f(z)``, ``h(z)``, ``ineq(z)``."""
+
+    def __init__(self, probs):
+        self.probs = list(probs)
+        sizes = [p.Z.shape[1] if not p.free else p.N for p in self.probs]
+        self.offsets = np.concatenate([[0], np.cumsum(sizes)]).astype(int)
+        self.N = int(self.offsets[-1])
+        # the continuity rows E z + e0 = 0
+        rows, e0 = [], []
+        for k in range(len(self.probs) - 1):
+            a, b = self.probs[k], self.probs[k + 1]
+            v1 = a.basis.matrix([1.0])[0]
+            v0 = b.basis.matrix([0.0])[0]
+            for j in range(a.m):
+                ra = np.zeros(a.N)
+                ra[j * a.n:(j + 1) * a.n] = v1
+                rb = np.zeros(b.N)
+                rb[j * b.n:(j + 1) * b.n] = v0
+                row = np.zeros(self.N)
+                row[self.offsets[k]:self.offsets[k + 1]] = a.zmat(ra[None, :])[0]
+                row[self.offsets[k + 1]:self.offsets[k + 2]] = -b.zmat(rb[None, :])[0]
+                rows.append(row)
+                e0.append(float(ra @ a.c_p) - float(rb @ b.c_p))
+        self.E = np.array(rows).reshape(-1, self.N)
+        self.e0 = np.array(e0)
+        self.q = sum(p.system.ndx for p in self.probs) + self.E.shape[0]
+        self.inequalities = any(p.lin is not None or p.tmax is not None for p in self.probs)
+
+    @property
+    def evaluations(self) -> int:
+        return sum(p.evaluations for p in self.probs)
+
+    def split(self, z):
+        return [z[self.offsets[k]:self.offsets[k + 1]] for k in range(len(self.probs))]
+
+    def join(self, parts):
+        return np.concatenate([np.asarray(p, dtype=float) for p in parts])
+
+    def f(self, z):
+        fs, gs, Hs = zip(*(p.f(zk) for p, zk in zip(self.probs, self.split(z))))
+        H = np.zeros((self.N, self.N))
+        for k, Hk in enumerate(Hs):
+            a, b = self.offsets[k], self.offsets[k + 1]
+            H[a:b, a:b] = Hk
+        return float(sum(fs)), np.concatenate(gs), H
+
+    def h(self, z):
+        """``(h, A_z, ys, None)``: the intervals' endpoint residuals, then the continuity rows."""
+        hs, As, ys = [], [], []
+        for p, zk in zip(self.probs, self.split(z)):
+            h, A, y, _ = p.h(zk)
+            hs.append(h)
+            As.append(A)
+            ys.append(y)
+        A = np.zeros((self.q, self.N))
+        r = 0
+        for k, Ak in enumerate(As):
+            A[r:r + Ak.shape[0], self.offsets[k]:self.offsets[k + 1]] = Ak
+            r += Ak.shape[0]
+        A[r:] = self.E
+        return np.concatenate(hs + [self.E @ z + self.e0]), A, ys, None
+
+    def ineq(self, z):
+        rs, Rs = [], []
+        for k, (p, zk) in enumerate(zip(self.probs, self.split(z))):
+            if p.lin is None and p.tmax is None:
+                continue
+            rk, Rk = p.ineq(zk)
+            R = np.zeros((Rk.shape[0], self.N))
+            R[:, self.offsets[k]:self.offsets[k + 1]] = Rk
+            rs.append(rk)
+            Rs.append(R)
+        return np.concatenate(rs), np.vstack(Rs)
+
+    def curvature(self, z):
+        """The constraints' Hessians in ``z``, shape (q, N, N): each interval's forward differences
+        (:meth:`OptimalProblem.curvature`, ``N_k`` evaluations), block-diagonal; none for the
+        linear continuity rows."""
+        Hz = np.zeros((self.q, self.N, self.N))
+        r = 0
+        for k, (p, zk) in enumerate(zip(self.probs, self.split(z))):
+            Ac = p.h(zk)[3]
+            a, b = self.offsets[k], self.offsets[k + 1]
+            for M in p.curvature(p.c(zk), Ac):
+                Hz[r, a:b, a:b] = p.zhess(M)
+                r += 1
+        return Hz
+
+
+@dataclasses.dataclass(frozen=True)
+class ChainOutcome:
+    """What :func:`joint_optimum` found: ``success`` (every endpoint within its tolerance, the limits
+    complied with, the input continuous to 1e-9, the cost below the sequential one), the
+    coefficients of each interval (shape ``(m, n_k)``), the costs, the relative KKT residual of the
+    stacked problem, the evaluations, the SQP's iterations and its stop."""
+
+    success: bool
+    message: str
+    coefficients: tuple
+    costs: tuple
+    cost: float
+    start_cost: float
+    kkt: float
+    evaluations: int
+    iterations: int
+
+
+#: SQP iterations at most (the one-interval SQP's 40 at a size, times a few: one solve at the
+#: ladder's last sizes instead of a ladder)
+MAX_ITER = 150
+
+
+def joint_optimum(runs, starts, *, tol: float, kkt_tol: float = KKT_TOL, max_iter: int = MAX_ITER) -> ChainOutcome:
+    """The whole plan's optimum (module docstring) from the sequential one.
+
+    Parameters
+    ----------
+    runs : sequence of OptimalRun
+        One per interval, at the interval's basis size, with only its own conditions.
+    starts : sequence of numpy.ndarray
+        The sequential optimum's coefficients of each interval, shape ``(m, n_k)``.
+    tol : float
+        The endpoint tolerance.
+    kkt_tol : float
+        The target relative KKT residual.
+    max_iter : int
+        SQP iterations at most.
+    """
+    probs = [r.prob for r in runs]
+    chain = ChainProblem(probs)
+    z0 = chain.join([p.z(np.asarray(c, dtype=float).ravel()) for p, c in zip(probs, starts)])
+    nan = math.nan
+    try:
+        f0 = chain.f(z0)[0]
+        Hz = chain.curvature(z0)
+        z, info = sqp(chain, z0, Hz, tol=tol, kkt_tol=kkt_tol, max_iter=max_iter, refresh=chain.curvature,
+                      ineq=chain.ineq if chain.inequalities else None)
+        z = polish_endpoint(chain, z, tol)
+        f, g, _ = chain.f(z)
+        h, A, ys, _ = chain.h(z)
+    except (OutOfEvaluations, backend.IntegrationError) as e:
+        return ChainOutcome(False, f"the joint optimum stopped: {e or type(e).__name__}", (), (), nan, nan, nan,
+                            chain.evaluations, 0)
+    C = None
+    if chain.inequalities:
+        r, R = chain.ineq(z)
+        C = R[r >= -1e-7 * (1.0 + np.abs(r))]
+    _, kkt = kkt_multipliers(g, A, C)
+    parts = chain.split(z)
+    coeffs = tuple(p.c(zk).reshape(p.m, p.n) for p, zk in zip(probs, parts))
+    costs = tuple(float(p.f(zk)[0]) for p, zk in zip(probs, parts))
+    errs = [p.system.error(y, p.x1) for p, y in zip(probs, ys)]
+    jump = float(np.abs(chain.E @ z + chain.e0).max(initial=0.0))
+    why = []
+    if max(errs) > tol:
+        why.append(f"an endpoint missed by {max(errs):.2e} > {tol:g}")
+    if jump > 1e-9:
+        why.append(f"the input jumps by {jump:.1e} at an interior waypoint")
+    broken = float(chain.ineq(z)[0].max(initial=-1.0)) if chain.inequalities else -1.0
+    if broken > 1e-9:
+        why.append(f"a limit row is broken by {broken:.1e}")
+    if not f < f0:
+        why.append(f"the cost {f:.10g} is not below the sequential one {f0:.10g}")
+    ok = not why
+    msg = (f"jointly optimised across the {len(probs)} intervals (the input continuous at the interior waypoints): "
+           f"cost {f:.10g} from the sequential {f0:.10g}, {info['its']} SQP iteration(s), relative KKT residual "
+           f"{kkt:.1e}" + (f" ({info['why']})" if info["why"] else "")
+           + ("" if ok else "; not kept: " + ", ".join(why)))
+    return ChainOutcome(ok, msg, coeffs, costs, float(f), float(f0), float(kkt), chain.evaluations, int(info["its"]))
