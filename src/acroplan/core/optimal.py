@@ -6,6 +6,10 @@ registered strategies, ``method="energy-optimal"`` and ``"torque-optimal"``. Eac
 optimal plan carries its diagnostics (:meth:`EnergyOptimal.diagnostics`) as
 :attr:`SegmentResult.optimality <acroplan.core.result.SegmentResult.optimality>`.
 
+Through interior waypoints the front door then optimises the intervals together
+(:meth:`EnergyOptimal.joint`, :mod:`~acroplan.core.chain`): one interval at a time gives the best
+plan of each interval given the ones before, not the least cost of the whole plan.
+
 Where path deformation (:mod:`~acroplan.core.continuation`) finds *an* input that reaches the
 target, the strategies here find the best one within the input basis, for one of two costs:
 

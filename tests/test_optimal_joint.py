@@ -1,0 +1,119 @@
+"""The optimum of a whole plan through interior waypoints (``acroplan.core.chain``): the intervals
+optimised together after the sequential pass.
+
+On a double integrator the endpoint is linear in the input's coefficients, so the least
+:math:`\\int u^2` through the waypoints with the input continuous is a quadratic program whose
+KKT system numpy solves directly: the plan must give its coefficients.
+"""
+
+import dataclasses
+
+import numpy as np
+import pytest
+import sympy as sp
+
+import acroplan
+from acroplan.core.system import ControlAffineSystem
+
+
+@dataclasses.dataclass(frozen=True)
+class DoubleIntegrator(ControlAffineSystem):
+    """x' = v, v' = u."""
+
+    input_names = ("u",)
+    param_names = ()
+
+    @property
+    def state_names(self):
+        return ("x", "v")
+
+    @property
+    def rate_inputs(self):
+        return {"u": "v"}
+
+    @property
+    def structure_key(self):
+        return ("DoubleIntegrator-test",)
+
+    def symbolic_fields(self, x, p):
+        return sp.Matrix([x[1], 0]), sp.Matrix([[0], [1]])
+
+
+TIMES = [0.0, 1.0, 2.5, 3.0]
+X = [0.0, 1.0, 0.2, 2.0]
+V = [0.0, 1.0, -1.0, 0.0]
+N = 10
+
+
+def qp_optimum(continuous: bool):
+    """The least sum of T_k c_k' G c_k with each interval's endpoint (x, v) reached, the input
+    continuous at the interior waypoints when ``continuous``: (coefficients (K, N), cost)."""
+    from acroplan.core.basis import Legendre
+
+    basis = Legendre(N)
+    s, w = np.polynomial.legendre.leggauss(40)
+    s, w = 0.5 * (s + 1.0), 0.5 * w
+    Bq = basis.matrix(s)                       # (40, N)
+    G = basis.gram()
+    int_u = w @ Bq                              # integral of b_i over [0, 1]
+    int_1ms = (w * (1.0 - s)) @ Bq              # integral of (1 - s) b_i
+    K = len(TIMES) - 1
+    n_var = K * N
+    H = np.zeros((n_var, n_var))
+    rows, rhs = [], []
+    for k in range(K):
+        T = TIMES[k + 1] - TIMES[k]
+        sl = slice(k * N, (k + 1) * N)
+        H[sl, sl] = 2.0 * T * G
+        r = np.zeros(n_var)                     # v(T) = v0 + T int u
+        r[sl] = T * int_u
+        rows.append(r)
+        rhs.append(V[k + 1] - V[k])
+        r = np.zeros(n_var)                     # x(T) = x0 + v0 T + T^2 int (1 - s) u
+        r[sl] = T * T * int_1ms
+        rows.append(r)
+        rhs.append(X[k + 1] - X[k] - V[k] * T)
+    if continuous:
+        b0, b1 = basis.matrix([0.0])[0], basis.matrix([1.0])[0]
+        for k in range(K - 1):
+            r = np.zeros(n_var)
+            r[k * N:(k + 1) * N] = b1
+            r[(k + 1) * N:(k + 2) * N] = -b0
+            rows.append(r)
+            rhs.append(0.0)
+    A, b = np.array(rows), np.array(rhs)
+    kkt = np.block([[H, A.T], [A, np.zeros((A.shape[0], A.shape[0]))]])
+    sol = np.linalg.solve(kkt, np.concatenate([np.zeros(n_var), b]))
+    c = sol[:n_var]
+    return c.reshape(K, N), 0.5 * float(c @ H @ c)
+
+
+@pytest.fixture(scope="module")
+def planned():
+    return acroplan.plan(DoubleIntegrator(), times=TIMES, x=X, v=V, conditions="free", objective="energy",
+                         n_coefficients=N, verify="ode")
+
+
+def test_the_joint_optimum_is_the_quadratic_programs(planned):
+    res = planned
+    assert res.status == "success", res.message
+    c_qp, cost_qp = qp_optimum(continuous=True)
+    for k, seg in enumerate(res.segments):
+        assert seg.optimality["joint"]["kept"]
+        # the KKT system's solution, to the SQP's tolerance on a problem of cost ~10
+        np.testing.assert_allclose(seg.basis_coefficients[0], c_qp[k], rtol=0, atol=1e-8)
+    assert sum(s.optimality["cost"] for s in res.segments) == pytest.approx(cost_qp, rel=1e-10)
+    assert "the intervals optimised together" in res.message
+
+
+def test_the_joint_optimum_is_below_the_sequential_one_and_continuous(planned):
+    res = planned
+    joint = res.segments[0].optimality["joint"]
+    _, free_cost = qp_optimum(continuous=False)   # each interval alone, the input free to jump
+    # the sequential plan is feasible for the joint problem, so it costs at least the joint optimum;
+    # dropping continuity can only lower the cost further
+    assert joint["sequential_cost"] > joint["cost"] * (1 + 1e-6)
+    assert free_cost <= joint["cost"] * (1 + 1e-12)
+    for a, b in zip(res.segments[:-1], res.segments[1:]):
+        assert abs(a.input([a.t1])[0, 0] - b.input([b.t0])[0, 0]) < 1e-9
+    assert max(s.verified_error for s in res.segments) < 1e-9
