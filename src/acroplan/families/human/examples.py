@@ -30,7 +30,7 @@ Why two waypoints: with the hips pinned at rest at take-off and entry and the pi
 interior waypoints (``through_pike=True``, the reference problem below), the least
 :math:`\\int u^2` is made of boundary layers (the rate jumps near the pinned ends and the
 waypoints, which :math:`\\int u^2` does not penalise) and the hip torque that makes them reaches
-6250 N m: not a motion a diver can make. ``objective="torque"`` (least :math:`\\int \\tau^2`)
+6186 N m: not a motion a diver can make. ``objective="torque"`` (least :math:`\\int \\tau^2`)
 on the default problem is smooth too, but stops at 10 coefficients with its cost still falling
 (not converged) and peaks at 11.8 rad/s; ``objective=None`` is the fast feasible plan.
 
