@@ -11,7 +11,9 @@ work is shared out as follows, and this module names no body:
    are refused too (:class:`~acroplan.core.conditions.Conditions`);
 3. each waypoint interval is planned by a strategy (:mod:`acroplan.core.strategies`): a registered
    name, an object, or ``"auto"``, the system's own choice; with ``objective=`` (or ``tau_max=``)
-   by an optimal strategy (:mod:`acroplan.core.optimal`) that starts from ``method``'s plan;
+   by an optimal strategy (:mod:`acroplan.core.optimal`) that starts from ``method``'s plan, and
+   through interior waypoints with ``conditions="free"`` then all the intervals together
+   (:mod:`acroplan.core.chain`);
 4. every result is checked for compliance with the limits exactly (torque limits on the refined
    peak of each joint's torque), and every successful plan is re-simulated independently
    (:mod:`acroplan.core.verify`) unless ``verify=False``.
