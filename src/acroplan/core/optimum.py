@@ -111,7 +111,7 @@ class OptimalProblem:
     """One interval at one basis size, in reduced coordinates ``z`` (``c = c_p + Z z``)."""
 
     def __init__(self, system, basis, x0, x1, T, cost, B, d, max_evaluations, limits=None, torque_model=None,
-                 tau_max=None):
+                 tau_max=None, limit_grid: int = 64):
         self.system, self.basis, self.T = system, basis, float(T)
         self.x0 = np.asarray(x0, dtype=float)
         self.x1 = np.asarray(x1, dtype=float)
@@ -132,7 +132,7 @@ class OptimalProblem:
         self.limits = limits if limits is not None and limits.active else None
         self.lin = None
         if self.limits is not None:
-            A_c, b_c = linear_limits(system, basis, self.x0, T, self.limits, margin=2e-3)
+            A_c, b_c = linear_limits(system, basis, self.x0, T, self.limits, grid=limit_grid, margin=2e-3)
             if A_c.shape[0]:
                 self.lin = (self.zmat(A_c), b_c - A_c @ self.c_p)
         self.tmax = None if tau_max is None else np.atleast_1d(np.asarray(tau_max, dtype=float))
@@ -220,9 +220,11 @@ class OptimalProblem:
 class OptimalRun:
     """The optimisation at one basis size: solve from a start, refine, report."""
 
-    def __init__(self, system, basis, x0, x1, T, cost, torque_model, limits, tau_max, B, d, tol, max_evaluations):
+    def __init__(self, system, basis, x0, x1, T, cost, torque_model, limits, tau_max, B, d, tol, max_evaluations,
+                 limit_grid: int = 64):
         self.fn = cost_for(cost, system, basis, x0, T)
-        self.prob = OptimalProblem(system, basis, x0, x1, T, self.fn, B, d, max_evaluations, limits, torque_model, tau_max)
+        self.prob = OptimalProblem(system, basis, x0, x1, T, self.fn, B, d, max_evaluations, limits, torque_model, tau_max,
+                                   limit_grid)
         self.tol = tol
         #: whether the problem has inequalities (rate, joint or torque limits)
         self.inequalities = self.prob.lin is not None or self.prob.tmax is not None
