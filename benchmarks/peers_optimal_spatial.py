@@ -64,6 +64,42 @@ CASADI_TOL = 1e-6
 ACROPLAN_TOL = 1e-9
 
 
+def torque_field(body):
+    """CasADi functions of the torque problem's state ``x = (q, s, u)`` (4 + 2m) and the joint
+    accelerations ``a`` (m): ``F(x, a) -> (x', |tau|^2)`` and ``tau(x, a)``, with tau from the
+    Newton-Euler recursion acroplan compiles (acroplan.families.spatial.dynamics.newton_euler,
+    written over CasADi expressions) at lambda = R(q)^T L."""
+    import casadi as ca
+
+    m = body.n_inputs
+    f = casadi_field(body)
+    struct, par = dynamics.structure(body.links), dynamics.parameters(body.links)
+    L = ca.DM(body.angular_momentum)
+    xs, acc = ca.SX.sym("x", 4 + 2 * m), ca.SX.sym("a", m)
+    s, u = xs[4:4 + m], xs[4 + m:]
+    lam = ca.mtimes(casadi_rotation(xs[:4]).T, L)
+    tau = dynamics.newton_euler(struct, par, [s[i] for i in range(m)], [u[i] for i in range(m)],
+                                [acc[i] for i in range(m)], [lam[i] for i in range(3)], ca.sin, ca.cos)
+    F = ca.Function("F", [xs, acc], [ca.vertcat(f(xs[:4 + m], u), acc), sum(t * t for t in tau)])
+    return F, ca.Function("tau", [xs, acc], [ca.vertcat(*tau)])
+
+
+def rk4_shooting(opti, F, X, V, dt):
+    """The multiple-shooting equations of one RK4 step per interval, ``X[:, i + 1]`` from
+    ``X[:, i]`` under the interval's control ``V[:, i]`` (``F(x, v) -> (x', cost rate)``); returns
+    each interval's cost, the rate integrated by the same RK4 weights."""
+    terms = []
+    for i in range(V.shape[1]):
+        xk, vk = X[:, i], V[:, i]
+        k1, c1 = F(xk, vk)
+        k2, c2 = F(xk + dt / 2 * k1, vk)
+        k3, c3 = F(xk + dt / 2 * k2, vk)
+        k4, c4 = F(xk + dt * k3, vk)
+        opti.subject_to(X[:, i + 1] == xk + dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4))
+        terms.append(dt / 6 * (c1 + 2 * c2 + 2 * c3 + c4))
+    return terms
+
+
 class CasadiTorque:
     """Minimum integral of |tau|^2 by direct multiple shooting (module docstring), built once."""
 
@@ -71,32 +107,13 @@ class CasadiTorque:
         import casadi as ca
 
         m = body.n_inputs
-        f = casadi_field(body)
-        struct, par = dynamics.structure(body.links), dynamics.parameters(body.links)
-        L = ca.DM(body.angular_momentum)
-        xs, acc = ca.SX.sym("x", 4 + 2 * m), ca.SX.sym("a", m)
-        s, u = xs[4:4 + m], xs[4 + m:]
-        lam = ca.mtimes(casadi_rotation(xs[:4]).T, L)
-        tau = dynamics.newton_euler(struct, par, [s[i] for i in range(m)], [u[i] for i in range(m)],
-                                    [acc[i] for i in range(m)], [lam[i] for i in range(3)], ca.sin, ca.cos)
-        rate = sum(t * t for t in tau)
-        F = ca.Function("F", [xs, acc], [ca.vertcat(f(xs[:4 + m], u), acc), rate])
-        self.tau = ca.Function("tau", [xs, acc], [ca.vertcat(*tau)])
+        F, self.tau = torque_field(body)
         opti = ca.Opti()
         X = opti.variable(4 + 2 * m, N + 1)
         A = opti.variable(m, N)
         T = opti.parameter()
         x0, x1 = opti.parameter(4 + m), opti.parameter(4 + m)
-        dt = T / N
-        cost = 0
-        for i in range(N):
-            xk, ak = X[:, i], A[:, i]
-            k1, c1 = F(xk, ak)
-            k2, c2 = F(xk + dt / 2 * k1, ak)
-            k3, c3 = F(xk + dt / 2 * k2, ak)
-            k4, c4 = F(xk + dt * k3, ak)
-            opti.subject_to(X[:, i + 1] == xk + dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4))
-            cost = cost + dt / 6 * (c1 + 2 * c2 + 2 * c3 + c4)
+        cost = sum(rk4_shooting(opti, F, X, A, T / N))
         opti.subject_to(X[:4 + m, 0] == x0)
         opti.subject_to(X[4 + m:, 0] == 0)
         opti.subject_to(X[1:4, N] == x1[1:4])
@@ -145,35 +162,19 @@ class CasadiDive:
         nodes = [int(round((t - times[0]) / T * N)) for t in times]
         if any(abs(k - (t - times[0]) / T * N) > 1e-9 for k, t in zip(nodes, times)):
             raise ValueError(f"the waypoint times {list(times)} are not on the nodes of {N} intervals")
-        f = casadi_field(body)
         torque = objective == "torque"
         n_x = 4 + (2 * m if torque else m)
         opti = ca.Opti()
         X = opti.variable(n_x, N + 1)
         V = opti.variable(m, N)        # the rates (energy) or their rates (torque)
         W = opti.parameter(4 + m, len(times))
-        dt = T / N
         if torque:
-            struct, par = dynamics.structure(body.links), dynamics.parameters(body.links)
-            L = ca.DM(body.angular_momentum)
-            xs, acc = ca.SX.sym("x", n_x), ca.SX.sym("a", m)
-            sj, u = xs[4:4 + m], xs[4 + m:]
-            lam = ca.mtimes(casadi_rotation(xs[:4]).T, L)
-            tau = dynamics.newton_euler(struct, par, [sj[i] for i in range(m)], [u[i] for i in range(m)],
-                                        [acc[i] for i in range(m)], [lam[i] for i in range(3)], ca.sin, ca.cos)
-            F = ca.Function("F", [xs, acc], [ca.vertcat(f(xs[:4 + m], u), acc), sum(t * t for t in tau)])
+            F = torque_field(body)[0]
         else:
+            f = casadi_field(body)
             xs, us = ca.SX.sym("x", n_x), ca.SX.sym("u", m)
             F = ca.Function("F", [xs, us], [f(xs, us), ca.sumsqr(us)])
-        terms = []
-        for i in range(N):
-            xk, vk = X[:, i], V[:, i]
-            k1, c1 = F(xk, vk)
-            k2, c2 = F(xk + dt / 2 * k1, vk)
-            k3, c3 = F(xk + dt / 2 * k2, vk)
-            k4, c4 = F(xk + dt * k3, vk)
-            opti.subject_to(X[:, i + 1] == xk + dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4))
-            terms.append(dt / 6 * (c1 + 2 * c2 + 2 * c3 + c4) if torque else dt * c1)
+        terms = rk4_shooting(opti, F, X, V, T / N)
         cost = sum(terms[1:], terms[0])
         # the cost of each waypoint interval (compared with acroplan's per segment)
         self.interval_costs = [sum(terms[a + 1:b], terms[a]) for a, b in zip(nodes[:-1], nodes[1:])]
