@@ -114,8 +114,9 @@ def plan(system: ControlAffineSystem, *, times, conditions: str | None = None, m
         (:mod:`acroplan.core.chain`: one SQP, the input continuous at the waypoints), kept when
         it succeeds and costs less; each segment's ``optimality["joint"]`` says what was done (on
         the bundled back full's torque optimum: 197.41 one after the other, 181.36 together;
-        ``benchmarks/RESULTS.md``). Slower than the feasible plan (a few ms to tens of ms per interval). The
-        strategies are :class:`acroplan.EnergyOptimal` and :class:`acroplan.TorqueOptimal`.
+        ``benchmarks/RESULTS.md``). Slower than the feasible plan (a few ms to tens of ms per
+        interval). The strategies are :class:`acroplan.EnergyOptimal` and
+        :class:`acroplan.TorqueOptimal`.
     tau_max : float, sequence, or dict by joint name, optional
         Torque limits :math:`|\tau_j(t)| \le \bar\tau_j` (one number for every joint, one per
         joint, or ``{joint: limit}``; joints not named are free), with the rate and joint limits;
