@@ -119,11 +119,12 @@ def yeadon_turns(result, times=None, samples: int = 4001):
     return np.asarray(times, dtype=float), som[idx], tilt[idx], tw[idx]
 
 
-def sampled_states(result, t, block: int = 500) -> np.ndarray:
-    """``result.evaluate(t).states`` in blocks of at most ``block`` times (the collocation cuts its
-    panels at the times asked, and refuses more than 2048 on one segment)."""
+def sampled_states(result, t, block: int = 500, field: str = "states") -> np.ndarray:
+    """``result.evaluate(t).states`` (or another ``field`` of the samples: ``"inputs"``) in blocks
+    of at most ``block`` times (the collocation cuts its panels at the times asked, and refuses
+    more than 2048 on one segment)."""
     t = np.asarray(t, dtype=float)
-    parts = [result.evaluate(c, effort=False).states for c in np.array_split(t, max(1, -(-len(t) // block)))]
+    parts = [getattr(result.evaluate(c, effort=False), field) for c in np.array_split(t, max(1, -(-len(t) // block)))]
     return np.concatenate(parts, axis=1)
 
 
@@ -221,8 +222,7 @@ def technique_flight(problem, result, technique: dict, flight_time: float, somer
     states = sampled_states(res, np.asarray(times)).T
     lim = problem.system.default_limits()
     rates = dict(lim.input_bounds) if lim is not None else {}
-    t_dense = np.linspace(times[0], times[-1], 2001)
-    U = np.concatenate([res.evaluate(c, effort=False).inputs for c in np.array_split(t_dense, 5)], axis=1)
+    U = sampled_states(res, np.linspace(times[0], times[-1], 2001), field="inputs")
     peak = max((float(np.max(np.abs(U[i]))) / rates[nm] for i, nm in enumerate(problem.system.input_names)
                 if nm in rates and rates[nm] > 0), default=0.0)
     return TechniqueFlight(body, res, np.asarray(times), states, float(som[-1]), float(tw[-1]), float(tilt[-1]), peak)
