@@ -117,3 +117,19 @@ def test_the_joint_optimum_is_below_the_sequential_one_and_continuous(planned):
     for a, b in zip(res.segments[:-1], res.segments[1:]):
         assert abs(a.input([a.t1])[0, 0] - b.input([b.t0])[0, 0]) < 1e-9
     assert max(s.verified_error for s in res.segments) < 1e-9
+
+
+def test_the_joint_stage_reports_its_evaluations_as_it_goes():
+    """The intervals together are a stage of the plan's progress, updated at each endpoint
+    evaluation (seconds on a twisting dive), never silent from its start to its end."""
+    from acroplan.core.chain import STAGE
+    from acroplan.core.progress import Progress
+
+    seen = []
+    prog = Progress(enabled=False, callback=lambda name, done, total: seen.append((name, done)))
+    res = acroplan.plan(DoubleIntegrator(), times=TIMES, x=X, v=V, conditions="free", objective="energy",
+                        n_coefficients=N, verify=False, progress=prog)
+    assert res.status == "success", res.message
+    counts = [done for name, done in seen if name == STAGE]
+    assert len(counts) >= 3 and counts == sorted(counts) and counts[-1] > counts[0]
+    assert counts[-1] <= res.segments[0].optimality["joint"]["evaluations"]

@@ -30,9 +30,14 @@ import numpy as np
 
 from . import backend
 from .optimum import KKT_TOL, OutOfEvaluations
+from .progress import note as progress_note
 from .sqp import kkt_multipliers, polish_endpoint, sqp
 
-__all__ = ["ChainProblem", "ChainOutcome", "joint_optimum", "MAX_ITER"]
+__all__ = ["ChainProblem", "ChainOutcome", "joint_optimum", "MAX_ITER", "STAGE"]
+
+#: The progress stage of the joint optimum (the front door opens it; each endpoint evaluation of
+#: the intervals together updates it)
+STAGE = "optimal: the intervals together"
 
 
 class ChainProblem:
@@ -97,6 +102,7 @@ class ChainProblem:
             A[r:r + Ak.shape[0], self.offsets[k]:self.offsets[k + 1]] = Ak
             r += Ak.shape[0]
         A[r:] = self.E
+        progress_note(STAGE, self.evaluations, None, f"{self.evaluations} endpoint evaluations")
         return np.concatenate(hs + [self.E @ z + self.e0]), A, ys, None
 
     def ineq(self, z):
@@ -120,6 +126,7 @@ class ChainProblem:
         for k, (p, zk) in enumerate(zip(self.probs, self.split(z))):
             Ac = p.h(zk)[3]
             a, b = self.offsets[k], self.offsets[k + 1]
+            progress_note(STAGE, self.evaluations, None, f"{self.evaluations} endpoint evaluations (curvature)")
             for M in p.curvature(p.c(zk), Ac):
                 Hz[r, a:b, a:b] = p.zhess(M)
                 r += 1

@@ -18,6 +18,7 @@ from ..core import progress as progress_mod
 from ..core.family import prepare
 from ..core.result import PlanResult, SegmentResult, Status
 from ..core.budget import BudgetExceeded, budget
+from ..core.chain import STAGE as JOINT_STAGE
 from ..core.budget import now as budget_clock
 from ..core.strategies import Interval, IntervalOutcome
 from ..core.system import ControlAffineSystem
@@ -315,7 +316,7 @@ def _plan_intervals(req: PlanRequest, X, limits, conditions, prog):
                               T=float(t[k + 1] - t[k]), ends=conditions.ends(k, None), limits=limits, tol=req.tol,
                               max_evaluations=req.max_evaluations) for k in range(K)]
         try:
-            with progress_mod.stage("optimal: the intervals together"):
+            with progress_mod.stage(JOINT_STAGE):
                 segments, _ = joint(intervals, segments)
         except BudgetExceeded as e:
             return tuple(segments), (f"not converged: every interval was optimised, but {e} while optimising them "
