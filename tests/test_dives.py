@@ -104,6 +104,42 @@ def test_bundled_dive_torques_are_within_the_strength_data(plans, name):
         assert t["peak"] <= t["limit"], (joint, t)
 
 
+def test_the_forward_dive_asks_for_the_strength_data_as_its_torque_limits():
+    """The forward dive's file plans the least integral of tau^2 within the strength data (its
+    [options.tau_max] are the data's numbers, so they cannot drift apart), and a 3-D human read
+    from a file brings its strength as the plan's capacity (a yardstick of every plan)."""
+    from acroplan.io import examples as bundled
+
+    prob = bundled.load("forward-double-twist")
+    kw = prob.plan_kwargs()
+    assert kw["objective"] == "torque"
+    assert kw["tau_max"] == torque_limits(prob.system)
+    cap = kw["capacity"]["torques"]
+    assert {j: top for j, (top, _) in cap.items()} == torque_limits(prob.system)
+    assert cap["left_shoulder_abduction"][1].endswith("an estimate")
+    assert "estimate" not in cap["left_shoulder_flexion"][1]
+    assert bundled.load("back-full-twist").plan_kwargs()["capacity"]["torques"] == cap
+
+
+def test_a_plan_beyond_the_strength_is_warned_of(plans):
+    """The capacity names the torque model's joints: the back full's plan within its strength
+    carries no warning, and against a yardstick below its peak it is warned of, with the peak."""
+    from acroplan.families.human.strength import strength_report
+    from acroplan.io import examples as bundled
+    from acroplan.planning.plausible import beyond_capacity
+
+    res = plans("back-full-twist")
+    assert res.status == "success" and not res.warnings, res.message
+    peaks = strength_report(res)
+    joint = max(peaks, key=lambda j: peaks[j]["peak"])
+    cap = bundled.load("back-full-twist").plan_kwargs()["capacity"]
+    assert beyond_capacity(res, cap) == ()
+    low = {"torques": {joint: (0.5 * peaks[joint]["peak"], "half the peak")}}
+    (warning,) = beyond_capacity(res, low)
+    assert f"(joint {joint}) is beyond the body's strength" in warning
+    assert f"{peaks[joint]['peak']:.4g} N m" in warning
+
+
 def test_the_dives_are_registered_examples():
     from acroplan.io import examples as bundled
 

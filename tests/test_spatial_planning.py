@@ -91,6 +91,72 @@ def test_the_fast_integrator_converges_at_fourth_order():
     assert errs[1] < errs[0] / 10  # halving the step divides the error by about 16
 
 
+@pytest.mark.parametrize("L", [(0.0, 0.0, 0.0), (0.4, -0.2, 0.9)])
+def test_the_compiled_runge_kutta_kernel_is_the_scheme_written_out(L):
+    """fast_attitudes' compiled steps (guess._build_rk4_kernel, KERNEL_STEPS a call) against the
+    classical Runge-Kutta scheme written out here with the body's own inertia and coupling
+    (SpatialBody.momentum_map, numpy's solve): 20 steps, so that the last call holds 4; three
+    motions at once. Both are the same arithmetic in another order: 1e-12."""
+    from acroplan.families.spatial.collocation_parts import _quad
+    from acroplan.families.spatial.guess import KERNEL_STEPS, fast_attitudes
+
+    body = random_body(4, 4, L=L)
+    N, T = 20, 1.3
+    assert N % KERNEL_STEPS != 0
+    q0 = rot.normalize(np.array([0.3, 0.5, -0.2, 0.8]))
+    sig = np.linspace(0, 1, 2 * N + 1)
+    amp = np.array([[0.4, -0.3, 0.7], [0.9, 0.2, -0.5], [-0.6, 0.8, 0.3]])  # (m, K)
+    assert body.n_inputs == amp.shape[0]
+    S = amp[:, :, None] * np.sin(np.pi * sig)[None, None, :] + 0.1
+    dS = amp[:, :, None] * (np.pi * np.cos(np.pi * sig))[None, None, :]
+    got = fast_attitudes(body, q0, T, S, dS)
+    Q = _quad(T * np.asarray(L))
+
+    def f(q, k, j):
+        I, A = body.momentum_map(S[:, j, k])  # noqa: E741
+        Om = np.linalg.solve(I, np.einsum("a,iab,b->i", q, Q, q) - A @ dS[:, j, k])
+        return 0.5 * rot.qmul(q, np.concatenate([[0.0], Om]))
+
+    h = 1.0 / N
+    for j in range(S.shape[1]):
+        q = q0.copy()
+        for step in range(N):
+            k = 2 * step
+            k1 = f(q, k, j)
+            k2 = f(q + 0.5 * h * k1, k + 1, j)
+            k3 = f(q + 0.5 * h * k2, k + 1, j)
+            k4 = f(q + h * k3, k + 2, j)
+            q = q + (h / 6.0) * (k1 + 2 * k2 + 2 * k3 + k4)
+        assert np.max(np.abs(got[:, j] - q / np.linalg.norm(q))) < 1e-12
+    assert abs(np.linalg.norm(q) - 1.0) > 1e-12 or not any(L)  # the drift's scheme leaves the sphere
+
+
+def test_the_loop_plane_has_a_canonical_basis():
+    """_decomposable: scale a ^ b is the bivector's best rank-two part (the skew matrix's two
+    largest singular values), a and b orthonormal, and (a, b) do not turn within their plane when
+    the bivector changes in its last bits (the singular value decomposition's basis of a repeated
+    singular value is any pair: it did, and a bundled dive's plan changed with it)."""
+    from acroplan.families.spatial.guess import _decomposable
+
+    rng = np.random.default_rng(7)
+    for m in (2, 3, 4, 5):
+        pairs = [(i, j) for i in range(m) for j in range(i + 1, m)]
+        for _ in range(20):
+            Bv = rng.normal(size=len(pairs))
+            Bm = np.zeros((m, m))
+            for p, (i, j) in enumerate(pairs):
+                Bm[i, j], Bm[j, i] = Bv[p], -Bv[p]
+            a, b, scale = _decomposable(Bv, m)
+            assert abs(a @ a - 1) < 1e-14 and abs(b @ b - 1) < 1e-14 and abs(a @ b) < 1e-14
+            U, sv, Vt = np.linalg.svd(Bm)
+            best = U[:, :2] @ np.diag(sv[:2]) @ Vt[:2]
+            assert np.max(np.abs(scale * (np.outer(a, b) - np.outer(b, a)) - best)) < 1e-12
+            assert scale == pytest.approx(sv[0], rel=1e-12)
+            for _ in range(5):
+                a2, b2, _ = _decomposable(Bv * (1 + 1e-13 * rng.normal(size=Bv.size)), m)
+                assert np.max(np.abs(a2 - a)) < 1e-9 and np.max(np.abs(b2 - b)) < 1e-9
+
+
 @pytest.mark.parametrize("momentum", [False, True])
 def test_random_segments_are_planned_and_checked_by_pinocchio(momentum):
     for seed in range(3):

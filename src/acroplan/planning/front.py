@@ -130,7 +130,8 @@ def plan(system: ControlAffineSystem, *, times, conditions: str | None = None, m
         ``source`` a short citation). A success beyond it carries a warning
         (:attr:`PlanResult.warnings`, :func:`beyond_capacity`) with the peak and the yardstick. A
         human body read from a problem file brings its own (the hip rate and strength of
-        ``families/human/data/limits.toml``: 12.8 rad/s, 351.4 N m for both hips).
+        ``families/human/data/limits.toml``: 12.8 rad/s, 351.4 N m for both hips; a 3-D human, each
+        joint's strength, ``families/human/data/strength_3d.toml``).
     progress : bool, Progress or callable, optional
         Progress of the work, one ``tqdm.auto`` line per stage that lasts more than half a second
         (the waypoint intervals; within one, the strategy's guesses, path deformation, the optimal

@@ -44,7 +44,10 @@ def read(table: str, data: dict, limits: dict | None, context):
     check_keys("body", data, HUMAN_KEYS + OTHER_KEYS)
     model = choice_field("body.model", data.get("model", "2d"), MODELS, "3d")
     if model == "3d":
-        return _spatial_human(data, limits, context), {}
+        from .strength import capacity as spatial_capacity
+
+        system = _spatial_human(data, limits, context)
+        return system, {"capacity": spatial_capacity(system)}
     given = [k for k in HUMAN_KEYS if k in data]
     wrong = [k for k in SPATIAL_KEYS if k in data]
     if wrong:

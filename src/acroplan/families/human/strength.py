@@ -38,7 +38,7 @@ from ...core.errors import InvalidInputError, finite_number
 from .limits import human_data
 from .spatial_body import JOINTS
 
-__all__ = ["strength_data", "joint_strength", "torque_limits", "strength_report"]
+__all__ = ["strength_data", "joint_strength", "torque_limits", "strength_report", "capacity"]
 
 
 @functools.lru_cache(maxsize=1)
@@ -100,6 +100,29 @@ def torque_limits(body) -> dict[str, float]:
                                     "give a body built by spatial_from_yeadon")
         out[name] = joint_strength(JOINTS[name].kind, mass)
     return out
+
+
+def capacity(body) -> dict:
+    """What a 3-D human can do, as ``acroplan.plan``'s ``capacity=`` (a yardstick, not a limit: a
+    success whose peak torque at a joint is above that joint's strength carries a warning saying
+    so): ``{"torques": {joint: (strength N m, source)}}``, the source the strength data's key and
+    "estimate" when the value is one. The rates need no yardstick: the 3-D human's rate limits
+    (``data/limits_3d.toml``) are limits of every plan. A problem file's 3-D human brings it.
+
+    Examples
+    --------
+    >>> from acroplan.families.human.spatial_body import spatial_from_yeadon
+    >>> from acroplan.families.human.strength import capacity
+    >>> capacity(spatial_from_yeadon(joints="arms"))["torques"]["left_shoulder_abduction"]
+    (56.2, 'strength_3d.toml: Ivey1985, an estimate')
+    """
+    data = strength_data()["torques"]
+    out = {}
+    for name, top in torque_limits(body).items():
+        e = data[JOINTS[name].kind]
+        source = e.get("source") or "no source"
+        out[name] = (top, f"strength_3d.toml: {source}" + (", an estimate" if e["estimate"] else ""))
+    return {"torques": out}
 
 
 def strength_report(result) -> dict[str, dict]:

@@ -35,9 +35,10 @@ The guess
    \\int_0^1 \\hat w^2`; so it turns the body by about :math:`\\sum_{i<j} F_{ij}\\,(a \\wedge b)_{ij}
    \\int \\hat w^2`. The bivector :math:`B = a \\wedge b` is the least-squares solution of
    :math:`\\sum_{i<j} F_{ij} B_{ij} \\int \\hat w^2 = \\delta` (minimum norm), made decomposable by
-   its best rank-two part (exact for up to three joints), and :math:`a, b` span that plane.
-4. Variants: the loop on the other side (:math:`a \\to -a`, same area), and the loop placed at the
-   centroid of the first by a second curvature evaluation.
+   its best rank-two part (exact for up to three joints), and :math:`a, b` span that plane (a
+   canonical orthonormal pair of it: :func:`_decomposable`).
+4. Variants: the loop on the other side (:math:`a \\to -a`, :math:`b \\to -b`, the same area), and
+   loops offset along each joint whose turn vector makes the turn best.
 
 Path deformation (:func:`acroplan.core.strategies.deform_attempt`) then polishes a guess to the
 target; the guess only has to be non-singular and close.
@@ -110,6 +111,67 @@ def curvature(conn: Connection, S, h: float = 1e-5) -> np.ndarray:
     return np.stack(out, axis=1) if out else np.zeros((3, 0, N))
 
 
+#: Runge-Kutta steps per call of the compiled step kernel (:func:`_rk4_kernel`)
+KERNEL_STEPS = 8
+
+
+@functools.cache
+def _rk4_kernel(steps: int, drift: bool):
+    """:func:`_build_rk4_kernel`, compiled once per process and kept on disk
+    (:func:`acroplan.core.backend.compile_once`); it knows no body."""
+    return backend.compile_once(("spatial-rk4-attitude", 1, int(steps), bool(drift)),
+                                lambda: _build_rk4_kernel(int(steps), bool(drift)))
+
+
+def _build_rk4_kernel(steps: int, drift: bool):
+    """``steps`` steps of the classical Runge-Kutta scheme of :func:`fast_attitudes`, compiled (a
+    ``heyoka.cfunc``, one column a motion). Inputs, flat: :math:`q` (4), then at each of the
+    :math:`2\\,\\text{steps} + 1` grid points the shape's rate :math:`-\\mathbb{I}^{-1} A s'` (3) and,
+    with ``drift``, the upper triangle of :math:`\\mathbb{I}^{-1}` (6). Parameters: the step
+    :math:`h` and, with ``drift``, :math:`T L` (3). Output: :math:`q` after the steps (4, not normalised). The
+    body's rate is :math:`\\Omega = -\\mathbb{I}^{-1} A s' + \\mathbb{I}^{-1} R(q)^\\top T L`, with
+    :math:`R(q)^\\top L` the quadratic form of the model's fields (:func:`collocation_parts._quad`),
+    so the numbers are those of the same scheme in numpy up to the order of the operations."""
+    import heyoka as hy
+
+    from .collocation_parts import _QUAD
+
+    per = 9 if drift else 3
+    v = hy.make_vars(*[f"v{i}" for i in range(4 + (2 * steps + 1) * per)])
+    h, L = hy.par[0], [hy.par[1], hy.par[2], hy.par[3]]
+    pts = [v[4 + per * k:4 + per * (k + 1)] for k in range(2 * steps + 1)]
+
+    def f(q, k):
+        ox, oy, oz = pts[k][:3]
+        if drift:
+            lv = []  # (R(q)^T L)_i = sum_l L_l q^T Q_il q, over the pairs a <= b
+            for i in range(3):
+                terms = []
+                for a in range(4):
+                    for b in range(a, 4):
+                        c = [float(_QUAD[i, l, a, b] + (_QUAD[i, l, b, a] if b != a else 0.0)) for l in range(3)]
+                        if any(c):
+                            terms.append((c[0] * L[0] + c[1] * L[1] + c[2] * L[2]) * (q[a] * q[b]))
+                lv.append(sum(terms[1:], terms[0]))
+            I0, I1, I2, I3, I4, I5 = pts[k][3:]
+            ox = ox + I0 * lv[0] + I1 * lv[1] + I2 * lv[2]
+            oy = oy + I1 * lv[0] + I3 * lv[1] + I4 * lv[2]
+            oz = oz + I2 * lv[0] + I4 * lv[1] + I5 * lv[2]
+        w, x, y, z = q
+        return [0.5 * -(x * ox + y * oy + z * oz), 0.5 * (w * ox + y * oz - z * oy),
+                0.5 * (w * oy - x * oz + z * ox), 0.5 * (w * oz + x * oy - y * ox)]
+
+    q = list(v[:4])
+    for step in range(steps):
+        k = 2 * step
+        k1 = f(q, k)
+        k2 = f([q[i] + 0.5 * h * k1[i] for i in range(4)], k + 1)
+        k3 = f([q[i] + 0.5 * h * k2[i] for i in range(4)], k + 1)
+        k4 = f([q[i] + h * k3[i] for i in range(4)], k + 2)
+        q = [q[i] + (h / 6.0) * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]) for i in range(4)]
+    return hy.cfunc(q, list(v))
+
+
 def fast_attitudes(body, q0, T: float, S, dS) -> np.ndarray:
     """End attitudes of many joint motions at once, by the classical Runge-Kutta scheme (for
     guesses: error about :math:`h^4`, :math:`h` the step; not a check).
@@ -117,6 +179,8 @@ def fast_attitudes(body, q0, T: float, S, dS) -> np.ndarray:
     The joint motions are sampled on the uniform grid :math:`\\sigma_k = k/(2N)`,
     :math:`k = 0, \\dots, 2N` (the steps and their midpoints), and
     :math:`dq/d\\sigma = \\tfrac12 \\Xi(q)\\,\\mathbb{I}(s)^{-1}(T R(q)^\\top L - A(s)\\, s')`.
+    The steps run in a compiled kernel (:func:`_build_rk4_kernel`), :data:`KERNEL_STEPS` a call,
+    every motion a column.
 
     Parameters
     ----------
@@ -130,7 +194,7 @@ def fast_attitudes(body, q0, T: float, S, dS) -> np.ndarray:
     -------
     numpy.ndarray, shape (4, K)
     """
-    from .collocation import _quad, compile_map, evaluate_map
+    from .collocation import CHUNK, compile_map, evaluate_map
 
     S = np.asarray(S, dtype=float)
     dS = np.asarray(dS, dtype=float)
@@ -138,38 +202,23 @@ def fast_attitudes(body, q0, T: float, S, dS) -> np.ndarray:
     fn = compile_map(body, light=True)
     P = K * M
     out = evaluate_map(body, fn, np.concatenate([S.reshape(m, P), dS.reshape(m, P)]))
-    # the body's rate at every grid point, (M, 3, K), each component contiguous over the motions
-    shape_w = -np.ascontiguousarray(out[6:9].reshape(3, K, M).transpose(2, 0, 1))  # -I^-1 A s'
-    Lv = T * body.angular_momentum
-    drift = np.linalg.norm(Lv) > 0
+    Lv = T * np.asarray(body.angular_momentum, dtype=float)
+    drift = bool(np.linalg.norm(Lv) > 0)
+    # per grid point: the shape's rate -I^-1 A s' (3) and, with drift, I^-1's upper triangle (6);
+    # (M, per, K), so that the points of a call are one contiguous block
+    parts = [-out[6:9].reshape(3, K, M)] + ([out[:6].reshape(6, K, M)] if drift else [])
+    G = np.ascontiguousarray(np.concatenate(parts).transpose(2, 0, 1))
     N = (M - 1) // 2
     h = 1.0 / N
-    q = np.tile(np.asarray(q0, dtype=float)[:, None], (1, K))  # (4, K)
-    if drift:
-        Iinv = np.ascontiguousarray(out[:6].reshape(6, K, M).transpose(2, 0, 1))  # (M, 6, K), upper triangle
-        Qf = _quad(Lv).reshape(12, 4)  # (R(q)^T L T)_i = q^T Q_i q
-
-    def f(q, k):
-        """:math:`\\tfrac12 q \\otimes (0, \\Omega)` at grid point ``k``, q of shape (4, K)."""
-        ox, oy, oz = shape_w[k]
-        if drift:
-            lx, ly, lz = ((Qf @ q).reshape(3, 4, K) * q[None]).sum(axis=1)
-            I0, I1, I2, I3, I4, I5 = Iinv[k]
-            ox = ox + I0 * lx + I1 * ly + I2 * lz
-            oy = oy + I1 * lx + I3 * ly + I4 * lz
-            oz = oz + I2 * lx + I4 * ly + I5 * lz
-        w, x, y, z = q
-        return 0.5 * np.array([-(x * ox + y * oy + z * oz), w * ox + y * oz - z * oy,
-                               w * oy - x * oz + z * ox, w * oz + x * oy - y * ox])
-
+    params = (h, float(Lv[0]), float(Lv[1]), float(Lv[2])) if drift else (h,)
+    q = np.ascontiguousarray(np.tile(np.asarray(q0, dtype=float)[:, None], (1, K)))  # (4, K)
+    step = 0
+    while step < N:
+        s = min(KERNEL_STEPS, N - step)
+        x = np.concatenate([q, G[2 * step:2 * (step + s) + 1].reshape(-1, K)])
+        q = backend.evaluate_columns(_rk4_kernel(s, drift), x, params, CHUNK)
+        step += s
     with np.errstate(over="ignore", invalid="ignore"):  # wild candidates blow up: ranked last (NaN)
-        for step in range(N):
-            k = 2 * step
-            k1 = f(q, k)
-            k2 = f(q + 0.5 * h * k1, k + 1)
-            k3 = f(q + 0.5 * h * k2, k + 1)
-            k4 = f(q + h * k3, k + 2)
-            q = q + (h / 6.0) * (k1 + 2 * k2 + 2 * k3 + k4)
         return q / np.linalg.norm(q, axis=0)[None, :]
 
 
@@ -225,7 +274,16 @@ def _weights(alpha: int, beta: int, N: int):
 
 def _decomposable(Bv, m: int):
     """Unit ``a, b`` and a scale with :math:`\\text{scale}\\, a \\wedge b` the best rank-two part of
-    the bivector ``Bv`` (pairs i < j)."""
+    the bivector ``Bv`` (pairs i < j).
+
+    The plane of :math:`a, b` is that of the two largest singular values of the skew matrix of
+    ``Bv`` (they come in equal pairs), but the singular value decomposition returns *any*
+    orthonormal pair of a repeated singular value: which one is decided by rounding, so a change
+    in the last bits of ``Bv`` (another processor, another order of the same sums) turned the
+    loop's offset :math:`a` by a quarter turn in its plane and changed the plan. The pair is made
+    canonical: :math:`a` is the projection on the plane of the joint axis :math:`e_k` that
+    projects longest (the first within 1e-9 of the longest), :math:`b` the unit vector of the plane
+    orthogonal to it, with the sign of :math:`a^\\top B\\, b`."""
     Bm = np.zeros((m, m))
     k = 0
     for i in range(m):
@@ -234,8 +292,15 @@ def _decomposable(Bv, m: int):
             k += 1
     U, _, _ = np.linalg.svd(Bm)
     P = U[:, :2]
-    beta = float(P[:, 0] @ Bm @ P[:, 1])
-    return P[:, 0], (1.0 if beta >= 0 else -1.0) * P[:, 1], abs(beta)
+    proj = P @ P.T  # the plane's projector; its columns are the axes' projections
+    lengths = np.sqrt(np.einsum("ij,ij->j", proj, proj))
+    axis = int(np.flatnonzero(lengths >= lengths.max() - 1e-9)[0])
+    a = proj[:, axis] / lengths[axis]
+    b0 = P[:, int(np.argmin(np.abs(P.T @ a)))]
+    b = b0 - (b0 @ a) * a
+    b /= np.linalg.norm(b)
+    beta = float(a @ Bm @ b)
+    return a, (1.0 if beta >= 0 else -1.0) * b, abs(beta)
 
 
 #: amplitudes (rad) of the loops' offset and turn vectors tried by :func:`loop_guesses`
@@ -360,7 +425,8 @@ def _refinement_subspace(m: int, n: int, alpha: int, beta: int, T: float, P, wG,
 
 def _loop_directions(conn, mid, delta, W2, m: int) -> list[tuple[np.ndarray, np.ndarray]]:
     """Loop directions ``(a, b)`` about the mid-time shape ``mid`` (m,) for the turn ``delta`` (3,):
-    the curvature's least-squares bivector (both senses), and a loop offset along each joint, each
+    the curvature's least-squares bivector (both senses; :func:`_decomposable`), and a loop offset
+    along each joint, each
     sense, whose ``b`` makes the turn best."""
     F = curvature(conn, mid[:, None])[:, :, 0] * W2  # (3, P)
     a, b, _ = _decomposable(np.linalg.lstsq(F, delta, rcond=1e-10)[0], m)
