@@ -131,6 +131,25 @@ def test_the_compiled_runge_kutta_kernel_is_the_scheme_written_out(L):
     assert abs(np.linalg.norm(q) - 1.0) > 1e-12 or not any(L)  # the drift's scheme leaves the sphere
 
 
+def test_the_compiled_kernel_gives_the_same_numbers_in_threads():
+    """Each thread calls its own copy of the compiled steps (guess._rk4_kernel): eight calls at
+    once, on 200 motions each, give the serial call's numbers bit for bit."""
+    import concurrent.futures
+
+    from acroplan.families.spatial.guess import fast_attitudes
+
+    body = random_body(5, 4, L=(0.4, -0.2, 0.9))
+    rng = np.random.default_rng(3)
+    sig = np.linspace(0, 1, 97)
+    amp = rng.normal(size=(body.n_inputs, 200, 1))
+    S, dS = amp * np.sin(np.pi * sig), amp * np.pi * np.cos(np.pi * sig)
+    q0 = rot.normalize(np.array([0.3, 0.5, -0.2, 0.8]))
+    want = fast_attitudes(body, q0, 1.1, S, dS)
+    with concurrent.futures.ThreadPoolExecutor(4) as ex:
+        outs = list(ex.map(lambda _: fast_attitudes(body, q0, 1.1, S, dS), range(8)))
+    assert all(np.array_equal(o, want) for o in outs)
+
+
 def test_the_loop_plane_has_a_canonical_basis():
     """_decomposable: scale a ^ b is the bivector's best rank-two part (the skew matrix's two
     largest singular values), a and b orthonormal, and (a, b) do not turn within their plane when

@@ -46,8 +46,10 @@ target; the guess only has to be non-singular and close.
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 import functools
+import threading
 
 import numpy as np
 
@@ -116,11 +118,26 @@ KERNEL_STEPS = 8
 
 
 @functools.cache
-def _rk4_kernel(steps: int, drift: bool):
+def _rk4_compiled(steps: int, drift: bool):
     """:func:`_build_rk4_kernel`, compiled once per process and kept on disk
     (:func:`acroplan.core.backend.compile_once`); it knows no body."""
     return backend.compile_once(("spatial-rk4-attitude", 1, int(steps), bool(drift)),
                                 lambda: _build_rk4_kernel(int(steps), bool(drift)))
+
+
+_LOCAL = threading.local()
+
+
+def _rk4_kernel(steps: int, drift: bool):
+    """This thread's own copy of :func:`_rk4_compiled` (a compiled function is not called from two
+    threads at once, as :func:`~acroplan.families.spatial.collocation.compile_map`)."""
+    mine = getattr(_LOCAL, "kernels", None)
+    if mine is None:
+        mine = _LOCAL.kernels = {}
+    own = mine.get((steps, drift))
+    if own is None:
+        own = mine[(steps, drift)] = copy.copy(_rk4_compiled(steps, drift))
+    return own
 
 
 def _build_rk4_kernel(steps: int, drift: bool):
