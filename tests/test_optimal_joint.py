@@ -133,3 +133,27 @@ def test_the_joint_stage_reports_its_evaluations_as_it_goes():
     counts = [done for name, done in seen if name == STAGE]
     assert len(counts) >= 3 and counts == sorted(counts) and counts[-1] > counts[0]
     assert counts[-1] <= res.segments[0].optimality["joint"]["evaluations"]
+
+
+def test_a_joint_optimum_broken_between_the_grid_points_is_solved_again_on_a_denser_grid(monkeypatch, planned):
+    """The joint stage's retry (``optimal.JOINT_LIMIT_GRIDS``): with a rate limit 5% below the
+    unlimited plan's peak and a first grid of 4 points, the joint optimum breaks the limit between
+    them, the dense check refuses it, and the stage is solved again on 256 points: kept, within the
+    limit everywhere, continuous, below the sequential cost."""
+    import acroplan.core.optimal as optimal
+
+    top = 0.95 * max(float(np.abs(s.input(np.linspace(s.t0, s.t1, 2001))).max()) for s in planned.segments)
+    monkeypatch.setattr(optimal, "JOINT_LIMIT_GRIDS", (4, 256))
+    res = acroplan.plan(DoubleIntegrator(), times=TIMES, x=X, v=V, conditions="free", objective="energy",
+                        n_coefficients=N, verify="ode", u_max=top)
+    assert res.status == "success", res.message
+    joint = res.segments[0].optimality["joint"]
+    assert joint["kept"], joint["message"]
+    assert "not kept with the limits on 4 points" in joint["message"]
+    assert "then with the limits on 256 points" in joint["message"]
+    assert joint["cost"] < joint["sequential_cost"]
+    for s in res.segments:
+        assert float(np.abs(s.input(np.linspace(s.t0, s.t1, 4001))).max()) <= top * (1 + 1e-9)
+    for a, b in zip(res.segments[:-1], res.segments[1:]):
+        assert abs(a.input([a.t1])[0, 0] - b.input([b.t0])[0, 0]) < 1e-9
+    assert max(s.verified_error for s in res.segments) < 1e-9
