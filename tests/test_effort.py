@@ -562,3 +562,31 @@ def test_torques_without_the_jacobian_equal_the_full_call():
         fast = model_torques(model, system, basis, x0, 1.3, c, s)
         assert fast.shape == full.shape
         np.testing.assert_allclose(fast, full, rtol=1e-12, atol=1e-12 * np.max(np.abs(full)))
+
+
+def test_the_roots_of_the_power_in_few_rounds():
+    """effort._root_rounds on brackets of known roots (sin(20 t) + 0.3): every root to 1e-14 s, in at most 5 calls (the first round's 32-fold shrink, then the
+    windows about the secant's zero; 32-fold rounds alone need 9 from brackets 1/60 wide), one call
+    of all the brackets' points a round. And effort.peaks on the same function: 1.3."""
+    from acroplan.core.effort import _drive, _root_rounds, peaks
+
+    f = lambda t: np.sin(20.0 * t) + 0.3  # noqa: E731
+    grid = np.linspace(0.0, 1.0, 61)
+    v = f(grid)
+    i = np.flatnonzero(np.sign(v[:-1]) * np.sign(v[1:]) < 0)
+    lo, hi = grid[i], grid[i + 1]
+    exact = np.sort(np.concatenate([(np.pi + np.arcsin(0.3)) / 20 + 2 * np.pi * np.arange(4) / 20,
+                                    (2 * np.pi - np.arcsin(0.3)) / 20 + 2 * np.pi * np.arange(4) / 20]))
+    exact = exact[exact < 1.0]
+    calls = []
+
+    def g(xs):
+        calls.append(xs.size)
+        return f(xs)[None, :]
+
+    found = _drive(g, _root_rounds(np.zeros(lo.size, dtype=int), lo, hi))
+    roots = np.sort([r for _, r in found])
+    assert roots.size == exact.size == lo.size
+    assert np.max(np.abs(roots - exact)) < 1e-14
+    assert len(calls) <= 5 and all(n % lo.size == 0 for n in calls)
+    assert peaks(lambda xs: f(xs)[None, :], grid, v[None, :])[0] == pytest.approx(1.3, abs=1e-12)

@@ -21,7 +21,7 @@ __all__ = ["JointEffort", "EFFORT_RULE", "PEAK_CANDIDATES", "ROOT_XTOL", "ROOT_P
 EFFORT_RULE = ("integrals of tau^2 and tau u: composite 32-point Gauss-Legendre on each segment, on at least 8 "
                "panels and one per radian of max|u| T (at most 4096); positive work: the same rule on each panel, "
                "split at the sign changes of tau u (found between the nodes and panel edges, refined by 32-fold "
-               "bracketing to 1e-14 s and a secant step); peaks: the local maxima on those points within 1% of the largest, each refined "
+               "bracketing, then windows about the secant's zero, to 1e-14 s and a secant step); peaks: the local maxima on those points within 1% of the largest, each refined "
                "by a bounded scalar search; integral of u^2: exact (the basis Gram matrix)")
 
 
@@ -129,7 +129,7 @@ def effort_summary(result) -> dict[str, JointEffort]:
 
 def _segment_effort(result, seg, model, inputs, xg, wg, acc) -> None:
     """Add one segment's integrals and peaks into the accumulators ``acc`` (by joint). The torque
-    model is called on batches of times (about eight calls a segment: the grid, the rounds of the
+    model is called on batches of times (about six calls a segment: the grid, the rounds of the
     roots with the zooms of the peaks, the split panels), never point by point: a model that integrates (a
     spatial body's momentum) costs as much for one time as for hundreds."""
     T = seg.t1 - seg.t0
@@ -187,7 +187,7 @@ def _lockstep(motion, searches):
         at = 0
         for k, n in zip(keys, sizes):
             gen, pick = searches[k]
-            vals = pick((tau[:, at:at + n], pw[:, at:at + n]))
+            vals = pick((tau[:, at:at + n], None if pw is None else pw[:, at:at + n]))
             at += n
             try:
                 live[k] = gen.send(vals)
@@ -242,8 +242,10 @@ def _peak_rounds(grid, values):
 
 #: Bracket width (seconds) at which the roots of the power are taken (:func:`_roots`).
 ROOT_XTOL = 1e-14
-#: Points across each bracket in a round of :func:`_roots` (a 32-fold shrink a round).
+#: Points in each bracket in a round of :func:`_roots` (the first round: a 32-fold shrink).
 ROOT_POINTS = 33
+#: A later round's window about the secant's zero is this many times narrower than the bracket.
+ROOT_WINDOW = 512
 
 
 def _brackets(grid, pow_g, P):
@@ -268,20 +270,34 @@ def _roots(motion, rows, lo, hi):
 def _root_rounds(rows, lo, hi):
     """The roots of the powers of ``rows`` in the brackets ``[lo, hi]`` (a sign change each on the
     grid), as a search generator (:func:`_lockstep`: yields times, receives every joint's power
-    there): each round takes :data:`ROOT_POINTS` points across every bracket and keeps the interval
-    of the first sign change, until the brackets are :data:`ROOT_XTOL` wide; the root is then the
-    secant's zero in the last bracket. A bracket whose ends, evaluated again, show no sign change
+    there). Each round takes :data:`ROOT_POINTS` points in every bracket and keeps the interval of
+    the first sign change among them and the bracket's ends, until the brackets are
+    :data:`ROOT_XTOL` wide; the root is then the secant's zero in the last bracket. The first round
+    spreads its points across the bracket (a 32-fold shrink); later rounds put them across a window
+    :data:`ROOT_WINDOW` times narrower than the bracket about the secant's zero, where a smooth
+    power's root is (the secant's error is of the order of the square of the bracket's width): a
+    shrink of some 15,000-fold a round when the root is in the window, and when it is not, the
+    next round spreads its points again. A bracket whose ends, evaluated again, show no sign change
     (the power within rounding of zero at an end: a batch need not round as the grid's did) has
     that end, the smaller in magnitude, as its root. Returns ``[(index into the brackets, root)]``."""
     out = []
     lo, hi = lo.copy(), hi.copy()
     live = np.arange(rows.size)
     frac = np.linspace(0.0, 1.0, ROOT_POINTS)
+    inner = np.linspace(-1.0, 1.0, ROOT_POINTS - 2)
     fa = fb = None
+    spread = np.ones(rows.size, dtype=bool)  # the next round spreads its points across the bracket
     while live.size:
         a, b = lo[live], hi[live]
         xs = a[:, None] + (b - a)[:, None] * frac[None, :]
-        xs[:, -1] = b
+        was_spread = spread[live]
+        if fa is not None:  # a window about the secant's zero, inside the bracket, the ends kept
+            with np.errstate(divide="ignore", invalid="ignore"):
+                r = np.where(fb != fa, a - fa * (b - a) / (fb - fa), 0.5 * (a + b))
+            d = (b - a) / ROOT_WINDOW
+            win = np.clip(r[:, None] + d[:, None] * inner[None, :], a[:, None], b[:, None])
+            xs = np.where(was_spread[:, None], xs, np.column_stack([a, win, b]))
+        xs[:, 0], xs[:, -1] = a, b
         k = np.arange(live.size)
         got = yield xs.ravel()
         vals = np.asarray(got, dtype=float).reshape(-1, live.size, ROOT_POINTS)[rows[live], k]
@@ -290,13 +306,18 @@ def _root_rounds(rows, lo, hi):
             for n in np.flatnonzero(ends):
                 out.append((int(live[n]), a[n] if abs(vals[n, 0]) <= abs(vals[n, -1]) else b[n]))
             keep = ~ends
-            live, xs, vals, k = live[keep], xs[keep], vals[keep], np.arange(int(keep.sum()))
+            live, xs, vals, k, a, b = live[keep], xs[keep], vals[keep], np.arange(int(keep.sum())), a[keep], b[keep]
+            was_spread = was_spread[keep]
         else:
             vals[:, 0], vals[:, -1] = fa, fb
         if not live.size:
             break
         i = np.argmax(np.sign(vals[:, :-1]) * np.sign(vals[:, 1:]) <= 0, axis=1)
+        width = b - a
         a, b, fa, fb = xs[k, i], xs[k, i + 1], vals[k, i], vals[k, i + 1]
+        # after a spread round a window next; after a window that missed the root (the bracket left
+        # is a piece beside it), a spread round
+        spread[live] = ~was_spread & ((b - a) > 2.0 * width / ROOT_WINDOW)
         lo[live], hi[live] = a, b
         done = (b - a <= ROOT_XTOL) | ~((a < 0.5 * (a + b)) & (0.5 * (a + b) < b))
         for n in np.flatnonzero(done):

@@ -299,8 +299,8 @@ class PlanResult:
         composite 32-point Gauss-Legendre on each segment, on at least 8 panels and one per radian
         of :math:`\\max|u|\\,T` (at most 4096); the positive work by the same rule on each panel,
         a panel where the power changes sign split at its roots (found between consecutive nodes and
-        panel edges, refined by 32-fold bracketing to 1e-14 s and a secant step); the peaks as the local maxima on those points
-        within 1% of the largest, each refined by a bounded scalar search; :math:`\\int u^2`
+        panel edges, refined by 32-fold bracketing, then windows about the secant's zero, to 1e-14 s
+        and a secant step); the peaks as the local maxima on those points within 1% of the largest, each refined by a bounded scalar search; :math:`\\int u^2`
         exactly (:math:`T c^\\top G c` with the basis Gram matrix). One evaluation of the torque
         model on about :math:`33P` points per segment, plus the root and peak searches. Checked
         against 200,001-point trapezoids (``tests/test_effort.py``: :math:`\\int\\tau^2` to 1e-8,
