@@ -21,8 +21,9 @@ __all__ = ["JointEffort", "EFFORT_RULE", "PEAK_CANDIDATES", "ROOT_XTOL", "ROOT_P
 EFFORT_RULE = ("integrals of tau^2 and tau u: composite 32-point Gauss-Legendre on each segment, on at least 8 "
                "panels and one per radian of max|u| T (at most 4096); positive work: the same rule on each panel, "
                "split at the sign changes of tau u (found between the nodes and panel edges, refined by 32-fold "
-               "bracketing, then windows about the secant's zero, to 1e-14 s and a secant step); peaks: the local maxima on those points within 1% of the largest, each refined "
-               "by a bounded scalar search; integral of u^2: exact (the basis Gram matrix)")
+               "bracketing, then windows about the secant's zero, to 1e-14 s and a secant step); peaks: the local "
+               "maxima on those points within 1% of the largest, each refined by a bounded scalar search; integral "
+               "of u^2: exact (the basis Gram matrix)")
 
 
 @dataclasses.dataclass(frozen=True)
