@@ -590,3 +590,30 @@ def test_the_roots_of_the_power_in_few_rounds():
     assert np.max(np.abs(roots - exact)) < 1e-14
     assert len(calls) <= 5 and all(n % lo.size == 0 for n in calls)
     assert peaks(lambda xs: f(xs)[None, :], grid, v[None, :])[0] == pytest.approx(1.3, abs=1e-12)
+
+
+def test_a_refinement_that_breaks_the_limits_is_refused(monkeypatch):
+    """The ladder's reported optimum is refined to the KKT target at the end; when that refinement
+    leaves the limits (between the grid's points, as the falling cat's torque optimum did by 1.4e-4
+    rad/s), the point the ladder accepted is reported, within its limits, the refused refinement
+    named in the message (a refinement made to break the rate limit here)."""
+    import acroplan.core.optimum as optimum
+
+    p = random_segment(np.random.default_rng(8))
+    free = acroplan.plan(p.robot, conditions="free", method="energy-optimal", **p.plan_kwargs())
+    u_max = 0.9 * free.max_abs_u
+    kw = dict(conditions="free", u_max=u_max, **p.plan_kwargs())
+    plain = acroplan.plan(p.robot, method="energy-optimal", **kw)
+    assert plain.success, plain.message
+    refine = optimum.OptimalRun.refine
+
+    def breaking(self, kkt_tol):
+        refine(self, kkt_tol)
+        self.z = self.z * 1.5  # the rate limit broken
+        return self
+
+    monkeypatch.setattr(optimum.OptimalRun, "refine", breaking)
+    res = acroplan.plan(p.robot, method="energy-optimal", **kw)
+    assert res.success, res.message
+    assert "its refinement was refused" in res.segments[0].message
+    assert res.segments[0].max_abs_u <= u_max * (1 + 1e-9)

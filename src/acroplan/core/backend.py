@@ -507,6 +507,34 @@ def _why(outcome, s: float) -> str:
     return f"integration stopped with outcome {outcome} at s = {s}"
 
 
+class perturbations_of:
+    """A context in which this thread's endpoint evaluations are at inputs a small perturbation away
+    from ``c`` (the forward differences of :meth:`OptimalProblem.curvature
+    <acroplan.core.optimum.OptimalProblem.curvature>`): a family's endpoint map may then reuse the
+    discretisation it chose at ``c`` (its panels, its solution as the start of its iterations), so
+    that the differences are those of one discrete map, and cheaper. A family that does not look
+    (:func:`near_point`) integrates as always."""
+
+    def __init__(self, system, basis, x0, T, c):
+        self.point = (system, basis, np.asarray(x0, dtype=float).tobytes(), float(T),
+                      np.asarray(c, dtype=float).reshape(-1).copy(), {})
+
+    def __enter__(self):
+        self.previous = getattr(_LOCAL, "near", None)
+        _LOCAL.near = self.point
+        return self
+
+    def __exit__(self, *exc):
+        _LOCAL.near = self.previous
+        return False
+
+
+def near_point():
+    """``(system, basis, x0 bytes, T, c, memo)`` of the enclosing :class:`perturbations_of`, or
+    ``None``; ``memo`` a dict the family may keep its discretisation at ``c`` in."""
+    return getattr(_LOCAL, "near", None)
+
+
 def endpoint(system: ControlAffineSystem, basis: InputBasis, x0, T: float, c) -> tuple[np.ndarray, np.ndarray]:
     """The endpoint map and its Jacobian on one segment: the family's own
     (:meth:`ControlAffineSystem.endpoint_map`, the spatial bodies') when it has one, else

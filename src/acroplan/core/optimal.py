@@ -445,8 +445,18 @@ class _Search:
         """The reported optimum: ``current`` refined to ``kkt_tol``, with the ladder and its notes."""
         st, iv = self.strategy, self.interval
         before = current.prob.evaluations
+        unrefined = current.z
         current.refine(st.kkt_tol)
         res = current.result()
+        if not res.success and current.z is not unrefined:
+            # the refinement left the limits between the grid's points (or the endpoint): the point
+            # the ladder accepted is reported instead, with its own KKT residual
+            refined, current.z = current.z, unrefined
+            kept = current.result()
+            if kept.success:
+                res = dataclasses.replace(kept, message=kept.message + f" (its refinement was refused: {res.message})")
+            else:
+                current.z = refined
         self.evaluations += current.prob.evaluations - before
         i = next(k for k, (n, _) in enumerate(history) if n == res.basis.n)
         history[i] = (history[i][0], res.objective)

@@ -209,11 +209,12 @@ class OptimalProblem:
         endpoint Jacobian along every coordinate direction (N evaluations), symmetrised."""
         q, N = Ac.shape[0], self.N
         M = np.empty((q, N, N))
-        for k in range(N):
-            eps = 1e-7 * max(1.0, abs(c[k]))
-            ck = c.copy()
-            ck[k] += eps
-            M[:, :, k] = (self.endpoint(ck)[1] - Ac) / eps
+        with backend.perturbations_of(self.system, self.basis, self.x0, self.T, c):
+            for k in range(N):
+                eps = 1e-7 * max(1.0, abs(c[k]))
+                ck = c.copy()
+                ck[k] += eps
+                M[:, :, k] = (self.endpoint(ck)[1] - Ac) / eps
         return 0.5 * (M + M.transpose(0, 2, 1))
 
 

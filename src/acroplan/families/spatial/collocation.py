@@ -333,7 +333,7 @@ def _build_guess_kernel(N: int):
     return hy.cfunc(out, list(v))
 
 
-def _momentum_panel(seg, lam, H, d):
+def _momentum_panel(seg, lam, H, d, start=None):
     """Newton's method on one panel's collocation equations of :math:`\\lambda' = \\lambda \\times
     \\Omega`, :math:`\\Omega = \\omega + W \\lambda`, from the guess :math:`\\Lambda_j =
     \\exp(-[\\theta_j]_\\times)\\, \\lambda`, :math:`\\theta_j = H \\sum_i \\alpha_{ji}\\, \\Omega_i(\\lambda)` (the
@@ -341,7 +341,8 @@ def _momentum_panel(seg, lam, H, d):
     :func:`_build_guess_kernel`). Each iteration is one call of the compiled kernel
     (:func:`_build_momentum_kernel`: the residual and ``S``) and one LAPACK solve in place. Returns
     ``(lam1, Lam, J, (lu, piv), tail)`` (``J`` the blocks :math:`\\partial(\\lambda \\times \\Omega)/\\partial
-    \\lambda` at the nodes), or ``None`` when Newton's method does not converge."""
+    \\lambda` at the nodes), or ``None`` when Newton's method does not converge. ``start``: Newton's
+    start :math:`\\Lambda` (N, 3) instead of that guess (the same panel's solution at a nearby input)."""
     W, w, N = d["W"], d["w"], seg.N
     tol = NEWTON_TOL * seg.Lnorm
     kern, guess = _momentum_kernel_copy(N)
@@ -351,7 +352,10 @@ def _momentum_panel(seg, lam, H, d):
     inp[n3 + 3:6 * N + 3] = w.ravel()
     inp[6 * N + 3:] = W.ravel()
     par = np.array([H])
-    guess(inp[n3:], pars=par, outputs=inp[:n3])
+    if start is None:
+        guess(inp[n3:], pars=par, outputs=inp[:n3])
+    else:
+        inp[:n3] = np.asarray(start, dtype=float).ravel()
     out = np.empty(kern.nouts)
     res, o_s = out[:n3], 15 * N
     for _ in range(NEWTON_ITERATIONS):
@@ -502,7 +506,7 @@ def _first_momentum(seg):
     return v
 
 
-def _solve(seg, points=None):
+def _solve(seg, points=None, starts_out=None):
     """Layout and solution, splitting panels until the attitude is resolved too, and cut at
     ``points`` when given (:func:`_cut`). Returns ``(ys, widths, data, Omega, Y, Phi, Z,
     momentum)``: ``ys`` (P + 1, 4) the attitude at the panels' boundaries, ``momentum`` is
@@ -526,10 +530,59 @@ def _solve(seg, points=None):
         ys, Y, Phi, Z, tq = _attitude(seg, widths, Om)
         bad = tq > SOLUTION_TAIL_TOL
         if not bad.any():
+            if starts_out is not None:
+                starts_out.append(starts)
             return ys, widths, d, Om, Y, Phi, Z, mom
         ok = ~bad
         st, wd = _split(starts, widths, d, bad, seg, int(ok.sum()))
         starts, widths, d = _layout(seg, st, wd, [(starts[ok], widths[ok], _take(d, ok))])
+
+
+#: An input within this much of the point of :class:`acroplan.core.backend.perturbations_of`
+#: (relative to its largest coefficient) is integrated on that point's panels (:func:`_solve_near`)
+NEAR_TOL = 1e-5
+
+
+def _solve_near(seg):
+    """:func:`_solve` on the panels of the point of the enclosing
+    :class:`~acroplan.core.backend.perturbations_of` (the forward differences of the optimiser's
+    constraint Hessians), the momentum's Newton iterations started from that point's solution
+    panel by panel, no panel split: the differences are those of one discrete map, and cheaper.
+    ``None`` when there is no such point, ``seg`` is not a small perturbation of it, or a panel's
+    Newton iteration fails (then :func:`_solve` integrates as always)."""
+    from ...core import backend
+
+    near = backend.near_point()
+    if near is None:
+        return None
+    body, basis, x0b, T, c0, memo = near
+    if body is not seg.body or basis != seg.basis or T != seg.T or x0b != seg.x0.tobytes():
+        return None
+    if not np.abs(seg.c.reshape(-1) - c0).max() <= NEAR_TOL * max(1.0, float(np.abs(c0).max())):
+        return None
+    base = memo.get("spatial collocation")
+    if base is None:
+        starts = []
+        sol = _solve(_Segment(body, basis, seg.x0, T, c0), starts_out=starts)
+        base = memo["spatial collocation"] = (starts[0], sol[1], None if sol[7] is None else sol[7][0])
+    starts, widths, Lam0 = base
+    d = seg.data(starts, widths)
+    mom = None
+    if seg.drift:
+        lam = np.einsum("a,iab,b->i", seg.x0[:4], seg.Q, seg.x0[:4])
+        out = []
+        for k in range(widths.size):
+            r = _momentum_panel(seg, lam, widths[k], _take(d, k), start=Lam0[k])
+            if r is None:
+                return None
+            lam = r[0]
+            out.append(r[1:4])
+        mom = (np.stack([o[0] for o in out]), np.stack([o[1] for o in out]), [o[2] for o in out])
+        Om = d["w"] + (d["W"] @ mom[0][..., None])[..., 0]
+    else:
+        Om = d["w"]
+    ys, Y, Phi, Z, _ = _attitude(seg, widths, Om)
+    return ys, widths, d, Om, Y, Phi, Z, mom
 
 
 def endpoint(body, basis, x0, T, c, *, jacobian: bool = True):
@@ -552,7 +605,7 @@ def endpoint(body, basis, x0, T, c, *, jacobian: bool = True):
     J : numpy.ndarray, shape (4 + m, m * basis.n), or None
     """
     seg = _Segment(body, basis, x0, T, c)
-    ys, widths, d, Om, Y, Phi, Z, mom = _solve(seg)
+    ys, widths, d, Om, Y, Phi, Z, mom = _solve_near(seg) or _solve(seg)
     q1 = ys[-1]
     m, n, Tn = seg.m, seg.n, seg.T
     B1 = basis.integral([1.0])[0]
