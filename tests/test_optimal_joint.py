@@ -157,3 +157,32 @@ def test_a_joint_optimum_broken_between_the_grid_points_is_solved_again_on_a_den
     for a, b in zip(res.segments[:-1], res.segments[1:]):
         assert abs(a.input([a.t1])[0, 0] - b.input([b.t0])[0, 0]) < 1e-9
     assert max(s.verified_error for s in res.segments) < 1e-9
+
+
+def test_a_step_below_the_merit_resolution_is_taken_whole_without_a_search(monkeypatch):
+    """core.sqp: when the decrease a step predicts is below the merit function's resolution
+    (MERIT_RESOLUTION, relative), the full step is tried first on the KKT residual, before any
+    backtracking search (which there compares rounding: 20-30 evaluations a step on the falling
+    cat's refinement). From the optimum of one interval moved by 1e-7 along the endpoint's null
+    space (a decrease of about 1e-14 relative to take), the step is taken whole, no line search
+    runs, and the optimum is back to 1e-12."""
+    import acroplan.core.sqp as sqp_module
+    from acroplan.core.basis import Legendre
+    from acroplan.core.optimum import optimize_segment
+
+    system, basis = DoubleIntegrator(), Legendre(N)
+    x0, x1, T = np.array([0.0, 0.0]), np.array([1.0, 1.0]), 1.0
+    best = optimize_segment(system, basis, x0, x1, T, np.zeros((1, N)), kkt_tol=1e-13)
+    assert best.success and best.kkt < 1e-12
+    searches = []
+    search = sqp_module._line_search
+    monkeypatch.setattr(sqp_module, "_line_search", lambda *a, **k: searches.append(1) or search(*a, **k))
+    from acroplan.core import backend
+
+    _, J = backend.endpoint(system, basis, x0, T, best.coefficients)
+    move = np.linalg.svd(J)[2][-1]          # along the endpoint's null space: no constraint is moved
+    start = best.coefficients + 1e-7 * move[None, :] / np.abs(move).max()
+    again = optimize_segment(system, basis, x0, x1, T, start, kkt_tol=1e-13)
+    assert again.success and again.kkt < 1e-12 and again.iterations >= 1
+    assert not searches
+    assert np.abs(again.coefficients - best.coefficients).max() < 1e-12
