@@ -273,6 +273,16 @@ def dive_guess(body, kw, angles, N):
     return G
 
 
+def timed_plan(body, objective, kw, walls, cpus):
+    """``acroplan.plan`` of the problem (no independent check), its wall and CPU seconds appended
+    to ``walls`` and ``cpus``."""
+    t, c = time.perf_counter(), time.process_time()
+    r = acroplan.plan(body, verify=False, objective=objective, **kw)
+    walls.append(time.perf_counter() - t)
+    cpus.append(time.process_time() - c)
+    return r
+
+
 def run_dive(objective, args):
     """The dive (module docstring): acroplan and CasADi back to back, ``--repeat`` times."""
     body, kw, angles = dive_problem()
@@ -290,10 +300,7 @@ def run_dive(objective, args):
             Wp[:4, j] *= np.sign(guess[:4, k] @ Wp[:4, j])
     ta, ca_, tc = [], [], []
     for _ in range(args.repeat):
-        t, c = time.perf_counter(), time.process_time()
-        r = acroplan.plan(body, verify=False, objective=objective, **kw)
-        ta.append(time.perf_counter() - t)
-        ca_.append(time.process_time() - c)
+        r = timed_plan(body, objective, kw, ta, ca_)
         if peer is not None:
             c = time.process_time()
             ok_c, dt_c, cost_c, v = peer.solve(Wp, guess)
@@ -381,10 +388,7 @@ def run(name, body, kw, objective, peer, args):
     x1c[:4] *= np.sign(guess[:4, -1] @ x1[:4])
     ta, ca_, tc = [], [], []
     for _ in range(args.repeat):
-        t, c = time.perf_counter(), time.process_time()
-        r = acroplan.plan(body, verify=False, objective=objective, **kw)
-        ta.append(time.perf_counter() - t)
-        ca_.append(time.process_time() - c)
+        r = timed_plan(body, objective, kw, ta, ca_)
         c = time.process_time()
         if peer is None:
             tc.append((math.nan, math.nan))
