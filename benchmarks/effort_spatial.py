@@ -58,7 +58,7 @@ def main():
         pw, pc = min(p[0] for p in plans), min(p[1] for p in plans)
         ew, ec = min(e[0] for e in efforts), min(e[1] for e in efforts)
         print(f"{name}: {r.status}, {len(r.segments)} segment(s); plan {pw:.3f} s wall, {pc:.3f} s CPU; effort "
-              f"summary {ew:.3f} s wall, {ec:.3f} s CPU ({calls[0]} torque-model calls): {100 * ew / pw:.1f}% of "
+              f"summary {1e3 * ew:.2f} ms wall, {1e3 * ec:.2f} ms CPU ({calls[0]} torque-model calls): {100 * ew / pw:.1f}% of "
               f"the plan's wall time, {100 * ec / pc:.1f}% of its CPU time")
 
 

@@ -617,3 +617,84 @@ def test_a_refinement_that_breaks_the_limits_is_refused(monkeypatch):
     assert res.success, res.message
     assert "its refinement was refused" in res.segments[0].message
     assert res.segments[0].max_abs_u <= u_max * (1 + 1e-9)
+
+
+def test_a_peak_by_two_zooms_and_the_parabola_and_ends_that_need_none():
+    """effort.peaks: a peak between the samples to 1e-14 in two calls (two 32-fold zooms, then the
+    vertex of the parabola through the best point and its neighbours: the best point alone is off
+    by about |f''| h^2 / 8, 1e-9 here); a maximum at an end where the function falls inward with no
+    call at all; and one a hair inside the end, which the end's sample alone would miss, found."""
+    from acroplan.core.effort import peaks
+
+    grid = np.linspace(0.0, 1.0, 101)
+    calls = []
+
+    def counted(f):
+        def g(xs):
+            calls.append(xs.size)
+            return f(xs)[None, :]
+        return g
+
+    f = lambda t: 1.0 + 0.5 * np.cos(30.0 * (t - 0.41137))  # noqa: E731  peaks of 1.5 at 0.41137 + k 2 pi / 30
+    got = peaks(counted(f), grid, f(grid)[None, :])[0]
+    assert abs(got - 1.5) < 1e-14 and len(calls) == 2
+    calls.clear()
+    g = np.exp
+    assert peaks(counted(g), grid, g(grid)[None, :])[0] == np.e and not calls
+    calls.clear()
+    h = lambda t: 1.0 + np.exp(-400.0 * (t - 0.9965) ** 2)  # noqa: E731  max 2 at 0.9965, between the last samples
+    assert h(grid).max() < 2.0 - 1e-4
+    assert abs(peaks(counted(h), grid, h(grid)[None, :])[0] - 2.0) < 1e-14 and len(calls) == 2
+
+
+def test_the_positive_work_of_split_panels():
+    """effort._positive_work on P(t) = sin(20 t) + 0.3 over [0, 1] on 8 panels, split at its exact
+    roots (the pieces up to each panel's last root by the panel's rule, the rest as the panel's
+    integral less them): the closed form of the integral of max(P, 0) to 1e-14."""
+    from acroplan.core.effort import _GAUSS32, _positive_work
+
+    xg, wg = _GAUSS32
+    P = 8
+    edges = np.linspace(0.0, 1.0, P + 1)
+    f = lambda t: np.sin(20.0 * t) + 0.3  # noqa: E731
+    F = lambda t: -np.cos(20.0 * t) / 20.0 + 0.3 * t  # noqa: E731
+    a0, a1 = np.arcsin(-0.3), np.pi - np.arcsin(-0.3)  # sin x = -0.3
+    roots = np.sort([(a0 + 2 * np.pi * k) / 20 for k in range(1, 4)] + [(a1 + 2 * np.pi * k) / 20 for k in range(4)])
+    roots = roots[(roots > 0) & (roots < 1)]
+    by_panel = {}
+    for r in roots:
+        by_panel.setdefault((0, min(int(r * P), P - 1)), []).append(float(r))
+    h = 1.0 / P
+    panel_pow = np.array([[np.sum(f(e + h * xg) * wg) * h for e in edges[:-1]]])
+    pos = np.zeros(1)
+    _positive_work(lambda t: (None, f(t)[None, :]), edges, by_panel, panel_pow, xg, wg, pos)
+    cuts = np.concatenate([[0.0], roots, [1.0]])
+    exact = sum(max(F(b) - F(a), 0.0) for a, b in zip(cuts[:-1], cuts[1:]))
+    assert len(by_panel) >= 5 and abs(pos[0] - exact) < 1e-14
+
+
+def test_the_spatial_effort_summary_in_four_calls_a_segment(monkeypatch):
+    """The falling cat's effort summary calls its torque model four times a segment (the grid, two
+    rounds of the roots with the peaks' two zooms, the split panels), and its roots' brackets of
+    1e-7 of a segment (ROOT_RTOL) give the same work and peaks as brackets of 1e-14 s to 1e-13."""
+    from acroplan.core import effort as E
+    from acroplan.core import result as R
+    from acroplan.families.spatial.examples import falling_cat_turn
+
+    body, kw = falling_cat_turn()
+    r = acroplan.plan(body, verify=False, **kw)
+    calls = []
+    inner = R.PlanResult._segment_torques
+
+    def counted(self, *a):
+        calls.append(1)
+        return inner(self, *a)
+
+    monkeypatch.setattr(R.PlanResult, "_segment_torques", counted)
+    fast = E.effort_summary(r)
+    assert len(calls) == 4 * len(r.segments)
+    monkeypatch.setattr(E, "ROOT_RTOL", 1e-14 / max(s.t1 - s.t0 for s in r.segments))
+    tight = E.effort_summary(r)
+    for name, e in fast.items():
+        for field in ("positive_work", "peak_torque", "peak_power", "torque_squared"):
+            assert getattr(e, field) == pytest.approx(getattr(tight[name], field), rel=1e-13, abs=1e-15)

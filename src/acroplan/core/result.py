@@ -26,7 +26,7 @@ from typing import Any
 import numpy as np
 
 from . import backend
-from .basis import InputBasis
+from .basis import InputBasis, basis_tables
 from .effort import EFFORT_RULE, JointEffort, effort_summary
 from .errors import InvalidInputError
 from .progress import stage
@@ -231,12 +231,14 @@ class PlanResult:
         """``(tau, power)`` of ``seg`` at absolute times ``t`` inside it, each shape (p, K)."""
         T = seg.t1 - seg.t0
         s = (np.asarray(t, dtype=float) - seg.t0) / T
-        tau = model_torques(model, self.system, self.basis_for(seg), np.asarray(seg.start, dtype=float), T,
-                            np.asarray(seg.basis_coefficients, dtype=float), s)
+        basis, c = self.basis_for(seg), np.asarray(seg.basis_coefficients, dtype=float)
+        tau = model_torques(model, self.system, basis, np.asarray(seg.start, dtype=float), T, c, s)
         if tau.shape[0] != len(inputs):
             raise InvalidInputError("torque_model", f"gave {tau.shape[0]} torque row(s) for {len(inputs)} joint "
                                     "name(s)", "give one joint name per torque row")
-        return tau, tau * seg.input(t)[list(inputs)]
+        # the inputs as seg.input(t) gives them, from the basis tables the model has just used (cached)
+        u = c[list(inputs)] @ basis_tables(basis, s)[0].T
+        return tau, tau * u
 
     def _torque_values(self, model, t):
         """``(tau, power)`` at sorted or unsorted absolute times ``t`` (shape (N,)), each (p, N)."""
@@ -299,8 +301,10 @@ class PlanResult:
         composite 32-point Gauss-Legendre on each segment, on at least 8 panels and one per radian
         of :math:`\\max|u|\\,T` (at most 4096); the positive work by the same rule on each panel,
         a panel where the power changes sign split at its roots (found between consecutive nodes and
-        panel edges, refined by 32-fold bracketing, then windows about the secant's zero, to 1e-14 s
-        and a secant step); the peaks as the local maxima on those points within 1% of the largest, each refined by a bounded scalar search; :math:`\\int u^2`
+        panel edges, refined by 32-fold bracketing, then windows about the secant's zero, to brackets
+        1e-7 of the segment's duration and a secant step); the peaks as the local maxima on those
+        points within 1% of the largest, each refined by two 32-fold zooms and the vertex of the
+        parabola through the best point and its neighbours; :math:`\\int u^2`
         exactly (:math:`T c^\\top G c` with the basis Gram matrix). One evaluation of the torque
         model on about :math:`33P` points per segment, plus the root and peak searches. Checked
         against 200,001-point trapezoids (``tests/test_effort.py``: :math:`\\int\\tau^2` to 1e-8,

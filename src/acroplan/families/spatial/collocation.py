@@ -733,11 +733,11 @@ def momentum_samples(body, basis, x0, T, c, s, *, jacobian: bool = False):
         Columns in flattened ``c`` order. At :math:`L = 0` both are zero.
     """
     s = np.clip(np.asarray(s, dtype=float).reshape(-1), 0.0, 1.0)
+    if not np.any(np.asarray(body.L, dtype=float) != 0.0):
+        lam = np.zeros((3, s.size))
+        return (lam, np.zeros((s.size, 3, body.n_inputs * basis.n))) if jacobian else lam
     seg = _Segment(body, basis, x0, T, c)
-    m, n, K = seg.m, seg.n, s.size
-    if not seg.drift:
-        lam = np.zeros((3, K))
-        return (lam, np.zeros((K, 3, m * n))) if jacobian else lam
+    m, n = seg.m, seg.n
     starts, widths, d, Lam, Jb, LU = _first_momentum(seg)
     P, N = widths.size, seg.N
     Om = d["w"] + (d["W"] @ Lam[..., None])[..., 0]  # (P, N, 3)
