@@ -7,7 +7,10 @@ joint; a 5-link chain (acroplan.families.spatial.zoo.random_segment, seed 3: box
 random joint axes, its own random motion), with L = 0 and with L != 0, at 10 coefficients.
 
 Routes (each the endpoint x(T) and, where said, dx(T)/dc; times are min and median of ``--repeat``
-calls, interleaved route by route so that the machine's load hits them alike):
+calls, interleaved route by route so that the machine's load hits them alike; and "warm", the
+median of the third call of a block of three calls of one route, the blocks interleaved the same
+way: a call right after the other routes' integrators finds the caches cold, and the planners call
+the endpoint back to back, a continuation's evaluations one after the other):
 
   collocation        the back end's map for spatial bodies (families/spatial/collocation.py): the
                      attitude alone by Gauss collocation on panels, the compiled momentum map at the
@@ -172,17 +175,25 @@ def main():
         for f in routes.values():  # warm
             f()
         times = {k: [] for k in routes}
+        warm = {k: [] for k in routes}
         for _ in range(args.repeat):
             for k, f in routes.items():
                 t = time.perf_counter()
                 f()
                 times[k].append(time.perf_counter() - t)
+            for k, f in routes.items():  # the third call of a block of three: warm caches
+                f()
+                f()
+                t = time.perf_counter()
+                f()
+                warm[k].append(time.perf_counter() - t)
         print(f"\n{name}: {body.n_inputs} joints, {n} coefficients each, L = "
               f"{'0' if not np.any(body.angular_momentum) else np.round(body.angular_momentum, 2).tolist()}; "
               f"collocation {widths.size} panels ({nodes} nodes); reference (long double, tol 1e-19) in "
               f"{t_ref:.1f} s; Taylor variants built in {t_build:.1f} s")
         base = np.min(times["collocation (x(T) and J)"])
-        print(f"  {'route':40s} {'min ms':>9s} {'median ms':>10s} {'/ colloc.':>9s}  endpoint error (angle, joints)")
+        print(f"  {'route':40s} {'min ms':>9s} {'median ms':>10s} {'warm ms':>8s} {'/ colloc.':>9s}  endpoint error "
+              "(angle, joints)")
         for k, f in routes.items():
             t = np.array(times[k]) * 1e3
             out = f()[0]
@@ -193,7 +204,8 @@ def main():
             else:
                 ea, ej = error(out, ref)
                 extra = f"{ea:.1e}, {ej:.1e}" + (f"  ({steps[k]} Taylor steps)" if k in steps else "")
-            print(f"  {k:40s} {np.min(t):9.3f} {np.median(t):10.3f} {np.min(t) / base / 1e3:9.2f}  {extra}")
+            print(f"  {k:40s} {np.min(t):9.3f} {np.median(t):10.3f} {1e3 * np.median(warm[k]):8.3f} "
+                  f"{np.min(t) / base / 1e3:9.2f}  {extra}")
 
 
 if __name__ == "__main__":

@@ -163,10 +163,9 @@ def _segment_effort(result, seg, model, inputs, xg, wg, acc) -> None:
     rows, panels, lo, hi = _brackets(grid, pow_g, P)
     found, top = _lockstep(motion, [(_root_rounds(rows, lo, hi, ROOT_RTOL * T), lambda tp: tp[1]),
                                     (_peak_rounds(grid, np.vstack([tau_g, pow_g])), np.vstack)])
-    roots: dict[tuple, list] = {}
-    for n, r in found:
-        roots.setdefault((int(rows[n]), int(panels[n])), []).append(float(r))
-    _positive_work(motion, edges, roots, panel_pow, xg, wg, acc["pos"])
+    at = np.array([n for n, _ in found], dtype=int)
+    _positive_work(motion, edges, rows[at], panels[at], np.array([r for _, r in found], dtype=float), panel_pow,
+                   xg, wg, acc["pos"])
     acc["peak_tau"] = np.maximum(acc["peak_tau"], top[:p])
     acc["peak_pow"] = np.maximum(acc["peak_pow"], top[p:])
 
@@ -309,16 +308,10 @@ ROOT_WINDOW = 512
 
 
 def _brackets(grid, pow_g, P):
-    """The grid intervals where a joint's power changes sign: ``(rows, panels, lo, hi)`` arrays."""
-    rows, panels, lo, hi = [], [], [], []
-    for j in range(pow_g.shape[0]):
-        for i in np.flatnonzero(np.sign(pow_g[j, :-1]) * np.sign(pow_g[j, 1:]) < 0):
-            rows.append(j)
-            panels.append(min(int(i // 33), P - 1))
-            lo.append(grid[i])
-            hi.append(grid[i + 1])
-    return (np.array(rows, dtype=int), np.array(panels, dtype=int), np.array(lo, dtype=float),
-            np.array(hi, dtype=float))
+    """The grid intervals where a joint's power changes sign: ``(rows, panels, lo, hi)`` arrays, by
+    joint and then in time."""
+    rows, i = np.nonzero(np.sign(pow_g[:, :-1]) * np.sign(pow_g[:, 1:]) < 0)
+    return rows, np.minimum(i // 33, P - 1), grid[i], grid[i + 1]
 
 
 def _roots(motion, rows, lo, hi, xtol=ROOT_XTOL):
@@ -364,8 +357,8 @@ def _root_rounds(rows, lo, hi, xtol=ROOT_XTOL):
         vals = np.asarray(got, dtype=float).reshape(-1, live.size, ROOT_POINTS)[rows[live], k]
         if fa is None:  # the first round: the ends as this batch gives them
             ends = np.sign(vals[:, 0]) * np.sign(vals[:, -1]) >= 0
-            for n in np.flatnonzero(ends):
-                out.append((int(live[n]), a[n] if abs(vals[n, 0]) <= abs(vals[n, -1]) else b[n]))
+            out.extend(zip(live[ends].tolist(), np.where(np.abs(vals[ends, 0]) <= np.abs(vals[ends, -1]), a[ends],
+                                                         b[ends]).tolist()))
             keep = ~ends
             live, xs, vals, k, a, b = live[keep], xs[keep], vals[keep], np.arange(int(keep.sum())), a[keep], b[keep]
             was_spread = was_spread[keep]
@@ -381,27 +374,27 @@ def _root_rounds(rows, lo, hi, xtol=ROOT_XTOL):
         spread[live] = ~was_spread & ((b - a) > 2.0 * width / ROOT_WINDOW)
         lo[live], hi[live] = a, b
         done = (b - a <= xtol) | ~((a < 0.5 * (a + b)) & (0.5 * (a + b) < b))
-        for n in np.flatnonzero(done):
-            out.append((int(live[n]), a[n] if fa[n] == fb[n] else a[n] - fa[n] * (b[n] - a[n]) / (fb[n] - fa[n])))
+        if done.any():
+            ad, bd, fad, fbd = a[done], b[done], fa[done], fb[done]
+            with np.errstate(divide="ignore", invalid="ignore"):
+                r = np.where(fad == fbd, ad, ad - fad * (bd - ad) / (fbd - fad))
+            out.extend(zip(live[done].tolist(), r.tolist()))
         live, fa, fb = live[~done], fa[~done], fb[~done]
     return out
 
 
-def _positive_work(motion, edges, roots, panel_pow, xg, wg, pos) -> None:
+def _positive_work(motion, edges, J, K, R, panel_pow, xg, wg, pos) -> None:
     """Add each joint's positive work on one segment to ``pos``: a panel where the power keeps its
-    sign gives max(its integral, 0); a panel where it changes sign is split at its ``roots``
-    (``{(joint, panel): [times]}``), each piece up to the last root integrated by the panel's rule
-    (one call for all), the piece after it as the panel's integral less the others."""
+    sign gives max(its integral, 0); a panel where it changes sign is split at its roots (joint
+    ``J[i]``'s power in panel ``K[i]`` at time ``R[i]``), each piece up to the last root integrated
+    by the panel's rule (one call for all), the piece after it as the panel's integral less the
+    others."""
     p, P = panel_pow.shape
     split = np.zeros((p, P), dtype=bool)
-    for j, k in roots:
-        split[j, k] = True
+    split[J, K] = True
     pos += np.maximum(np.where(split, 0.0, panel_pow), 0.0).sum(axis=1)
-    if not roots:
+    if not R.size:
         return
-    J = np.concatenate([np.full(len(v), j) for (j, _), v in roots.items()])
-    K = np.concatenate([np.full(len(v), k) for (_, k), v in roots.items()])
-    R = np.concatenate([np.asarray(v, dtype=float) for v in roots.values()])
     order = np.lexsort((R, K, J))
     J, K, R = J[order], K[order], R[order]
     group = J * P + K
