@@ -39,7 +39,7 @@ def main() -> None:
             extra["tau_max"] = torque_limits(body)
         for k in range(args.repeat):
             t0 = time.perf_counter()
-            res = acroplan.plan(body, **kw, **extra)
+            res = acroplan.plan(body, **{**kw, **extra})  # the options given here replace the file's
             dt = time.perf_counter() - t0
             line = f"{name} [{'cold' if k == 0 else 'warm'}] {res.status} in {dt:.1f} s"
             if res.status == "success":

@@ -413,3 +413,45 @@ def test_the_sqp_step_with_no_freedom_left_on_the_constraints():
     p, lam = _step(W, g, h, A, np.eye(2))
     np.testing.assert_allclose(A @ p, -h, rtol=1e-14)
     np.testing.assert_allclose(W @ p + A.T @ lam, -g, rtol=1e-13)
+
+
+def test_the_qp_step_among_thousands_of_rows_in_mixed_units(monkeypatch):
+    """qp_step on a quadratic program of known solution: 20 unknowns, 2 equations, 3000 inequality
+    rows in units from 1e-3 to 1e3 (angles, rates and torques side by side), 6 of them active with
+    known multipliers, the step small beside most rows' slack (a step near an optimum). The step
+    and the multipliers are the known ones, and the least-distance programs see the rows in play
+    only (those the free step uses most of the slack of), not every row whose slack is within a
+    quarter of the largest row's magnitude (which were all of them, and took the joint optimum's
+    steps on the double full-out 200 ms each)."""
+    from acroplan.core import sqp
+
+    rng = np.random.default_rng(5)
+    N, q, M = 20, 2, 3000
+    Q = np.linalg.qr(rng.normal(size=(N, N)))[0]
+    W = Q @ np.diag(rng.uniform(0.5, 5.0, N)) @ Q.T
+    A = rng.normal(size=(q, N))
+    p_star = 0.01 * rng.normal(size=N)  # a step near an optimum: small beside the rows' slack
+    h = -A @ p_star
+    R = rng.normal(size=(M, N)) * 10.0 ** rng.uniform(-3, 3, size=(M, 1))
+    slack = np.abs(R @ rng.normal(size=N)) * rng.uniform(0.01, 1.0, size=M)  # inactive rows: slack > 0
+    active = np.arange(6) * 500
+    slack[active] = 0.0
+    r = -(R @ p_star) - slack  # R p* + r = -slack <= 0
+    mu_star = np.zeros(M)
+    mu_star[active] = rng.uniform(0.5, 2.0, active.size) * 0.01 / np.abs(R[active]).max(axis=1)
+    lam_star = rng.normal(size=q)
+    g = -(W @ p_star + A.T @ lam_star + R.T @ mu_star)
+    seen = []
+    inner = sqp.least_norm_step
+
+    def counted(J, rr, G, hh):
+        seen.append(G.shape[0])
+        return inner(J, rr, G, hh)
+
+    monkeypatch.setattr(sqp, "least_norm_step", counted)
+    p, lam, mu = sqp.qp_step(W, g, h, A, R, r)
+    np.testing.assert_allclose(p, p_star, rtol=0, atol=1e-10 * np.abs(p_star).max())
+    np.testing.assert_allclose(lam, lam_star, rtol=1e-8, atol=1e-8)
+    np.testing.assert_allclose(mu, mu_star, rtol=1e-7, atol=1e-9 * mu_star.max())
+    assert np.all(R @ p + r <= 1e-9 * (1 + np.abs(r).max()))
+    assert seen and max(seen) <= 100, seen

@@ -70,10 +70,10 @@ def least_norm_step(J: np.ndarray, r: np.ndarray, G: np.ndarray, h: np.ndarray):
     d0 = np.linalg.lstsq(J, r, rcond=1e-12)[0] if J.shape[0] else np.zeros(p)
     if G.shape[0] == 0 or np.all(G @ d0 <= h):
         return d0, True
-    N = null_space(J, p) if J.shape[0] else np.eye(p)
-    if N.shape[1] == 0:
+    N = null_space(J, p) if J.shape[0] else None  # None: no equations, y = d
+    if N is not None and N.shape[1] == 0:
         return d0, False
-    E = -G @ N
+    E = -G if N is None else -G @ N
     e = G @ d0 - h
     A = np.vstack([E.T, e[None, :]])
     f = np.zeros(A.shape[0])
@@ -85,7 +85,8 @@ def least_norm_step(J: np.ndarray, r: np.ndarray, G: np.ndarray, h: np.ndarray):
     rho = A @ u - f
     if abs(rho[-1]) <= 1e-12:
         return d0, False
-    d = d0 + N @ (-rho[:-1] / rho[-1])
+    y = -rho[:-1] / rho[-1]
+    d = d0 + (y if N is None else N @ y)
     scale = 1.0 + float(np.abs(h).max())
     return d, bool(np.max(G @ d - h) <= 1e-9 * scale)
 

@@ -23,7 +23,8 @@ the least-distance program :math:`\\min \\|w\\|` s.t. :math:`E w \\le f`, solved
 squares (:func:`acroplan.core.linalg.least_norm_step`). The inequalities' multipliers are those of
 that program, :math:`w + E^\\top\\mu = 0`, :math:`\\mu \\ge 0` (non-negative least squares on the rows
 active at :math:`w`); the equations' by least squares from :math:`Wp + g + A^\\top\\lambda + R^\\top\\mu = 0`.
-Rows far from their bound are left out and added back when the step breaks them.
+Rows far from their bound (the free step :math:`w = 0` uses less than three quarters of their slack)
+are left out and added back when the step breaks them, at most :data:`QP_ROUNDS` rounds.
 """
 
 from __future__ import annotations
@@ -136,6 +137,10 @@ def kkt_step(W, g, h, A, H, convex_only=False):
     return p, -np.linalg.solve(R, Y.T @ (W @ p + g))
 
 
+#: Rounds of :func:`qp_step`'s working set (the rows broken by a round's step join the next).
+QP_ROUNDS = 16
+
+
 def qp_step(W, g, h, A, R, r):
     """The step of the quadratic program with inequalities (module docstring): ``(p, lambda, mu)``,
     or ``None`` when ``A`` is rank-deficient or no step keeps the linearised inequalities."""
@@ -154,32 +159,40 @@ def qp_step(W, g, h, A, R, r):
     gr = Zr.T @ (g + W @ pY)
     ystar = -(V @ ((V.T @ gr) / e))
     p_free = pY + Zr @ ystar
-    RZ = R @ Zr
-    E = RZ @ (V / np.sqrt(e)[None, :])
+    # the rows E = R Zr V e^(-1/2) of the inequalities in the scaled coordinates w are formed for
+    # the rows in play only; the others are checked through matrix-vector products (the joint
+    # optimum's limit grids give thousands of rows, of which a few dozen are near their bounds)
+    T = Zr @ (V / np.sqrt(e)[None, :])  # (N, N - q): w to the step
     f = -r - R @ p_free
     scale = 1.0 + float(np.abs(r).max(initial=0.0))
-    rows = np.flatnonzero(f < 0.25 * scale)  # those the free step breaks or nearly reaches
+    # in play: the rows the free step breaks or uses three quarters of the slack of, each in its own
+    # units (rows of angles, rates and torques differ by orders); the others are added back when a
+    # step breaks them
+    rows = np.flatnonzero(f < 0.25 * np.maximum(-r, 0.0))
     w = np.zeros(e.size)
-    for _ in range(8):
+    E = R[rows] @ T
+    for _ in range(QP_ROUNDS):
         if rows.size:
-            w, ok = least_norm_step(np.zeros((0, e.size)), np.zeros(0), E[rows], f[rows])
+            w, ok = least_norm_step(np.zeros((0, e.size)), np.zeros(0), E, f[rows])
             if not ok:
                 return None
-        broken = np.flatnonzero(E @ w > f + 1e-9 * scale)
+        broken = np.flatnonzero(R @ (T @ w) > f + 1e-9 * scale)
         new = np.setdiff1d(broken, rows)
         if new.size == 0:
             break
         rows = np.union1d(rows, new)
+        E = R[rows] @ T
     else:
         return None
     y = ystar + V @ (w / np.sqrt(e))
     p = pY + Zr @ y
     mu = np.zeros(R.shape[0])
-    act = rows[E[rows] @ w >= f[rows] - 1e-9 * scale] if rows.size else rows
+    on = E @ w >= f[rows] - 1e-9 * scale if rows.size else np.zeros(0, dtype=bool)
+    act = rows[on]
     if act.size:
         from scipy.optimize import nnls
 
-        mu[act] = nnls(E[act].T, -w)[0]
+        mu[act] = nnls(E[on].T, -w)[0]
     lam = -np.linalg.solve(RA, Y.T @ (W @ p + g + R.T @ mu))
     return p, lam, mu
 
