@@ -139,6 +139,8 @@ def kkt_step(W, g, h, A, H, convex_only=False):
 
 #: Rounds of :func:`qp_step`'s working set (the rows broken by a round's step join the next).
 QP_ROUNDS = 16
+#: :func:`qp_step` starts from the rows whose slack the free step leaves below this fraction.
+QP_NEAR = 0.25
 
 
 def qp_step(W, g, h, A, R, r):
@@ -168,7 +170,7 @@ def qp_step(W, g, h, A, R, r):
     # in play: the rows the free step breaks or uses three quarters of the slack of, each in its own
     # units (rows of angles, rates and torques differ by orders); the others are added back when a
     # step breaks them
-    rows = np.flatnonzero(f < 0.25 * np.maximum(-r, 0.0))
+    rows = np.flatnonzero(f < QP_NEAR * np.maximum(-r, 0.0))
     w = np.zeros(e.size)
     E = R[rows] @ T
     for _ in range(QP_ROUNDS):
