@@ -340,8 +340,11 @@ def _momentum_panel(seg, lam, H, d, start=None):
     start's momentum turned back by the body's turn to node :math:`j` at the frozen momentum,
     :func:`_build_guess_kernel`). Each iteration is one call of the compiled kernel
     (:func:`_build_momentum_kernel`: the residual and ``S``) and one LAPACK solve in place. Returns
-    ``(lam1, Lam, J, (lu, piv), tail)`` (``J`` the blocks :math:`\\partial(\\lambda \\times \\Omega)/\\partial
-    \\lambda` at the nodes), or ``None`` when Newton's method does not converge. ``start``: Newton's
+    ``(lam1, Lam, J, Si, tail)`` (``J`` the blocks :math:`\\partial(\\lambda \\times \\Omega)/\\partial
+    \\lambda` at the nodes, ``Si`` the inverse of the panel's ``S`` at the solution: the derivatives
+    apply it to dozens of right-hand sides at once, a matrix product, where OpenBLAS's threaded
+    triangular solves with several right-hand sides took milliseconds next to another process doing
+    the same), or ``None`` when Newton's method does not converge. ``start``: Newton's
     start :math:`\\Lambda` (N, 3) instead of that guess (the same panel's solution at a nearby input)."""
     W, w, N = d["W"], d["w"], seg.N
     tol = NEWTON_TOL * seg.Lnorm
@@ -376,7 +379,10 @@ def _momentum_panel(seg, lam, H, d, start=None):
     lu, piv, info = lapack.dgetrf(out[o_s:].reshape(n3, n3).T, overwrite_a=1)
     if info != 0:
         return None
-    return lam + H * (seg.b @ F), Lam, J, (lu, piv), tail
+    Si, info = lapack.dgetri(lu, piv, overwrite_lu=1)
+    if info != 0:
+        return None
+    return lam + H * (seg.b @ F), Lam, J, Si, tail
 
 
 def _momentum_kernel_copy(N):
@@ -394,7 +400,7 @@ def _momentum(seg, starts, widths, d):
     """The body-frame momentum :math:`\\lambda = R(q)^\\top L` panel after panel
     (:func:`_momentum_panel`), halving a panel whose Newton iteration fails or whose momentum is
     not resolved. Returns the (possibly refined) ``starts, widths, d`` and ``Lam`` (P, N, 3),
-    ``J`` (P, N, 3, 3) and the LU factors of each panel's ``S`` (3N, 3N)."""
+    ``J`` (P, N, 3, 3) and the inverses of the panels' ``S`` (P, 3N, 3N)."""
     lam = np.einsum("a,iab,b->i", seg.x0[:4], seg.Q, seg.x0[:4])
     queue = [(starts[k], widths[k], _take(d, k)) for k in range(widths.size)][::-1]
     out = []
@@ -414,7 +420,7 @@ def _momentum(seg, starts, widths, d):
     st = np.array([o[0] for o in out])
     wd = np.array([o[1] for o in out])
     dd = {k: np.stack([o[2][k] for o in out]) for k in out[0][2]}
-    return st, wd, dd, np.stack([o[3] for o in out]), np.stack([o[4] for o in out]), [o[5] for o in out]
+    return st, wd, dd, np.stack([o[3] for o in out]), np.stack([o[4] for o in out]), np.stack([o[5] for o in out])
 
 
 def _attitude(seg, widths, Om):
@@ -499,7 +505,7 @@ def _first_momentum(seg):
         if body is seg.body and k == key:
             return v
     v = _momentum(seg, *_layout(seg))
-    for a in (v[0], v[1], *v[2].values(), v[3], v[4], *(f for lu in v[5] for f in lu)):
+    for a in (v[0], v[1], *v[2].values(), v[3], v[4], v[5]):
         a.setflags(write=False)
     memo.insert(0, (seg.body, key, v))
     del memo[MOMENTUM_MEMO:]
@@ -510,7 +516,7 @@ def _solve(seg, points=None, starts_out=None):
     """Layout and solution, splitting panels until the attitude is resolved too, and cut at
     ``points`` when given (:func:`_cut`). Returns ``(ys, widths, data, Omega, Y, Phi, Z,
     momentum)``: ``ys`` (P + 1, 4) the attitude at the panels' boundaries, ``momentum`` is
-    ``(Lam, J, LU)`` or ``None`` at :math:`L = 0`."""
+    ``(Lam, J, Si)`` (:func:`_momentum`) or ``None`` at :math:`L = 0`."""
     first = points is None and seg.drift
     if not first:
         starts, widths, d = _layout(seg)
@@ -577,7 +583,7 @@ def _solve_near(seg):
                 return None
             lam = r[0]
             out.append(r[1:4])
-        mom = (np.stack([o[0] for o in out]), np.stack([o[1] for o in out]), [o[2] for o in out])
+        mom = (np.stack([o[0] for o in out]), np.stack([o[1] for o in out]), np.stack([o[2] for o in out]))
         Om = d["w"] + (d["W"] @ mom[0][..., None])[..., 0]
     else:
         Om = d["w"]
@@ -664,7 +670,7 @@ def sample(body, basis, x0, T, c, s) -> np.ndarray:
     return out
 
 
-def _momentum_adjoint(seg, widths, d, g, Lam, J, LU):
+def _momentum_adjoint(seg, widths, d, g, Lam, J, Si):
     """:math:`\\kappa_j`, what the momentum's dependence on :math:`\\Omega_j` adds to
     :math:`\\partial q(1)/\\partial \\Omega_j` (module docstring), shape (P, N, 4, 3)."""
     P, N = widths.size, seg.N
@@ -672,7 +678,7 @@ def _momentum_adjoint(seg, widths, d, g, Lam, J, LU):
     rhs = np.concatenate([np.swapaxes(Gk, -1, -2).reshape(P, 3 * N, 4),
                           ((widths[:, None] * seg.b[None, :])[:, :, None, None]
                            * np.swapaxes(J, -1, -2)).reshape(P, 3 * N, 3)], axis=2)
-    R = np.stack([_lu_solve(lu, piv, rhs[k], 1) for k, (lu, piv) in enumerate(LU)]).reshape(P, N, 3, 7)
+    R = (np.swapaxes(Si, -1, -2) @ rhs).reshape(P, N, 3, 7)  # S^-T rhs, panel by panel
     R1, R2 = np.swapaxes(R[..., :4], -1, -2), np.swapaxes(R[..., 4:], -1, -2)  # (P, N, 4, 3), (P, N, 3, 3)
     mu = np.zeros((P + 1, 4, 3))
     for k in range(P - 1, 0, -1):
@@ -737,15 +743,8 @@ def momentum_samples(body, basis, x0, T, c, s, *, jacobian: bool = False):
         lam = np.zeros((3, s.size))
         return (lam, np.zeros((s.size, 3, body.n_inputs * basis.n))) if jacobian else lam
     seg = _Segment(body, basis, x0, T, c)
-    m, n = seg.m, seg.n
-    starts, widths, d, Lam, Jb, LU = _first_momentum(seg)
+    starts, widths, lam_a, F, dlam_a, dF = _momentum_panels(seg, jacobian)
     P, N = widths.size, seg.N
-    Om = d["w"] + (d["W"] @ Lam[..., None])[..., 0]  # (P, N, 3)
-    F = np.cross(Lam, Om)
-    lam_a = np.empty((P + 1, 3))
-    lam_a[0] = np.einsum("a,iab,b->i", seg.x0[:4], seg.Q, seg.x0[:4])
-    for k in range(P):
-        lam_a[k + 1] = lam_a[k] + widths[k] * (seg.b @ F[k])
     bounds = np.concatenate([starts, [1.0]])
     idx = np.clip(np.searchsorted(bounds, s, side="right") - 1, 0, P - 1)
     theta = np.clip((s - starts[idx]) / widths[idx], 0.0, 1.0)
@@ -755,22 +754,57 @@ def momentum_samples(body, basis, x0, T, c, s, *, jacobian: bool = False):
         raise IntegrationError("integration gave a non-finite state")
     if not jacobian:
         return lam.T.copy()
-    # the derivative of Omega at fixed Lambda, per node: (P, N, 3, m n)
-    Tn = seg.T
-    dOm_du = (-Tn) * d["cA"]  # (P, N, 3, m)
-    dOm_ds = -np.swapaxes((d["X"] @ Om[:, :, None, :, None])[..., 0] + Tn * d["y"], -1, -2)  # (P, N, 3, m)
-    dOc = (dOm_du[..., :, None] * d["Bm"][:, :, None, None, :]
-           + Tn * dOm_ds[..., :, None] * d["Bi"][:, :, None, None, :]).reshape(P, N, 3, m * n)
-    rhsF = _skew(Lam) @ dOc  # [Lambda]x dOmega^c, (P, N, 3, m n)
-    a = seg.a
-    dlam_a = np.zeros((P + 1, 3, m * n))
-    dF = np.empty((P, N, 3, m * n))
-    for k in range(P):
-        H = widths[k]
-        R = np.repeat(dlam_a[k][None], N, axis=0) + H * np.einsum("ij,jcx->icx", a, rhsF[k])  # (N, 3, mn)
-        lu, piv = LU[k]
-        dL = _lu_solve(lu, piv, R.reshape(3 * N, m * n)).reshape(N, 3, m * n)
-        dF[k] = Jb[k] @ dL + rhsF[k]
-        dlam_a[k + 1] = dlam_a[k] + H * np.einsum("j,jcx->cx", seg.b, dF[k])
     dlam = dlam_a[idx] + widths[idx][:, None, None] * np.einsum("kj,kjcx->kcx", beta, dF[idx])
     return lam.T.copy(), dlam
+
+
+def _momentum_panels(seg, jacobian):
+    """The momentum's collocation panel by panel for :func:`momentum_samples`: ``(starts, widths,
+    lam_a, F, dlam_a, dF)``, the momentum at the panels' starts (P + 1, 3), :math:`F_j` at the
+    nodes (P, N, 3) and, with ``jacobian``, their derivatives in the coefficients (P + 1, 3, m n)
+    and (P, N, 3, m n) (else ``None``). Remembered for the last few inputs of this thread, as
+    :func:`_first_momentum`: an optimiser asks for the torques at the same coefficients on two
+    grids (its cost's quadrature nodes and its torque limits' grid), and the forward sweep of the
+    derivatives is most of the cost. It depends on the inputs alone, so the cache changes no
+    number; the arrays are shared, read-only."""
+    key = ("panels", seg.basis, seg.T, seg.x0.tobytes(), seg.c.tobytes())
+    memo = getattr(_LOCAL, "panels", None)
+    if memo is None:
+        memo = _LOCAL.panels = []
+    for body, k, v in memo:
+        if body is seg.body and k == key and (v[4] is not None or not jacobian):
+            return v
+    m, n = seg.m, seg.n
+    starts, widths, d, Lam, Jb, Si = _first_momentum(seg)
+    P, N = widths.size, seg.N
+    Om = d["w"] + (d["W"] @ Lam[..., None])[..., 0]  # (P, N, 3)
+    F = np.cross(Lam, Om)
+    lam_a = np.empty((P + 1, 3))
+    lam_a[0] = np.einsum("a,iab,b->i", seg.x0[:4], seg.Q, seg.x0[:4])
+    for k in range(P):
+        lam_a[k + 1] = lam_a[k] + widths[k] * (seg.b @ F[k])
+    dlam_a = dF = None
+    if jacobian:
+        # the derivative of Omega at fixed Lambda, per node: (P, N, 3, m n)
+        Tn = seg.T
+        dOm_du = (-Tn) * d["cA"]  # (P, N, 3, m)
+        dOm_ds = -np.swapaxes((d["X"] @ Om[:, :, None, :, None])[..., 0] + Tn * d["y"], -1, -2)  # (P, N, 3, m)
+        dOc = (dOm_du[..., :, None] * d["Bm"][:, :, None, None, :]
+               + Tn * dOm_ds[..., :, None] * d["Bi"][:, :, None, None, :]).reshape(P, N, 3, m * n)
+        rhsF = _skew(Lam) @ dOc  # [Lambda]x dOmega^c, (P, N, 3, m n)
+        a = seg.a
+        dlam_a = np.zeros((P + 1, 3, m * n))
+        dF = np.empty((P, N, 3, m * n))
+        for k in range(P):
+            H = widths[k]
+            R = np.repeat(dlam_a[k][None], N, axis=0) + H * np.einsum("ij,jcx->icx", a, rhsF[k])  # (N, 3, mn)
+            dL = (Si[k] @ R.reshape(3 * N, m * n)).reshape(N, 3, m * n)
+            dF[k] = Jb[k] @ dL + rhsF[k]
+            dlam_a[k + 1] = dlam_a[k] + H * np.einsum("j,jcx->cx", seg.b, dF[k])
+    v = (starts, widths, lam_a, F, dlam_a, dF)
+    for arr in v:
+        if arr is not None:
+            arr.setflags(write=False)
+    memo.insert(0, (seg.body, key, v))
+    del memo[MOMENTUM_MEMO:]
+    return v
