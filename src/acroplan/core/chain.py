@@ -149,6 +149,9 @@ class ChainOutcome:
     kkt: float
     evaluations: int
     iterations: int
+    #: the SQP's constraint Hessians last computed (stacked coordinates), for a retry; ``None`` when
+    #: it stopped before the SQP
+    curvature: np.ndarray | None = dataclasses.field(default=None, repr=False, compare=False)
 
 
 #: SQP iterations at most (the one-interval SQP's 40 at a size, times a few: one solve at the
@@ -156,7 +159,8 @@ class ChainOutcome:
 MAX_ITER = 150
 
 
-def joint_optimum(runs, starts, *, tol: float, kkt_tol: float = KKT_TOL, max_iter: int = MAX_ITER) -> ChainOutcome:
+def joint_optimum(runs, starts, *, tol: float, kkt_tol: float = KKT_TOL, max_iter: int = MAX_ITER,
+                  reference_cost: float | None = None, curvature=None) -> ChainOutcome:
     """The whole plan's optimum (module docstring) from the sequential one.
 
     Parameters
@@ -171,14 +175,22 @@ def joint_optimum(runs, starts, *, tol: float, kkt_tol: float = KKT_TOL, max_ite
         The target relative KKT residual.
     max_iter : int
         SQP iterations at most.
+    reference_cost : float, optional
+        The sequential optimum's cost, which the result must beat, when ``starts`` are not that
+        optimum (a retry on a denser limit grid starts from the coarser grid's joint optimum);
+        default: the cost of ``starts``.
+    curvature : numpy.ndarray, shape (q, N, N), optional
+        The constraints' Hessians in the stacked coordinates to start from (a retry's: its
+        :attr:`ChainOutcome.curvature`; they do not depend on the limits), instead of forward
+        differences at ``starts`` (some ``N`` evaluations).
     """
     probs = [r.prob for r in runs]
     chain = ChainProblem(probs)
     z0 = chain.join([p.z(np.asarray(c, dtype=float).ravel()) for p, c in zip(probs, starts)])
     nan = math.nan
     try:
-        f0 = chain.f(z0)[0]
-        Hz = chain.curvature(z0)
+        f0 = chain.f(z0)[0] if reference_cost is None else float(reference_cost)
+        Hz = chain.curvature(z0) if curvature is None else np.asarray(curvature, dtype=float)
         z, info = sqp(chain, z0, Hz, tol=tol, kkt_tol=kkt_tol, max_iter=max_iter, refresh=chain.curvature,
                       ineq=chain.ineq if chain.inequalities else None)
         z = polish_endpoint(chain, z, tol)
@@ -212,4 +224,5 @@ def joint_optimum(runs, starts, *, tol: float, kkt_tol: float = KKT_TOL, max_ite
            f"cost {f:.10g} from the sequential {f0:.10g}, {info['its']} SQP iteration(s), relative KKT residual "
            f"{kkt:.1e}" + (f" ({info['why']})" if info["why"] else "")
            + ("" if ok else "; not kept: " + ", ".join(why)))
-    return ChainOutcome(ok, msg, coeffs, costs, float(f), float(f0), float(kkt), chain.evaluations, int(info["its"]))
+    return ChainOutcome(ok, msg, coeffs, costs, float(f), float(f0), float(kkt), chain.evaluations, int(info["its"]),
+                        info["curvature"])

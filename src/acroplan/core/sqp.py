@@ -271,7 +271,9 @@ def sqp(prob, z, Hz, *, tol, kkt_tol, max_iter=40, refresh=None, max_refresh=Non
     ``refresh(z)`` gives new ones (forward differences) after :data:`POOR_STEPS` steps in a row the
     model predicted poorly;
     ``ineq(z) -> (r, R)`` the inequalities :math:`r(z) \\le 0` and their Jacobian, when there are any.
-    Returns ``(z, info)``."""
+    Returns ``(z, info)``: ``info`` has the multipliers ``lam``, the relative KKT residual ``kkt``,
+    the iterations ``its``, why it stopped early (``why``, empty when converged) and the constraint
+    Hessians last computed (``curvature``, shape (q, N, N), without the rank-one corrections)."""
     x = _Point(prob, z, ineq)
     lam, kkt = kkt_multipliers(x.g, x.A, x.active())
     N, q = z.size, x.A.shape[0]
@@ -335,7 +337,7 @@ def sqp(prob, z, Hz, *, tol, kkt_tol, max_iter=40, refresh=None, max_refresh=Non
         lam, kkt = kkt_multipliers(x.g, x.A, x.active())
         if float(s @ s) <= 1e-30 * (1.0 + float(x.z @ x.z)):
             break
-    return x.z, dict(lam=lam, kkt=kkt, its=its, why=why)
+    return x.z, dict(lam=lam, kkt=kkt, its=its, why=why, curvature=Hz2.reshape(q, N, N))
 
 
 def polish_endpoint(prob, z, tol):
