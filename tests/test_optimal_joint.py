@@ -186,3 +186,60 @@ def test_a_step_below_the_merit_resolution_is_taken_whole_without_a_search(monke
     assert again.success and again.kkt < 1e-12 and again.iterations >= 1
     assert not searches
     assert np.abs(again.coefficients - best.coefficients).max() < 1e-12
+
+
+def test_the_second_order_correction_keeps_the_limits_near_their_bound():
+    """core.sqp._corrected: the correction back onto the equations from a trial point is the
+    shortest step with A d = -h that keeps the inequality rows near their bound. With h = 0.1 on
+    the row z0 + z1, and -z1 <= 0 active, the plain minimum-norm step (-0.05, -0.05) breaks the
+    row by 0.05; the correction is (-0.1, 0): on the equation, the row kept, and no longer than
+    needed. A row far from its bound (slack 1) does not constrain it."""
+    from types import SimpleNamespace
+
+    from acroplan.core.sqp import _corrected
+
+    z = np.array([0.3, 0.0])
+    h, A = np.array([0.1]), np.array([[1.0, 1.0]])
+    R = np.array([[0.0, -1.0], [1.0, 0.0]])     # -z1 <= 0 (active), z0 - 1.3 <= 0 (slack 1)
+    r = R @ z - np.array([0.0, 1.3])
+    plain = z - A.T @ np.linalg.solve(A @ A.T, h)
+    assert (R @ plain - np.array([0.0, 1.3]))[0] == pytest.approx(0.05)
+    zc = _corrected(SimpleNamespace(z=z, h=h, A=A, r=r, R=R))
+    d = zc - z
+    assert A @ d == pytest.approx(-h, abs=1e-15)
+    assert R[0] @ d <= -r[0] + 1e-15
+    assert d == pytest.approx([-0.1, 0.0], abs=1e-12)
+    # with no inequality near its bound the plain step stands
+    far = SimpleNamespace(z=z, h=h, A=A, r=r - 1.0, R=R)
+    assert _corrected(far) == pytest.approx(plain, abs=1e-15)
+    assert _corrected(SimpleNamespace(z=z, h=h, A=A, r=None, R=None)) == pytest.approx(plain, abs=1e-15)
+
+
+def test_the_retry_on_a_denser_grid_starts_from_the_coarser_grids_optimum(monkeypatch, planned):
+    """The joint stage's retry starts from the coarser grid's joint optimum with its constraint
+    Hessians, and still has to beat the sequential cost (not the cost of its own start)."""
+    import acroplan.core.chain as chain
+    import acroplan.core.optimal as optimal
+
+    top = 0.95 * max(float(np.abs(s.input(np.linspace(s.t0, s.t1, 2001))).max()) for s in planned.segments)
+    monkeypatch.setattr(optimal, "JOINT_LIMIT_GRIDS", (4, 256))
+    calls = []
+    inner = chain.joint_optimum
+
+    def spy(runs, starts, **kw):
+        out = inner(runs, starts, **kw)
+        calls.append((starts, kw, out))
+        return out
+
+    monkeypatch.setattr(chain, "joint_optimum", spy)
+    res = acroplan.plan(DoubleIntegrator(), times=TIMES, x=X, v=V, conditions="free", objective="energy",
+                        n_coefficients=N, verify=False, u_max=top)
+    assert res.status == "success", res.message
+    assert len(calls) == 2
+    (s1, kw1, out1), (s2, kw2, out2) = calls
+    for a, b in zip(s2, out1.coefficients):
+        assert np.array_equal(a, b)
+    assert kw2["curvature"] is out1.curvature and out1.curvature is not None
+    assert kw1["reference_cost"] == kw2["reference_cost"] == pytest.approx(out1.start_cost, rel=1e-12)
+    assert out2.start_cost == kw1["reference_cost"] and out2.cost > out1.cost
+    assert res.segments[0].optimality["joint"]["kept"]

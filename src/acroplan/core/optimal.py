@@ -684,10 +684,11 @@ class EnergyOptimal(Strategy):
 
 
 #: The joint optimum's grids of the rate and joint limits (points per interval, as
-#: :func:`~acroplan.core.limits.linear_limits`): the one-interval grid first, then a denser one when
-#: the result breaks a limit between the first grid's points (the dense check of
-#: :meth:`OptimalRun.result`; the bundled forward dive's joint optimum broke a rate limit by 6.0e-3
-#: between 64 points).
+#: :func:`~acroplan.core.limits.linear_limits`; the torque limits' grid is as dense, with at least
+#: :data:`TORQUE_LIMIT_GRID` points): the one-interval grid first, then a denser one when the result
+#: breaks a limit between the first grid's points (the dense check of :meth:`OptimalRun.result`;
+#: the bundled forward dive's joint optimum broke a rate limit by 6.0e-3 between 64 points, the
+#: double full-out's least integral of u^2 within the strength a torque limit by 150 N m between 65).
 JOINT_LIMIT_GRIDS = (64, 256)
 
 

@@ -136,7 +136,9 @@ class OptimalProblem:
             if A_c.shape[0]:
                 self.lin = (self.zmat(A_c), b_c - A_c @ self.c_p)
         self.tmax = None if tau_max is None else np.atleast_1d(np.asarray(tau_max, dtype=float))
-        self.grid = None if tau_max is None else np.linspace(0.0, 1.0, TORQUE_LIMIT_GRID)
+        # the torque limits' grid: TORQUE_LIMIT_GRID points, or as dense as the rate and joint limits'
+        # when those are denser (the joint optimum's retry)
+        self.grid = None if tau_max is None else np.linspace(0.0, 1.0, max(TORQUE_LIMIT_GRID, int(limit_grid) + 1))
 
     # coordinates
     def c(self, z):
@@ -333,7 +335,7 @@ class OptimalRun:
             C.append(Az[bz - Az @ z <= 1e-7 * (1.0 + np.abs(bz))])
         if prob.tmax is not None:
             vals, J = prob.torque_rows(z)
-            top = np.tile(np.repeat(prob.tmax, TORQUE_LIMIT_GRID), 2)
+            top = np.tile(np.repeat(prob.tmax, prob.grid.size), 2)
             C.append(-J[vals <= 1e-7 * (1.0 + np.where(np.isfinite(top), top, 0.0))])
         C = np.vstack(C) if C else None
         lam, kkt = kkt_multipliers(g, A, C)

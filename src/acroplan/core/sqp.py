@@ -36,7 +36,8 @@ import numpy as np
 from . import backend
 from .linalg import least_norm_step
 
-__all__ = ["solve_small", "kkt_multipliers", "kkt_step", "qp_step", "sqp", "polish_endpoint", "MAX_REFRESH", "POOR_STEPS", "MERIT_RESOLUTION", "INEQ_TOL"]
+__all__ = ["solve_small", "kkt_multipliers", "kkt_step", "qp_step", "sqp", "polish_endpoint", "MAX_REFRESH", "POOR_STEPS",
+           "MERIT_RESOLUTION", "INEQ_TOL", "SOC_NEAR"]
 
 #: New forward-difference constraint Hessians after :data:`POOR_STEPS` steps in a row that the
 #: model predicted poorly (the line search backtracked), at most this many times per solve.
@@ -228,6 +229,30 @@ class _Point:
         return self.R[self.r >= -tol * (1.0 + np.abs(self.r))]
 
 
+#: The second-order correction keeps the inequality rows whose slack at the trial point is below
+#: this, relative (:func:`_corrected`).
+SOC_NEAR = 1e-2
+
+
+def _corrected(xt):
+    """The second-order correction from the trial point ``xt``: the shortest step back onto the
+    linearised equations, :math:`A d = -h`, that keeps the linearised inequalities near their bound,
+    :math:`R_i d \\le -r_i` for the rows with :math:`r_i > -` :data:`SOC_NEAR` :math:`(1 + |r_i|)`
+    (:func:`acroplan.core.linalg.least_norm_step`; the plain minimum-norm step when there are no
+    inequalities, or when no step keeps them). The plain step alone broke the active torque and
+    rate limits it had just been kept on, by some 1e-3: on the bundled double full-out's joint
+    torque optimum, whose penalty is some 1e4, every correction then raised the merit function
+    by tens, and the SQP crawled at steps of 1% for 130 iterations (``benchmarks/RESULTS.md``)."""
+    plain = xt.z - xt.A.T @ solve_small(xt.A @ xt.A.T, xt.h)
+    if xt.r is None:
+        return plain
+    near = xt.r > -SOC_NEAR * (1.0 + np.abs(xt.r))
+    if not near.any():
+        return plain
+    d, ok = least_norm_step(xt.A, -xt.h, xt.R[near], -xt.r[near])
+    return xt.z + d if ok else plain
+
+
 def _line_search(prob, x, p, rho, slope, alpha, ineq):
     """Backtracking on the merit function from ``x`` along ``p``, with a second-order correction back
     onto the equations at every trial (the Maratos effect). Returns ``(point, alpha, trial)`` or
@@ -242,7 +267,7 @@ def _line_search(prob, x, p, rho, slope, alpha, ineq):
         if xt.merit(rho) <= merit0 + 1e-4 * alpha * slope:
             return xt, alpha, trial
         try:
-            xc = _Point(prob, xt.z - xt.A.T @ solve_small(xt.A @ xt.A.T, xt.h), ineq)
+            xc = _Point(prob, _corrected(xt), ineq)
             if xc.merit(rho) <= merit0 + 1e-4 * alpha * slope:
                 return xc, alpha, trial
         except (backend.IntegrationError, np.linalg.LinAlgError):
