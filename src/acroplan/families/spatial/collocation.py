@@ -90,8 +90,8 @@ from scipy.linalg import lapack
 from ...core.backend import IntegrationError, evaluate_columns
 from .collocation_parts import (_FULL, _SYM, MAX_PANELS, MAX_TURN, MIN_PANEL, NEWTON_ITERATIONS, NEWTON_TOL,  # noqa: F401
                                 NODES, SOLUTION_TAIL_TOL, TAIL_TOL, _basis_at, _blocks, _cat, _gauss,
-                                _layout, _left, _lu_solve, _qmul, _quad, _right, _skew, _split, _take,
-                                _xi)
+                                _layout, _left, _qmul, _quad, _right, _rightq, _skew, _split,
+                                _take, _xi)
 
 __all__ = ["endpoint", "sample", "compile_map", "evaluate_map", "NODES", "TAIL_TOL", "MAX_PANELS"]
 
@@ -423,6 +423,9 @@ def _momentum(seg, starts, widths, d):
     return st, wd, dd, np.stack([o[3] for o in out]), np.stack([o[4] for o in out]), np.stack([o[5] for o in out])
 
 
+_CONJ = np.array([1.0, -1.0, -1.0, -1.0])
+
+
 def _attitude(seg, widths, Om):
     """The attitude on every panel at once, given :math:`\\Omega` at the nodes (P, N, 3): the linear
     collocation equations of each panel solved from the identity, the panels chained by quaternion
@@ -436,17 +439,18 @@ def _attitude(seg, widths, Om):
     P, N = widths.size, seg.N
     Fq = _right(Om)  # (P, N, 4, 4): F_j = Fq_j Y_j
     S = _blocks(seg, widths, Fq)
-    rhs = np.zeros((P, 4 * N, 5))
-    rhs[:, 0::4, 0] = 1.0
-    rhs[:, :, 1:] = (seg.b[:, None, None] * np.swapaxes(Fq, -1, -2)).reshape(P, 4 * N, 4)
+    e = np.zeros(4 * N)
+    e[0::4] = 1.0
+    # the first row of M (module docstring): its other rows follow from it (below)
+    rhs = (seg.b[:, None] * np.swapaxes(Fq, -1, -2)[:, :, :, 0]).reshape(P, 4 * N)
     Yl = np.empty((P, 4 * N))
-    Xs = np.empty((P, 4 * N, 4))  # M^T (module docstring)
+    x = np.empty((P, 4 * N))
     for k in range(P):
         lu, piv, info = lapack.dgetrf(S[k])
         if info != 0:
             raise IntegrationError("a panel's collocation equations are singular (the input is too large)")
-        Yl[k] = lapack.dgetrs(lu, piv, rhs[k, :, 0])[0]
-        Xs[k] = _lu_solve(lu, piv, rhs[k, :, 1:], 1)
+        Yl[k] = lapack.dgetrs(lu, piv, e)[0]
+        x[k] = lapack.dgetrs(lu, piv, rhs[k], trans=1)[0]
     Yl = Yl.reshape(P, N, 4)
     Fl = (Fq @ Yl[..., None])[..., 0]
     Pk = widths[:, None] * (seg.b @ Fl)
@@ -456,7 +460,10 @@ def _attitude(seg, widths, Om):
     for k in range(P):
         ys[k + 1] = _qmul(ys[k], Pk[k])
     Y = (_left(ys[:-1])[:, None] @ Yl[..., None])[..., 0]
-    Mb = np.swapaxes(Xs.reshape(P, N, 4, 4), -1, -2)  # M_i, (P, N, 4, 4)
+    # S and the F_j are made of right multiplications, so they commute with every left
+    # multiplication, and so does M: its block M_i is the right multiplication by the quaternion
+    # mu_i whose first row it has, (mu_0, -mu_1, -mu_2, -mu_3)
+    Mb = _rightq(x.reshape(P, N, 4) * _CONJ)  # M_i, (P, N, 4, 4)
     Phi = np.eye(4) + widths[:, None, None] * Mb.sum(axis=1)
     Z = seg.b[None, :, None, None] * np.eye(4) + widths[:, None, None, None] * (
         seg.a.T @ Mb.reshape(P, N, 16)).reshape(P, N, 4, 4)
@@ -591,6 +598,14 @@ def _solve_near(seg):
     return ys, widths, d, Om, Y, Phi, Z, mom
 
 
+@functools.lru_cache(maxsize=64)
+def _end_integrals(basis):
+    """:math:`B_i(1) = \\int_0^1 b_i`, shape (n,), read-only (cached: a basis is immutable)."""
+    out = np.array(basis.integral([1.0])[0], dtype=float)
+    out.setflags(write=False)
+    return out
+
+
 def endpoint(body, basis, x0, T, c, *, jacobian: bool = True):
     """The endpoint map of a spatial body on one segment and its Jacobian in the coefficients
     (module docstring), as :func:`acroplan.core.backend.endpoint` returns them.
@@ -614,7 +629,7 @@ def endpoint(body, basis, x0, T, c, *, jacobian: bool = True):
     ys, widths, d, Om, Y, Phi, Z, mom = _solve_near(seg) or _solve(seg)
     q1 = ys[-1]
     m, n, Tn = seg.m, seg.n, seg.T
-    B1 = basis.integral([1.0])[0]
+    B1 = _end_integrals(basis)
     xT = np.concatenate([q1, seg.x0[4:] + Tn * (seg.c @ B1)])
     if not np.isfinite(xT).all():
         raise IntegrationError("integration gave a non-finite state")

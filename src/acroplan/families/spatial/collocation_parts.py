@@ -1,14 +1,14 @@
 """The pieces of the spatial collocation (:mod:`~acroplan.families.spatial.collocation`) that know
 no segment: the vectorised quaternion algebra of the attitude's kinematics, the dyadic panel
-layout's tables, and the small linear algebra of its blocks (block LU solves, skew matrices,
-rotations of vectors)."""
+layout's tables, and the small linear algebra of its blocks (the collocation matrices, skew
+matrices, rotations of vectors)."""
 
 from __future__ import annotations
 
 import functools
+import math
 
 import numpy as np
-from scipy.linalg import lapack
 
 from ...core.backend import IntegrationError
 
@@ -60,7 +60,7 @@ def _gauss(N: int):
 def _tensors():
     """Constant tensors: ``RIGHT[k]`` the matrix of :math:`q \\mapsto \\tfrac12 q \\otimes (0, e_k)`,
     ``XI[a]`` the part of :math:`\\tfrac12 \\Xi(q)` linear in :math:`q_a`, ``LEFT[a]`` that of
-    :math:`p \\mapsto q \\otimes p`, and ``QUAD[i, l]`` the symmetric matrices with
+    :math:`p \\mapsto q \\otimes p`, ``RIGHTQ[a]`` that of :math:`p \\mapsto p \\otimes q`, and ``QUAD[i, l]`` the symmetric matrices with
     :math:`(R(q)^\\top L)_i = \\sum_l L_l\\, q^\\top Q_{il}\\, q`."""
     E = np.eye(4)
 
@@ -90,9 +90,13 @@ def _tensors():
                 val = qm(qm(np.array([qa[0], -qa[1], -qa[2], -qa[3]]), Lv), qb)[1:]
                 QUAD[:, l, a, b] += 0.5 * val
                 QUAD[:, l, b, a] += 0.5 * val
-    for t in (RIGHT, XI, LEFT, QUAD):
+    RIGHTQ = np.zeros((4, 4, 4))
+    for a in range(4):
+        for b in range(4):
+            RIGHTQ[a][:, b] = qm(E[b], E[a])
+    for t in (RIGHT, XI, LEFT, QUAD, RIGHTQ):
         t.setflags(write=False)
-    return RIGHT, XI, LEFT, QUAD
+    return RIGHT, XI, LEFT, QUAD, RIGHTQ
 
 
 def _qmul(a, b):
@@ -102,7 +106,7 @@ def _qmul(a, b):
                      aw * by - ax * bz + ay * bw + az * bx, aw * bz + ax * by - ay * bx + az * bw])
 
 
-_RIGHT, _XI, _LEFT, _QUAD = _tensors()
+_RIGHT, _XI, _LEFT, _QUAD, _RIGHTQ = _tensors()
 
 
 def _right(w):
@@ -118,6 +122,11 @@ def _xi(q):
 def _left(q):
     """The matrix of :math:`p \\mapsto q \\otimes p`, shape (..., 4, 4)."""
     return (q @ _LEFT.reshape(4, 16)).reshape(q.shape[:-1] + (4, 4))
+
+
+def _rightq(q):
+    """The matrix of :math:`p \\mapsto p \\otimes q`, shape (..., 4, 4)."""
+    return (q @ _RIGHTQ.reshape(4, 16)).reshape(q.shape[:-1] + (4, 4))
 
 
 def _quad(L):
@@ -140,12 +149,26 @@ def _dyadic_tables(basis, N: int, depth: int):
 
 
 def _basis_at(basis, N, starts, widths):
-    """``(B, Bi)`` of shape (P N, n): the basis and its integrals at the nodes of the panels."""
+    """``(B, Bi)`` of shape (P N, n): the basis and its integrals at the nodes of the panels, from
+    the dyadic tables (:func:`_dyadic_tables`) when every panel is dyadic, depth by depth."""
+    w0 = float(widths[0])
+    if (widths == w0).all():  # one width: one table, when it is dyadic
+        d0 = round(-math.log2(w0)) if w0 > 0.0 else 99
+        if d0 <= 10 and w0 == 2.0 ** -d0:
+            k = np.rint(starts * 2.0 ** d0).astype(int)
+            Bm, Bi = _dyadic_tables(basis, N, d0)
+            return Bm[k].reshape(k.size * N, -1), Bi[k].reshape(k.size * N, -1)
     depth = np.rint(-np.log2(widths)).astype(int)
-    if depth.min() == depth.max() and depth[0] <= 10 and np.all(widths == 2.0 ** -depth):
-        k = np.rint(starts * 2.0 ** depth[0]).astype(int)
-        Bm, Bi = _dyadic_tables(basis, N, int(depth[0]))
-        return Bm[k].reshape(k.size * N, -1), Bi[k].reshape(k.size * N, -1)
+    if depth.max() <= 10 and np.all(widths == 2.0 ** -depth):
+        levels = np.unique(depth)
+        Bm = np.empty((starts.size, N, basis.n))
+        Bi = np.empty((starts.size, N, basis.n))
+        for lv in levels:
+            at = depth == lv
+            k = np.rint(starts[at] * 2.0 ** lv).astype(int)
+            tm, ti = _dyadic_tables(basis, N, int(lv))
+            Bm[at], Bi[at] = tm[k], ti[k]
+        return Bm.reshape(-1, basis.n), Bi.reshape(-1, basis.n)
     sig = (starts[:, None] + widths[:, None] * _gauss(N)[0][None, :]).ravel()
     return basis.matrix(sig), basis.integral(sig)
 
@@ -193,16 +216,6 @@ def _layout(seg, starts=None, widths=None, kept=None):
     d = _cat([k[2] for k in kept])
     order = np.argsort(st, kind="stable")
     return st[order], wd[order], _take(d, order)
-
-
-def _lu_solve(lu, piv, B, trans=0):
-    """Solve with LU factors (``dgetrs``) one right-hand side at a time: with several at once,
-    OpenBLAS's threaded triangular solves (``trsm``) took milliseconds instead of microseconds on a
-    busy machine (measured: a median of 16 ms for a 64 x 64 system with 4 right-hand sides)."""
-    out = np.empty_like(B)
-    for j in range(B.shape[1]):
-        out[:, j] = lapack.dgetrs(lu, piv, B[:, j], trans=trans)[0]
-    return out
 
 
 def _blocks(seg, widths, J):
