@@ -243,3 +243,33 @@ def test_the_retry_on_a_denser_grid_starts_from_the_coarser_grids_optimum(monkey
     assert kw1["reference_cost"] == kw2["reference_cost"] == pytest.approx(out1.start_cost, rel=1e-12)
     assert out2.start_cost == kw1["reference_cost"] and out2.cost > out1.cost
     assert res.segments[0].optimality["joint"]["kept"]
+
+
+def test_an_interval_whose_optimum_breaks_a_limit_between_the_grid_points_is_solved_on_a_denser_one(monkeypatch):
+    """One interval (``optimal._Search.denser``): with a rate limit 5% below the unlimited optimum's
+    peak and a grid of 4 points, the larger sizes' optima break the limit between them and the
+    dense check refuses them; each is then solved again on DENSE_LIMIT_GRID points from that optimum:
+    the plan succeeds, within the limit everywhere, on the denser grid (``limit_grid`` in its
+    diagnostics), and at a cost no lower than the unlimited optimum's."""
+    import acroplan.core.optimal as optimal
+
+    free = acroplan.plan(DoubleIntegrator(), times=[0.0, 1.0], x=[0.0, 1.0], v=[0.0, 0.0], objective="energy",
+                         verify=False)
+    top = 0.95 * float(np.abs(free.segments[0].input(np.linspace(0.0, 1.0, 2001))).max())
+    monkeypatch.setattr(optimal, "LIMIT_GRID", 4)
+    calls = []
+    denser = optimal._Search.denser
+    monkeypatch.setattr(optimal._Search, "denser",
+                        lambda self, run, n, kkt: calls.append(run.prob.limit_grid) or denser(self, run, n, kkt))
+    res = acroplan.plan(DoubleIntegrator(), times=[0.0, 1.0], x=[0.0, 1.0], v=[0.0, 0.0], objective="energy",
+                        verify="ode", u_max=top)
+    assert res.status == "success", res.message
+    opt = res.segments[0].optimality
+    assert opt["limit_grid"] == optimal.DENSE_LIMIT_GRID
+    # without the retry the ladder stopped at 6 coefficients, "NOT converged in the basis" (the 10
+    # coefficients' optimum broke the limit by 1.8e-2 between the 4 points)
+    assert opt["converged_in_basis"] and opt["basis_size"] > 6
+    assert calls and set(calls) == {4}
+    assert float(np.abs(res.segments[0].input(np.linspace(0.0, 1.0, 4001))).max()) <= top * (1 + 1e-9)
+    assert opt["cost"] >= free.segments[0].optimality["cost"]
+    assert res.segments[0].verified_error < 1e-9

@@ -70,6 +70,9 @@ class OptimalSolve:
         step of the ladder.
     start : str
         The start the optimum came from (``"auto"``, ``"deform"`` or ``"given"``).
+    limit_grid : int
+        Points per interval of the grid the limits were imposed on (64, or more when the optimum
+        broke a limit between 64 points: :meth:`acroplan.core.optimal._Search.denser`).
     """
 
     success: bool
@@ -87,6 +90,7 @@ class OptimalSolve:
     sizes: tuple = ()
     converged_in_basis: bool = False
     start: str = "given"
+    limit_grid: int = 64
 
     def to_dict(self, objective: str = "energy") -> dict:
         """The diagnostics as plain JSON types (non-finite numbers as ``None``): ``objective``,
@@ -100,7 +104,7 @@ class OptimalSolve:
                 "ladder": [[int(n), num(v)] for n, v in self.sizes],
                 "converged_in_basis": bool(self.converged_in_basis), "start": self.start, "solver": self.solver,
                 "evaluations": int(self.evaluations), "iterations": int(self.iterations),
-                "success": bool(self.success)}
+                "success": bool(self.success), "limit_grid": int(self.limit_grid)}
 
 
 class OutOfEvaluations(RuntimeError):
@@ -130,6 +134,7 @@ class OptimalProblem:
         self.torque_model = torque_model
         # inequalities: rate and joint limits (linear), torque limits (nonlinear)
         self.limits = limits if limits is not None and limits.active else None
+        self.limit_grid = int(limit_grid)
         self.lin = None
         if self.limits is not None:
             A_c, b_c = linear_limits(system, basis, self.x0, T, self.limits, grid=limit_grid, margin=2e-3)
