@@ -106,16 +106,16 @@ class ChainProblem:
         return np.concatenate(hs + [self.E @ z + self.e0]), A, ys, None
 
     def ineq(self, z):
-        rs, Rs = [], []
-        for k, (p, zk) in enumerate(zip(self.probs, self.split(z))):
-            if p.lin is None and p.tmax is None:
-                continue
-            rk, Rk = p.ineq(zk)
-            R = np.zeros((Rk.shape[0], self.N))
-            R[:, self.offsets[k]:self.offsets[k + 1]] = Rk
-            rs.append(rk)
-            Rs.append(R)
-        return np.concatenate(rs), np.vstack(Rs)
+        """Every interval's inequalities (:meth:`OptimalProblem.ineq`), their Jacobian block-diagonal."""
+        parts = [(k, *p.ineq(zk)) for k, (p, zk) in enumerate(zip(self.probs, self.split(z)))
+                 if p.lin is not None or p.tmax is not None]
+        r = np.concatenate([rk for _, rk, _ in parts])
+        R = np.zeros((r.size, self.N))
+        i = 0
+        for k, rk, Rk in parts:
+            R[i:i + rk.size, self.offsets[k]:self.offsets[k + 1]] = Rk
+            i += rk.size
+        return r, R
 
     def curvature(self, z):
         """The constraints' Hessians in ``z``, shape (q, N, N): each interval's forward differences

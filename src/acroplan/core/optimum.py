@@ -199,17 +199,28 @@ class OptimalProblem:
     def ineq(self, z):
         """The inequalities :math:`r(z) \\le 0` and their Jacobian: the rate and joint limits (linear
         rows :math:`A_z z - b_z`) and the torque limits (:meth:`torque_rows`, negated)."""
-        rs, Rs = [], []
-        if self.lin is not None:
+        n_lin = 0 if self.lin is None else self.lin[0].shape[0]
+        tau = Jt = None
+        n_tau = 0
+        if self.tmax is not None:  # tau - top <= 0 and -tau - top <= 0 on the grid, the finite limits only
+            tau, J = call_torque(self.torque_model, self.system, self.basis, self.x0, self.T, self.c(z), self.grid)
+            top = np.broadcast_to((self.tmax * (1.0 - TORQUE_MARGIN))[:, None], tau.shape).ravel()
+            fin = np.isfinite(top)
+            tau, top = tau.ravel()[fin], top[fin]
+            Jt = self.zmat(J.reshape(-1, self.N)[fin])
+            n_tau = tau.size
+        r = np.empty(n_lin + 2 * n_tau)
+        R = np.empty((r.size, self.Z.shape[1] if not self.free else self.N))
+        if n_lin:
             Az, bz = self.lin
-            rs.append(Az @ z - bz)
-            Rs.append(Az)
-        if self.tmax is not None:
-            vals, J = self.torque_rows(z)
-            keep = np.isfinite(vals)
-            rs.append(-vals[keep])
-            Rs.append(-J[keep])
-        return np.concatenate(rs), np.vstack(Rs)
+            r[:n_lin] = Az @ z - bz
+            R[:n_lin] = Az
+        if n_tau:
+            r[n_lin:n_lin + n_tau] = tau - top
+            r[n_lin + n_tau:] = -tau - top
+            R[n_lin:n_lin + n_tau] = Jt
+            np.negative(Jt, out=R[n_lin + n_tau:])
+        return r, R
 
     def curvature(self, c, Ac):
         """Constraint Hessians in ``c`` coordinates, shape (q, N, N), by forward differences of the

@@ -769,7 +769,12 @@ def momentum_samples(body, basis, x0, T, c, s, *, jacobian: bool = False):
         raise IntegrationError("integration gave a non-finite state")
     if not jacobian:
         return lam.T.copy()
-    dlam = dlam_a[idx] + widths[idx][:, None, None] * np.einsum("kj,kjcx->kcx", beta, dF[idx])
+    # panel by panel, one matrix product each (indexing dF by the samples' panels copied it per sample)
+    mn = dF.shape[-1]
+    dlam = np.empty((s.size, 3, mn))
+    for p in np.unique(idx):
+        at = idx == p
+        dlam[at] = dlam_a[p] + widths[p] * (beta[at] @ dF[p].reshape(N, 3 * mn)).reshape(-1, 3, mn)
     return lam.T.copy(), dlam
 
 
