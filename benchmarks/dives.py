@@ -3,10 +3,13 @@
 in Yeadon's angles, its peak rate and torque against the data's limits.
 
 The first plan in the process includes compiling the 5-link body; ``--repeat 2`` plans each dive
-again (warm). ``--objective energy`` (or ``torque``) plans the optimal plan instead of the feasible
-one; ``--tau-max`` adds the strength data's torque limits (``strength.torque_limits``).
+again (warm). By default each file's own options (each asks for an optimal plan within the
+strength data); ``--objective energy``, ``torque`` or ``none`` (the feasible plan) replaces the
+file's objective, and ``--tau-max strength`` or ``none`` its torque limits (``strength``: the
+strength data's, ``strength.torque_limits``).
 
-Run:  python benchmarks/dives.py [--dives back-full-twist ...] [--repeat 2] [--objective energy] [--tau-max]
+Run:  python benchmarks/dives.py [--dives back-full-twist ...] [--repeat 2] [--objective energy|torque|none]
+      [--tau-max strength|none]
 """
 
 from __future__ import annotations
@@ -25,18 +28,24 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--dives", nargs="*", default=list(DIVES))
     ap.add_argument("--repeat", type=int, default=1)
-    ap.add_argument("--objective", choices=("energy", "torque"), default=None)
-    ap.add_argument("--tau-max", action="store_true")
+    ap.add_argument("--objective", choices=("energy", "torque", "none"), default=None,
+                    help="replaces the file's objective (none: the feasible plan)")
+    ap.add_argument("--tau-max", choices=("strength", "none"), default=None,
+                    help="replaces the file's torque limits")
     args = ap.parse_args()
     print(f"# {platform.processor() or platform.machine()}, python {platform.python_version()}")
     for name in args.dives:
         prob = examples.load(name)
         body, kw = prob.system, prob.plan_kwargs()
         extra = {}
-        if args.objective:
-            extra["objective"] = args.objective
-        if args.tau_max:
-            extra["tau_max"] = torque_limits(body)
+        if args.objective is not None:
+            kw.pop("objective", None)
+            if args.objective != "none":
+                extra["objective"] = args.objective
+        if args.tau_max is not None:
+            kw.pop("tau_max", None)
+            if args.tau_max == "strength":
+                extra["tau_max"] = torque_limits(body)
         for k in range(args.repeat):
             t0 = time.perf_counter()
             res = acroplan.plan(body, **{**kw, **extra})  # the options given here replace the file's

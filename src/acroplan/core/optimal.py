@@ -63,9 +63,13 @@ Solvers
   KKT residual and the curvature updates; the optimum is then brought onto the endpoint by
   minimum-norm Newton steps as :func:`~acroplan.core.limits.solve_with_limits`, and success needs
   the limits to hold exactly (:func:`~acroplan.core.limits.violation`) and the torque limits on
-  1025 points. (Before issue #22 the limits went to scipy's SLSQP, where the falling cat's energy
-  optimum took 160 s; ``benchmarks/RESULTS.md`` has the figure now.) A size whose linearised limits
-  no step can keep (a start far outside them) fails, and the next size is tried.
+  1025 points. A size whose optimum breaks a limit between the grid's 64 points is solved again
+  from it with the limits on :data:`DENSE_LIMIT_GRID` points (:meth:`_Search.denser`), and so is
+  the intervals' joint optimum (:data:`JOINT_LIMIT_GRIDS`). (Before issue #22 the limits went to
+  scipy's SLSQP, where the falling cat's energy optimum took 160 s; ``benchmarks/RESULTS.md`` has
+  the figure now.) A size whose linearised limits no step can keep (a start far outside them)
+  fails, and the next size is tried. The second-order correction of a trial step keeps the limits
+  near their bound (:func:`acroplan.core.sqp._corrected`).
 
 First-order optimality is reported as the relative KKT residual
 
