@@ -273,3 +273,68 @@ def test_an_interval_whose_optimum_breaks_a_limit_between_the_grid_points_is_sol
     assert float(np.abs(res.segments[0].input(np.linspace(0.0, 1.0, 4001))).max()) <= top * (1 + 1e-9)
     assert opt["cost"] >= free.segments[0].optimality["cost"]
     assert res.segments[0].verified_error < 1e-9
+
+
+def test_the_joint_optimum_takes_the_times_where_it_broke_a_torque_limit(monkeypatch):
+    """The joint stage's exchange rounds (``optimal.EXCHANGE_ROUNDS``): with the torque limits on a
+    grid of 5 points only, the joint optimum breaks them between the points; the times of the
+    largest excesses (``OptimalProblem.torque_excess_times`` on the dense check's 1025 points) join
+    the grid and the SQP goes on, until the dense check passes: kept, the torque within its limit
+    everywhere (an independent 20001-point evaluation), below the sequential cost."""
+    import acroplan.core.optimal as optimal
+    import acroplan.core.optimum as optimum
+    from test_optimal import OptimalTestFlywheel
+
+    sysm = OptimalTestFlywheel()
+    prob = dict(times=[0, 1.0, 2.0], q=[0.2, 1.1, 0.3], z=[0.0, 1.6, 2.0], conditions="free")
+    free = acroplan.plan(sysm, objective="energy", **prob)
+    top = 0.5 * free.effort()["q"].peak_torque
+    monkeypatch.setattr(optimal, "JOINT_LIMIT_GRIDS", (4,))
+    monkeypatch.setattr(optimum, "TORQUE_LIMIT_GRID", 4)
+    monkeypatch.setattr(optimal, "EXCHANGE_ROUNDS", 6)
+    res = acroplan.plan(sysm, objective="energy", tau_max=top, **prob)
+    assert res.status == "success", res.message
+    joint = res.segments[0].optimality["joint"]
+    assert joint["kept"], joint["message"]
+    assert "not kept with the limits on 4 points" in joint["message"]
+    assert "more time(s) where they were broken" in joint["message"]
+    assert joint["cost"] < joint["sequential_cost"]
+    t = np.linspace(0.0, 2.0, 20001)
+    assert float(np.abs(res.torques(t)[0]).max()) <= top * (1 + 1e-9)
+
+
+def test_torque_excess_times_are_the_worst_point_of_each_stretch_above_the_rows():
+    """OptimalProblem.torque_excess_times: on the dense check's points, one time per stretch where
+    |tau| is above the rows' bound (the limit less its margin), at the stretch's largest excess;
+    add_torque_times puts them on the grid (two more rows each), once."""
+    from acroplan.core.basis import Legendre
+    from acroplan.core.objectives import TORQUE_MARGIN
+    from acroplan.core.optimum import OptimalProblem
+    from test_optimal import FlywheelTorque, OptimalTestFlywheel
+
+    sysm, basis, T = OptimalTestFlywheel(), Legendre(6), 1.0
+    s = np.linspace(0.0, 1.0, 1025)
+    x = 2.0 * s - 1.0                                      # u = x^2/2 - x^4/4: tau = I u' / T peaks inside,
+    c = np.linalg.lstsq(basis.matrix(s), x**2 / 2 - x**4 / 4, rcond=None)[0][None, :]  # at x = -+1/sqrt(3)
+    model = FlywheelTorque()
+    tau = model(sysm, basis, np.zeros(2), T, c, s)[0]
+    tmax = 0.6 * float(np.abs(tau).max())
+    prob = OptimalProblem(sysm, basis, np.zeros(2), np.zeros(2), T, lambda z: (0.0, 0 * z, None), None, None, 100,
+                          torque_model=model, tau_max=[tmax])
+    times = prob.torque_excess_times(prob.z(c.ravel()))
+    bound = tmax * (1 - TORQUE_MARGIN)
+    over = np.abs(tau) > bound
+    stretches = int(over[0]) + int(np.count_nonzero(over[1:] & ~over[:-1]))
+    assert times.size == stretches >= 2
+    for t in times:
+        k = int(np.rint(t * 1024))
+        assert abs(tau[k]) > bound
+        run = np.arange(k, k + 1)
+        while run[0] > 0 and over[run[0] - 1]:
+            run = np.r_[run[0] - 1, run]
+        while run[-1] < 1024 and over[run[-1] + 1]:
+            run = np.r_[run, run[-1] + 1]
+        assert abs(tau[k]) == np.abs(tau[run]).max()
+    rows = prob.ineq(prob.z(c.ravel()))[0].size
+    assert prob.add_torque_times(times) == times.size and prob.add_torque_times(times) == 0
+    assert prob.ineq(prob.z(c.ravel()))[0].size == rows + 2 * times.size

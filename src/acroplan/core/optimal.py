@@ -661,6 +661,7 @@ class EnergyOptimal(Strategy):
         msgs = []
         start, sequential, curvature = [s.basis_coefficients for s in segments], None, None
         for grid in JOINT_LIMIT_GRIDS:
+            where = f"{grid} points"
             runs = [_Search(self, iv, model).new_run(seg.basis.n, grid) for iv, seg in zip(intervals, segments)]
             if sequential is None:
                 sequential = sum(float(r.prob.f(r.prob.z(np.ravel(c)))[0]) for r, c in zip(runs, start))
@@ -682,10 +683,36 @@ class EnergyOptimal(Strategy):
             # times fewer iterations than from the sequential optimum again
             start, curvature = out.coefficients, out.curvature
         else:
-            return _not_joint(segments, "; ".join(msgs)), "; ".join(msgs)
+            # the densest grid's optimum breaks a torque limit between its points: the times of the
+            # largest excesses join the torque limits' grid, and the SQP goes on from there
+            # (exchange rounds; the rate and joint limits are linear and were kept on the grid)
+            for _ in range(EXCHANGE_ROUNDS):
+                added = sum(run.prob.add_torque_times(run.prob.torque_excess_times(run.prob.z(np.ravel(c))))
+                            for run, c in zip(runs, start))
+                if not added:
+                    break
+                out = joint_optimum(runs, start, tol=min(iv.tol for iv in intervals), kkt_tol=self.kkt_tol,
+                                    reference_cost=sequential, curvature=curvature)
+                if not out.success:
+                    msgs.append(out.message)
+                    return _not_joint(segments, "; ".join(msgs)), "; ".join(msgs)
+                checks = []
+                for run, c in zip(runs, out.coefficients):
+                    run.z = run.prob.z(c.ravel())
+                    checks.append(run.result())
+                bad = [(k, r.message) for k, r in enumerate(checks) if not r.success]
+                if not bad:
+                    where = f"{grid} points and the torque limits at {added} more time(s) where they were broken"
+                    break
+                msgs.append(f"{out.message}; not kept with the torque limits also at {added} time(s): interval "
+                            f"{bad[0][0]}: {bad[0][1]}")
+                start, curvature = out.coefficients, out.curvature
+            else:
+                return _not_joint(segments, "; ".join(msgs)), "; ".join(msgs)
+            if bad:
+                return _not_joint(segments, "; ".join(msgs)), "; ".join(msgs)
         if msgs:
-            out = dataclasses.replace(out, message="; ".join(msgs) + f"; then with the limits on {grid} points: "
-                                      + out.message)
+            out = dataclasses.replace(out, message="; ".join(msgs) + f"; then with the limits on {where}: " + out.message)
         new = []
         kkt_ok = bool(math.isfinite(out.kkt) and out.kkt <= self.kkt_tol)
         for iv, seg, run, c, cost, chk in zip(intervals, segments, runs, out.coefficients, out.costs, checks):
@@ -721,6 +748,11 @@ class EnergyOptimal(Strategy):
 #: the bundled forward dive's joint optimum broke a rate limit by 6.0e-3 between 64 points, the
 #: double full-out's least integral of u^2 within the strength a torque limit by 150 N m between 65).
 JOINT_LIMIT_GRIDS = (64, 256)
+#: Exchange rounds of the joint optimum after its densest grid (:meth:`EnergyOptimal.joint`): the
+#: times where its torques broke a limit between the grid's points are added to the torque limits'
+#: grid and the SQP goes on. The double full-out's least integral of u^2 within the strength broke
+#: one by 0.2 N m between 257 points; one round brings it within (benchmarks/RESULTS.md).
+EXCHANGE_ROUNDS = 3
 #: Points per interval of the grid of one interval's rate, joint and torque limits (the torque
 #: limits' at least :data:`TORQUE_LIMIT_GRID`).
 LIMIT_GRID = 64

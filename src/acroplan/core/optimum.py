@@ -145,6 +145,34 @@ class OptimalProblem:
         # when those are denser (the joint optimum's retry)
         self.grid = None if tau_max is None else np.linspace(0.0, 1.0, max(TORQUE_LIMIT_GRID, int(limit_grid) + 1))
 
+    def add_torque_times(self, s) -> int:
+        """Impose the torque limits at the normalised times ``s`` too (an exchange round: where a
+        result broke them between the grid's points); returns how many times were new."""
+        if self.grid is None:
+            return 0
+        grid = np.union1d(self.grid, np.clip(np.asarray(s, dtype=float).ravel(), 0.0, 1.0))
+        added = grid.size - self.grid.size
+        self.grid = grid
+        return int(added)
+
+    def torque_excess_times(self, z, points: int = 1025) -> np.ndarray:
+        """The normalised times, on ``points`` uniform points (the dense check's), of the largest
+        excess of each stretch where a joint's :math:`|\\tau|` is above its row's bound
+        (:math:`(1 - \\text{TORQUE\\_MARGIN})\\,\\bar\\tau`); empty without torque limits."""
+        if self.tmax is None:
+            return np.zeros(0)
+        s = np.linspace(0.0, 1.0, points)
+        tau, _ = call_torque(self.torque_model, self.system, self.basis, self.x0, self.T, self.c(z), s)
+        over = np.abs(tau) - (self.tmax * (1.0 - TORQUE_MARGIN))[:, None]
+        out = []
+        for row in over:
+            bad = np.flatnonzero(row > 0.0)
+            if bad.size:
+                # the stretches of consecutive points above the bound, each's worst point
+                for run in np.split(bad, np.flatnonzero(np.diff(bad) > 1) + 1):
+                    out.append(s[run[np.argmax(row[run])]])
+        return np.unique(np.asarray(out, dtype=float))
+
     # coordinates
     def c(self, z):
         return z.copy() if self.free else self.c_p + self.Z @ z
