@@ -99,8 +99,12 @@ __all__ = ["endpoint", "sample", "compile_map", "evaluate_map", "NODES", "TAIL_T
 # ---------------------------------------------------------------------- the compiled momentum map
 _MAPS: dict = {}
 _LOCAL = threading.local()
-#: The momentum solves remembered per thread (:func:`_first_momentum`).
-MOMENTUM_MEMO = 4
+#: The momentum solves (and their panel sweeps) remembered per thread (:func:`_first_momentum`,
+#: :func:`_momentum_panels`): the intervals of a joint optimum ask for each interval's endpoint,
+#: torque cost and torque limits at the same coefficients, one interval after the other, so the
+#: memo holds two per interval of a plan of up to four intervals (some 0.5 MB an entry for a 5-link
+#: body at 30 coefficients)
+MOMENTUM_MEMO = 8
 
 
 def _build(body, light=False):
