@@ -63,7 +63,10 @@ It is the exact derivative of the discrete map (to rounding), by implicit differ
 collocation equations. With :math:`S = \\mathbb{1} - H (\\alpha \\otimes \\mathbb{1}_4)\\,
 \\mathrm{diag}_j(\\partial F_j / \\partial q)` at the solution and
 :math:`M = (\\beta^\\top \\otimes \\mathbb{1}_4)\\, \\mathrm{diag}_j(\\partial F_j/\\partial q)\\, S^{-1}`
-(one transposed solve with four right-hand sides), a panel maps perturbations as
+(its first row by one transposed solve: :math:`S` and the :math:`\\partial F_j/\\partial q` are
+quaternion right multiplications, which commute with every left multiplication, so each 4 x 4
+block :math:`M_i` is a right multiplication too, fixed by its first row), a panel maps
+perturbations as
 
 .. math::  \\delta y_1 = \\Phi\\, \\delta y_0 + H \\sum_j Z_j\\, \\tfrac12 \\Xi(Y_j)\\, \\delta\\Omega_j ,\\qquad
            \\Phi = \\mathbb{1} + H \\sum_i M_i ,\\qquad Z_j = \\beta_j \\mathbb{1} + H \\sum_i M_i \\alpha_{ij} ,
