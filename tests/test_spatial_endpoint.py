@@ -182,6 +182,35 @@ def test_a_body_without_momentum_uses_the_linear_solve():
     assert state_error(y, tight_endpoint(still, basis, x0, T, c)) <= 1e-12
 
 
+def test_the_attitudes_derivative_map_is_made_of_right_multiplications():
+    """collocation._attitude builds each panel's M (module docstring) from its first row alone: S
+    and the F_j are quaternion right multiplications, so M commutes with left multiplications and
+    each 4 x 4 block is the right multiplication by the quaternion of its first row. Checked
+    against M from all four right-hand sides of the transposed system, on the cat's panels, to
+    rounding; and the commutation itself, M (1 (x) L(p)) = L(p) M, for a random quaternion p."""
+    from acroplan.families.spatial import collocation_parts as parts
+
+    body, x0, T, c = CASES["cat n=14"]()
+    seg = collocation._Segment(body, Legendre(14), x0, T, c)
+    starts, widths, d = parts._layout(seg)
+    Om = d["w"]
+    P, N = widths.size, seg.N
+    Fq = parts._right(Om)
+    S = parts._blocks(seg, widths, Fq)
+    rhs = (seg.b[:, None, None] * np.swapaxes(Fq, -1, -2)).reshape(P, 4 * N, 4)
+    full = np.stack([np.linalg.solve(S[k].T, rhs[k]) for k in range(P)])          # M^T, four columns
+    M_full = np.swapaxes(full.reshape(P, N, 4, 4), -1, -2)
+    _, _, Phi, Z, _ = collocation._attitude(seg, widths, Om)
+    M_built = (Z - seg.b[None, :, None, None] * np.eye(4)) / widths[:, None, None, None]
+    # Z_j = b_j 1 + H sum_i M_i a_ij: recover sum_i M_i a_ij from both and compare
+    want = (seg.a.T @ M_full.reshape(P, N, 16)).reshape(P, N, 4, 4)
+    assert np.abs(M_built - want).max() <= 1e-13 * max(1.0, np.abs(want).max())
+    assert np.abs(Phi - (np.eye(4) + widths[:, None, None] * M_full.sum(axis=1))).max() <= 1e-13
+    p = np.random.default_rng(3).normal(size=4)
+    Lp = parts._left(p)
+    assert np.abs(M_full @ Lp - Lp @ M_full).max() <= 1e-13 * np.abs(M_full).max()
+
+
 @pytest.mark.parametrize("name", ["cat n=14", "4 links L!=0 n=10"])
 def test_samples_meet_the_taylor_integrator(name):
     """Dense states: the collocation cut at the samples, each a panel's end, against the Taylor
