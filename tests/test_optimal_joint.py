@@ -135,6 +135,18 @@ def test_the_joint_stage_reports_its_evaluations_as_it_goes():
     assert counts[-1] <= res.segments[0].optimality["joint"]["evaluations"]
 
 
+def kept_joint(res, *said):
+    """The plan succeeded with its intervals' joint optimum kept, below the sequential cost, its
+    message saying each of ``said``; returns the joint stage's diagnostics."""
+    assert res.status == "success", res.message
+    joint = res.segments[0].optimality["joint"]
+    assert joint["kept"], joint["message"]
+    for phrase in said:
+        assert phrase in joint["message"]
+    assert joint["cost"] < joint["sequential_cost"]
+    return joint
+
+
 def test_a_joint_optimum_broken_between_the_grid_points_is_solved_again_on_a_denser_grid(monkeypatch, planned):
     """The joint stage's retry (``optimal.JOINT_LIMIT_GRIDS``): with a rate limit 5% below the
     unlimited plan's peak and a first grid of 4 points, the joint optimum breaks the limit between
@@ -146,12 +158,7 @@ def test_a_joint_optimum_broken_between_the_grid_points_is_solved_again_on_a_den
     monkeypatch.setattr(optimal, "JOINT_LIMIT_GRIDS", (4, 256))
     res = acroplan.plan(DoubleIntegrator(), times=TIMES, x=X, v=V, conditions="free", objective="energy",
                         n_coefficients=N, verify="ode", u_max=top)
-    assert res.status == "success", res.message
-    joint = res.segments[0].optimality["joint"]
-    assert joint["kept"], joint["message"]
-    assert "not kept with the limits on 4 points" in joint["message"]
-    assert "then with the limits on 256 points" in joint["message"]
-    assert joint["cost"] < joint["sequential_cost"]
+    kept_joint(res, "not kept with the limits on 4 points", "then with the limits on 256 points")
     for s in res.segments:
         assert float(np.abs(s.input(np.linspace(s.t0, s.t1, 4001))).max()) <= top * (1 + 1e-9)
     for a, b in zip(res.segments[:-1], res.segments[1:]):
@@ -293,12 +300,7 @@ def test_the_joint_optimum_takes_the_times_where_it_broke_a_torque_limit(monkeyp
     monkeypatch.setattr(optimum, "TORQUE_LIMIT_GRID", 4)
     monkeypatch.setattr(optimal, "EXCHANGE_ROUNDS", 6)
     res = acroplan.plan(sysm, objective="energy", tau_max=top, **prob)
-    assert res.status == "success", res.message
-    joint = res.segments[0].optimality["joint"]
-    assert joint["kept"], joint["message"]
-    assert "not kept with the limits on 4 points" in joint["message"]
-    assert "more time(s) where they were broken" in joint["message"]
-    assert joint["cost"] < joint["sequential_cost"]
+    kept_joint(res, "not kept with the limits on 4 points", "more time(s) where they were broken")
     t = np.linspace(0.0, 2.0, 20001)
     assert float(np.abs(res.torques(t)[0]).max()) <= top * (1 + 1e-9)
 

@@ -660,21 +660,30 @@ class EnergyOptimal(Strategy):
         model = self._model(system)
         msgs = []
         start, sequential, curvature = [s.basis_coefficients for s in segments], None, None
+        tol = min(iv.tol for iv in intervals)
+
+        def attempt(runs):
+            """The intervals' joint optimum from ``start``, each interval's dense check of it, and the
+            intervals it fails (``None`` for both when the SQP failed)."""
+            out = joint_optimum(runs, start, tol=tol, kkt_tol=self.kkt_tol, reference_cost=sequential,
+                                curvature=curvature)
+            if not out.success:
+                return out, None, None
+            checks = []
+            for run, c in zip(runs, out.coefficients):   # each interval's endpoint and limits (the dense check)
+                run.z = run.prob.z(c.ravel())
+                checks.append(run.result())
+            return out, checks, [(k, r.message) for k, r in enumerate(checks) if not r.success]
+
         for grid in JOINT_LIMIT_GRIDS:
             where = f"{grid} points"
             runs = [_Search(self, iv, model).new_run(seg.basis.n, grid) for iv, seg in zip(intervals, segments)]
             if sequential is None:
                 sequential = sum(float(r.prob.f(r.prob.z(np.ravel(c)))[0]) for r, c in zip(runs, start))
-            out = joint_optimum(runs, start, tol=min(iv.tol for iv in intervals), kkt_tol=self.kkt_tol,
-                                reference_cost=sequential, curvature=curvature)
-            if not out.success:
+            out, checks, bad = attempt(runs)
+            if checks is None:
                 msgs.append(out.message)
                 return _not_joint(segments, "; ".join(msgs)), "; ".join(msgs)
-            checks = []
-            for run, c in zip(runs, out.coefficients):   # each interval's endpoint and limits (the dense check)
-                run.z = run.prob.z(c.ravel())
-                checks.append(run.result())
-            bad = [(k, r.message) for k, r in enumerate(checks) if not r.success]
             if not bad:
                 break
             msgs.append(f"{out.message}; not kept with the limits on {grid} points: interval {bad[0][0]}: {bad[0][1]}")
@@ -691,16 +700,10 @@ class EnergyOptimal(Strategy):
                             for run, c in zip(runs, start))
                 if not added:
                     break
-                out = joint_optimum(runs, start, tol=min(iv.tol for iv in intervals), kkt_tol=self.kkt_tol,
-                                    reference_cost=sequential, curvature=curvature)
-                if not out.success:
+                out, checks, bad = attempt(runs)
+                if checks is None:
                     msgs.append(out.message)
                     return _not_joint(segments, "; ".join(msgs)), "; ".join(msgs)
-                checks = []
-                for run, c in zip(runs, out.coefficients):
-                    run.z = run.prob.z(c.ravel())
-                    checks.append(run.result())
-                bad = [(k, r.message) for k, r in enumerate(checks) if not r.success]
                 if not bad:
                     where = f"{grid} points and the torque limits at {added} more time(s) where they were broken"
                     break
