@@ -662,7 +662,7 @@ class EnergyOptimal(Strategy):
         start, sequential, curvature = [s.basis_coefficients for s in segments], None, None
         tol = min(iv.tol for iv in intervals)
 
-        def attempt(runs):
+        def attempt(runs, start, curvature):
             """The intervals' joint optimum from ``start``, each interval's dense check of it, and the
             intervals it fails (``None`` for both when the SQP failed)."""
             out = joint_optimum(runs, start, tol=tol, kkt_tol=self.kkt_tol, reference_cost=sequential,
@@ -680,7 +680,7 @@ class EnergyOptimal(Strategy):
             runs = [_Search(self, iv, model).new_run(seg.basis.n, grid) for iv, seg in zip(intervals, segments)]
             if sequential is None:
                 sequential = sum(float(r.prob.f(r.prob.z(np.ravel(c)))[0]) for r, c in zip(runs, start))
-            out, checks, bad = attempt(runs)
+            out, checks, bad = attempt(runs, start, curvature)
             if checks is None:
                 msgs.append(out.message)
                 return _not_joint(segments, "; ".join(msgs)), "; ".join(msgs)
@@ -700,7 +700,7 @@ class EnergyOptimal(Strategy):
                             for run, c in zip(runs, start))
                 if not added:
                     break
-                out, checks, bad = attempt(runs)
+                out, checks, bad = attempt(runs, start, curvature)
                 if checks is None:
                     msgs.append(out.message)
                     return _not_joint(segments, "; ".join(msgs)), "; ".join(msgs)

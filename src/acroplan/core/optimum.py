@@ -217,25 +217,23 @@ class OptimalProblem:
             self._key, self._val = key, (-self.system.diff(y, self.x1), self.zmat(Ac), y, Ac)
         return self._val
 
-    def torque_rows(self, z):
-        """Torque-limit inequalities ``g(z) >= 0`` on the grid, and their Jacobian in ``z``."""
+    def _torque_limit_rows(self, z):
+        """:math:`\\tau` on the torque limits' grid and its limit :math:`\\bar\\tau`, the finite
+        limits only (flattened joint by joint), and the Jacobian of :math:`\\tau` in ``z``."""
         tau, J = call_torque(self.torque_model, self.system, self.basis, self.x0, self.T, self.c(z), self.grid)
-        top = self.tmax[:, None] * (1.0 - TORQUE_MARGIN)
-        J = self.zmat(J.reshape(-1, self.N))
-        return np.concatenate([(top - tau).ravel(), (top + tau).ravel()]), np.vstack([-J, J])
+        tmax = np.broadcast_to(self.tmax[:, None], tau.shape).ravel()
+        fin = np.isfinite(tmax)
+        return tau.ravel()[fin], tmax[fin], self.zmat(J.reshape(-1, self.N)[fin])
 
     def ineq(self, z):
         """The inequalities :math:`r(z) \\le 0` and their Jacobian: the rate and joint limits (linear
-        rows :math:`A_z z - b_z`) and the torque limits (:meth:`torque_rows`, negated)."""
+        rows :math:`A_z z - b_z`) and the torque limits, :math:`\\pm\\tau - (1 - m)\\bar\\tau` on
+        the grid (:data:`TORQUE_MARGIN` :math:`m`), in one array."""
         n_lin = 0 if self.lin is None else self.lin[0].shape[0]
-        tau = Jt = None
         n_tau = 0
-        if self.tmax is not None:  # tau - top <= 0 and -tau - top <= 0 on the grid, the finite limits only
-            tau, J = call_torque(self.torque_model, self.system, self.basis, self.x0, self.T, self.c(z), self.grid)
-            top = np.broadcast_to((self.tmax * (1.0 - TORQUE_MARGIN))[:, None], tau.shape).ravel()
-            fin = np.isfinite(top)
-            tau, top = tau.ravel()[fin], top[fin]
-            Jt = self.zmat(J.reshape(-1, self.N)[fin])
+        if self.tmax is not None:
+            tau, tmax, Jt = self._torque_limit_rows(z)
+            top = tmax * (1.0 - TORQUE_MARGIN)
             n_tau = tau.size
         r = np.empty(n_lin + 2 * n_tau)
         R = np.empty((r.size, self.Z.shape[1] if not self.free else self.N))
@@ -378,9 +376,9 @@ class OptimalRun:
             Az, bz = prob.lin
             C.append(Az[bz - Az @ z <= 1e-7 * (1.0 + np.abs(bz))])
         if prob.tmax is not None:
-            vals, J = prob.torque_rows(z)
-            top = np.tile(np.repeat(prob.tmax, prob.grid.size), 2)
-            C.append(-J[vals <= 1e-7 * (1.0 + np.where(np.isfinite(top), top, 0.0))])
+            tau, tmax, Jt = prob._torque_limit_rows(z)
+            top, near = tmax * (1.0 - TORQUE_MARGIN), 1e-7 * (1.0 + tmax)
+            C += [Jt[top - tau <= near], -Jt[top + tau <= near]]
         C = np.vstack(C) if C else None
         lam, kkt = kkt_multipliers(g, A, C)
         err = system.error(y, prob.x1)

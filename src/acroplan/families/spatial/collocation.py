@@ -110,6 +110,29 @@ _LOCAL = threading.local()
 MOMENTUM_MEMO = 8
 
 
+def _remembered(name, seg, compute, usable=lambda v: True):
+    """``compute()`` for ``seg``'s inputs (basis, duration, start, coefficients), remembered in this
+    thread's memo ``name`` (the last :data:`MOMENTUM_MEMO` of them), its arrays made read-only; an
+    entry serves when ``usable(entry)``. It depends on the inputs alone, so the memo changes no
+    number."""
+    key = (seg.basis, seg.T, seg.x0.tobytes(), seg.c.tobytes())
+    memo = getattr(_LOCAL, name, None)
+    if memo is None:
+        memo = []
+        setattr(_LOCAL, name, memo)
+    for body, k, v in memo:
+        if body is seg.body and k == key and usable(v):
+            return v
+    v = compute()
+    for a in v:
+        for arr in (a.values() if isinstance(a, dict) else (a,)):
+            if arr is not None:
+                arr.setflags(write=False)
+    memo.insert(0, (seg.body, key, v))
+    del memo[MOMENTUM_MEMO:]
+    return v
+
+
 def _build(body, light=False):
     """The compiled function of a topology: inputs ``(s, u)``, parameters the lumped parameters;
     outputs :math:`\\mathbb{I}^{-1}` (6 entries), :math:`\\mathbb{I}^{-1} A u` (3), :math:`\\mathcal{A}`
@@ -511,19 +534,7 @@ def _first_momentum(seg):
     torques (:func:`momentum_samples`) at the same coefficients, and both start from this solve.
     It depends on the inputs alone, so the cache changes no number. The arrays are shared: read
     them, never write them."""
-    key = (seg.basis, seg.T, seg.x0.tobytes(), seg.c.tobytes())
-    memo = getattr(_LOCAL, "momentum", None)
-    if memo is None:
-        memo = _LOCAL.momentum = []
-    for body, k, v in memo:
-        if body is seg.body and k == key:
-            return v
-    v = _momentum(seg, *_layout(seg))
-    for a in (v[0], v[1], *v[2].values(), v[3], v[4], v[5]):
-        a.setflags(write=False)
-    memo.insert(0, (seg.body, key, v))
-    del memo[MOMENTUM_MEMO:]
-    return v
+    return _remembered("momentum", seg, lambda: _momentum(seg, *_layout(seg)))
 
 
 def _solve(seg, points=None, starts_out=None):
@@ -794,13 +805,11 @@ def _momentum_panels(seg, jacobian):
     grids (its cost's quadrature nodes and its torque limits' grid), and the forward sweep of the
     derivatives is most of the cost. It depends on the inputs alone, so the cache changes no
     number; the arrays are shared, read-only."""
-    key = ("panels", seg.basis, seg.T, seg.x0.tobytes(), seg.c.tobytes())
-    memo = getattr(_LOCAL, "panels", None)
-    if memo is None:
-        memo = _LOCAL.panels = []
-    for body, k, v in memo:
-        if body is seg.body and k == key and (v[4] is not None or not jacobian):
-            return v
+    return _remembered("panels", seg, lambda: _sweep(seg, jacobian), lambda v: v[4] is not None or not jacobian)
+
+
+def _sweep(seg, jacobian):
+    """:func:`_momentum_panels`' numbers, computed."""
     m, n = seg.m, seg.n
     starts, widths, d, Lam, Jb, Si = _first_momentum(seg)
     P, N = widths.size, seg.N
@@ -828,10 +837,4 @@ def _momentum_panels(seg, jacobian):
             dL = (Si[k] @ R.reshape(3 * N, m * n)).reshape(N, 3, m * n)
             dF[k] = Jb[k] @ dL + rhsF[k]
             dlam_a[k + 1] = dlam_a[k] + H * np.einsum("j,jcx->cx", seg.b, dF[k])
-    v = (starts, widths, lam_a, F, dlam_a, dF)
-    for arr in v:
-        if arr is not None:
-            arr.setflags(write=False)
-    memo.insert(0, (seg.body, key, v))
-    del memo[MOMENTUM_MEMO:]
-    return v
+    return starts, widths, lam_a, F, dlam_a, dF
