@@ -51,6 +51,8 @@ def main():
     args = ap.parse_args()
     basis = Legendre(10)
     cases = segments(args.n)
+    print(f"{len(cases)} segments: their long-double references first (about a second each for a new topology)",
+          flush=True)
     refs = [backend.reference_endpoint(b, basis, x0, T, c) for b, x0, T, c in cases]
     for tol in args.tails:
         set_tail(tol)
