@@ -16,7 +16,7 @@ and a success whose check exceeds 1e-9 is counted as a failure and reported as a
 two-joint cat (zoo.two_joint_cat, zoo.long_axis_turn) once each, warm (acroplan.warm_up first),
 with the default verify=True, and prints their times.
 
-Run:  python benchmarks/spatial.py [--n 50] [--seed 2024] [--links 3 4 5] [--tree] [--examples]
+Run:  python benchmarks/spatial.py [--n 50 (0: the examples alone)] [--seed 2024] [--links 3 4 5] [--tree] [--examples]
 """
 
 from __future__ import annotations
@@ -108,7 +108,7 @@ def main():
           f"{acroplan.__version__}, pinocchio {pinocchio.__version__}; n = {args.n} per population, seed "
           f"{args.seed}, conditions='free'")
     total = []
-    for links in args.links:
+    for links in args.links if args.n > 0 else ():  # --n 0: the examples alone
         run(population(args.seed + 1, 2, links, True, args.tree))  # compile, build the Pinocchio models, untimed
         for momentum in (False, True):
             rows = run(population(args.seed, args.n, links, momentum, args.tree))
@@ -117,7 +117,8 @@ def main():
             print(f"\n{links} {kind}, L {'!= 0' if momentum else '= 0'}: {summary(rows)}", flush=True)
             for r in [r for r in rows if not (r["ok"] and r["err"] <= CHECK_TOL)][:5]:
                 print(f"    failure: {r['msg'][:300]}")
-    print(f"\nall populations: {summary(total)}")
+    if total:
+        print(f"\nall populations: {summary(total)}")
     if args.examples:
         examples()
 

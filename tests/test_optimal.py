@@ -455,3 +455,50 @@ def test_the_qp_step_among_thousands_of_rows_in_mixed_units(monkeypatch):
     np.testing.assert_allclose(mu, mu_star, rtol=1e-7, atol=1e-9 * mu_star.max())
     assert np.all(R @ p + r <= 1e-9 * (1 + np.abs(r).max()))
     assert seen and max(seen) <= 100, seen
+
+
+def test_the_qp_step_with_more_active_rows_than_join_at_a_time(monkeypatch):
+    """qp_step on a quadratic program of known solution with 80 active rows among 4000 (a torque
+    limit on a dense grid, active over stretches of it), more than the QP_ROWS that join the working
+    set at a time: the rounds add the rows the step still breaks until none is, and the step and
+    the multipliers are the known ones (a least-distance program on a subset of the rows whose
+    solution keeps them all is the program's solution), and the programs see far fewer rows than
+    the free step leaves in play (which they all saw before)."""
+    from acroplan.core import sqp
+
+    rng = np.random.default_rng(11)
+    N, q, M, n_act = 120, 4, 4000, 80
+    Q = np.linalg.qr(rng.normal(size=(N, N)))[0]
+    W = Q @ np.diag(rng.uniform(0.5, 5.0, N)) @ Q.T
+    A = rng.normal(size=(q, N))
+    p_star = 0.01 * rng.normal(size=N)
+    h = -A @ p_star
+    R = rng.normal(size=(M, N)) * 10.0 ** rng.uniform(-2, 2, size=(M, 1))
+    slack = np.abs(R @ rng.normal(size=N)) * rng.uniform(0.01, 1.0, size=M)
+    active = np.sort(rng.choice(M, n_act, replace=False))
+    slack[active] = 0.0
+    r = -(R @ p_star) - slack
+    mu_star = np.zeros(M)
+    mu_star[active] = rng.uniform(0.5, 2.0, n_act) / np.abs(R[active]).max(axis=1)
+    lam_star = rng.normal(size=q)
+    g = -(W @ p_star + A.T @ lam_star + R.T @ mu_star)
+    seen = []
+    inner = sqp.least_norm_step
+
+    def counted(J, rr, G, hh):
+        seen.append(G.shape[0])
+        return inner(J, rr, G, hh)
+
+    monkeypatch.setattr(sqp, "least_norm_step", counted)
+    p, lam, mu = sqp.qp_step(W, g, h, A, R, r)
+    np.testing.assert_allclose(p, p_star, rtol=0, atol=1e-9 * np.abs(p_star).max())
+    np.testing.assert_allclose(lam, lam_star, rtol=1e-7, atol=1e-7)
+    np.testing.assert_allclose(mu, mu_star, rtol=1e-6, atol=1e-8 * mu_star.max())
+    assert np.all(R @ p + r <= 1e-9 * (1 + np.abs(r).max()))
+    assert len(seen) >= n_act // sqp.QP_ROWS  # several rounds
+    # the rows in play of the free step (the unconstrained step on the equations' null space)
+    Y, Z = np.linalg.qr(A.T, mode="complete")[0][:, :q], np.linalg.qr(A.T, mode="complete")[0][:, q:]
+    pY = Y @ np.linalg.solve(Y.T @ A.T, -h)
+    p_free = pY - Z @ np.linalg.solve(Z.T @ W @ Z, Z.T @ (g + W @ pY))
+    in_play = np.count_nonzero(-r - R @ p_free < sqp.QP_NEAR * np.maximum(-r, 0.0))
+    assert seen[0] == sqp.QP_ROWS and max(seen) < in_play / 2, (seen, in_play)

@@ -25,7 +25,12 @@ squares (:func:`acroplan.core.linalg.least_norm_step`). The inequalities' multip
 that program, :math:`w + E^\\top\\mu = 0`, :math:`\\mu \\ge 0` (non-negative least squares on the rows
 active at :math:`w`); the equations' by least squares from :math:`Wp + g + A^\\top\\lambda + R^\\top\\mu = 0`.
 Rows far from their bound (the free step :math:`w = 0` uses less than three quarters of their slack)
-are left out and added back when the step breaks them, at most :data:`QP_ROUNDS` rounds.
+are left out, and of the others at most :data:`QP_ROWS` enter the least-distance program at a time,
+those whose half-space lies farthest from the step (in :math:`w`, which has no units); rows the step
+then breaks join, :data:`QP_ROWS` at a time, at most :data:`QP_ROUNDS` rounds. A least-distance
+program on a subset of the rows whose solution keeps them all is the whole program's solution, so
+the step is exact; the programs stay small (the forward dive's joint optimum on 257 points an
+interval put 1,600-2,700 rows in play, and each non-negative least squares took up to 50 ms).
 """
 
 from __future__ import annotations
@@ -140,9 +145,21 @@ def kkt_step(W, g, h, A, H, convex_only=False):
 
 
 #: Rounds of :func:`qp_step`'s working set (the rows broken by a round's step join the next).
-QP_ROUNDS = 16
+QP_ROUNDS = 64
+#: Rows that join :func:`qp_step`'s working set at most, at the start and in each round (those
+#: farthest from the step).
+QP_ROWS = 32
 #: :func:`qp_step` starts from the rows whose slack the free step leaves below this fraction.
 QP_NEAR = 0.25
+
+
+def _farthest(rows, over, R, T):
+    """The at most :data:`QP_ROWS` of ``rows`` whose half-space :math:`E_i w \\le f_i` lies farthest
+    from the step, :math:`(E_i w - f_i)/\\|E_i\\|` (``over`` is :math:`E w - f` for every row)."""
+    if rows.size <= QP_ROWS:
+        return rows
+    dist = over[rows] / np.maximum(np.linalg.norm(R[rows] @ T, axis=1), 1e-300)
+    return np.sort(rows[np.argsort(-dist, kind="stable")[:QP_ROWS]])
 
 
 def qp_step(W, g, h, A, R, r):
@@ -170,9 +187,10 @@ def qp_step(W, g, h, A, R, r):
     f = -r - R @ p_free
     scale = 1.0 + float(np.abs(r).max(initial=0.0))
     # in play: the rows the free step breaks or uses three quarters of the slack of, each in its own
-    # units (rows of angles, rates and torques differ by orders); the others are added back when a
-    # step breaks them
-    rows = np.flatnonzero(f < QP_NEAR * np.maximum(-r, 0.0))
+    # units (rows of angles, rates and torques differ by orders), at most QP_ROWS of them, the
+    # farthest from the step first (distance in w, which has no units); the others are added
+    # back when a step breaks them, QP_ROWS at a time
+    rows = _farthest(np.flatnonzero(f < QP_NEAR * np.maximum(-r, 0.0)), -f, R, T)
     w = np.zeros(e.size)
     E = R[rows] @ T
     for _ in range(QP_ROUNDS):
@@ -180,8 +198,9 @@ def qp_step(W, g, h, A, R, r):
             w, ok = least_norm_step(np.zeros((0, e.size)), np.zeros(0), E, f[rows])
             if not ok:
                 return None
-        broken = np.flatnonzero(R @ (T @ w) > f + 1e-9 * scale)
-        new = np.setdiff1d(broken, rows)
+        over = R @ (T @ w) - f
+        broken = np.flatnonzero(over > 1e-9 * scale)
+        new = _farthest(np.setdiff1d(broken, rows), over, R, T)
         if new.size == 0:
             break
         rows = np.union1d(rows, new)
