@@ -340,3 +340,25 @@ def test_torque_excess_times_are_the_worst_point_of_each_stretch_above_the_rows(
     rows = prob.ineq(prob.z(c.ravel()))[0].size
     assert prob.add_torque_times(times) == times.size and prob.add_torque_times(times) == 0
     assert prob.ineq(prob.z(c.ravel()))[0].size == rows + 2 * times.size
+
+
+def test_a_retry_densifies_the_limits_that_were_broken_between_the_points():
+    """optimal._denser_grids: a retry puts on the denser grid only the kind of limit its last
+    optimum broke between the points (the rate and joint limits, or the torque limits); both when
+    neither was found broken (another check failed); ``None`` when nothing would be denser. The
+    forward dive's torque optimum broke a rate limit, its torques 12.6 N m within the strength:
+    its retries had evaluated the torques on 257 points an interval for nothing."""
+    from types import SimpleNamespace
+
+    from acroplan.core.optimal import _denser_grids
+
+    def run(lin, tq, limits, torque):
+        return SimpleNamespace(prob=SimpleNamespace(limit_grid=lin, grid=None if tq is None else np.zeros(tq)),
+                               broken={"limits": limits, "torque": torque})
+
+    assert _denser_grids([run(64, 65, True, False), run(64, 65, False, False)], 256) == (256, 65)
+    assert _denser_grids([run(64, 65, False, True), run(64, 65, False, False)], 256) == (64, 257)
+    assert _denser_grids([run(64, 65, False, False)], 256) == (256, 257)
+    assert _denser_grids([run(64, None, True, False)], 256) == (256, None)
+    assert _denser_grids([run(256, 65, True, False)], 256) is None
+    assert _denser_grids([run(256, 257, True, True)], 256) is None

@@ -64,8 +64,9 @@ Solvers
   minimum-norm Newton steps as :func:`~acroplan.core.limits.solve_with_limits`, and success needs
   the limits to hold exactly (:func:`~acroplan.core.limits.violation`) and the torque limits on
   1025 points. A size whose optimum breaks a limit between the grid's 64 points is solved again
-  from it with the limits on :data:`DENSE_LIMIT_GRID` points (:meth:`_Search.denser`), and so is
-  the intervals' joint optimum (:data:`JOINT_LIMIT_GRIDS`). (Before issue #22 the limits went to
+  from it with the limits it broke (the rate and joint limits, or the torque limits, or both) on
+  :data:`DENSE_LIMIT_GRID` points (:meth:`_Search.denser`), and so is the intervals' joint optimum
+  (:data:`JOINT_LIMIT_GRIDS`). (Before issue #22 the limits went to
   scipy's SLSQP, where the falling cat's energy optimum took 160 s; ``benchmarks/RESULTS.md`` has
   the figure now.) A size whose linearised limits no step can keep (a start far outside them)
   fails, and the next size is tried. The second-order correction of a trial step keeps the limits
@@ -296,14 +297,15 @@ class _Search:
             self._conditions[n] = (bn,) + tuple(self.interval.conditions(bn))
         return self._conditions[n]
 
-    def new_run(self, n, limit_grid: int | None = None) -> OptimalRun:
-        """A run at size ``n`` with the limits on ``limit_grid`` points (default
-        :data:`LIMIT_GRID`)."""
+    def new_run(self, n, limit_grid: int | None = None, torque_grid: int | None = None) -> OptimalRun:
+        """A run at size ``n`` with the rate and joint limits on ``limit_grid`` points (default
+        :data:`LIMIT_GRID`) and the torque limits on ``torque_grid`` (default as
+        :class:`~acroplan.core.optimum.OptimalProblem`)."""
         limit_grid = LIMIT_GRID if limit_grid is None else limit_grid
         bn, B, d = self.sized(n)
         iv = self.interval
         return OptimalRun(self.system, bn, iv.x0, iv.x1, iv.T, self.cost, self.model, self.limits, self.tmax, B, d,
-                          iv.tol, iv.max_evaluations, limit_grid)
+                          iv.tol, iv.max_evaluations, limit_grid, torque_grid)
 
     def first_stage(self, n, candidates):
         """Optimise the candidates ``(label, coefficients, promising)`` at size ``n``: the first one
@@ -337,19 +339,21 @@ class _Search:
 
     def denser(self, run, n, kkt_tol):
         """``(run, success, cost, full result or None)`` of ``run`` at size ``n``, or of the same size
-        solved again from its optimum with the rate, joint and torque limits on
-        :data:`DENSE_LIMIT_GRID` points, when that optimum breaks a limit between its grid's points
-        (its endpoint met, the dense check of :meth:`OptimalRun.result` failed) and the denser grid's
-        optimum does not. The bundled forward dive's least integral of u^2 within the strength broke
-        a torque limit by 0.23 to 414 N m between 65 points at every size, and ended not converged.
-        (Starting the next sizes, or the joint optimum, on the denser grid was slower: each
-        evaluation of the torque limits costs four times as much.)"""
+        solved again from its optimum with the limits it broke between its grid's points on
+        :data:`DENSE_LIMIT_GRID` points (the rate and joint limits, the torque limits, or both:
+        :func:`_denser_grids`), when it broke some (its endpoint met, the dense check of
+        :meth:`OptimalRun.result` failed) and the denser grid's optimum does not. The bundled forward
+        dive's least integral of u^2 within the strength broke a torque limit by 0.23 to 414 N m
+        between 65 points at every size, and ended not converged. (Starting the next sizes, or the
+        joint optimum, on the denser grid was slower: each evaluation of the torque limits costs
+        four times as much.)"""
         ok, value, full = run.brief()
-        if (ok or run.failed or not run.inequalities or full is None or not full.final_error <= run.tol
-                or run.prob.limit_grid >= DENSE_LIMIT_GRID):
+        if ok or run.failed or not run.inequalities or full is None or not full.final_error <= run.tol:
             return run, ok, value, full
-        again = self.new_run(n, DENSE_LIMIT_GRID).solve(run.prob.c(run.z), curvature=run.Hc, kkt_tol=kkt_tol,
-                                                          polish=False)
+        grids = _denser_grids([run], DENSE_LIMIT_GRID)
+        if grids is None:
+            return run, ok, value, full
+        again = self.new_run(n, *grids).solve(run.prob.c(run.z), curvature=run.Hc, kkt_tol=kkt_tol, polish=False)
         self.evaluations += again.prob.evaluations
         ok2, value2, full2 = again.brief()
         if ok2:
@@ -632,7 +636,8 @@ class EnergyOptimal(Strategy):
             return failed
         current, history, predicted_stop = search.ladder(best)
         res, feasible = search.report(current, history, predicted_stop, best[1])
-        return dataclasses.replace(res, limit_grid=int(current.prob.limit_grid)), feasible
+        return dataclasses.replace(res, limit_grid=int(current.prob.limit_grid),
+                                   torque_grid=0 if current.prob.grid is None else int(current.prob.grid.size)), feasible
 
     def solve(self, interval: Interval) -> IntervalOutcome:
         res, feasible = self.optimize(interval)
@@ -675,9 +680,16 @@ class EnergyOptimal(Strategy):
                 checks.append(run.result())
             return out, checks, [(k, r.message) for k, r in enumerate(checks) if not r.success]
 
+        runs = None
         for grid in JOINT_LIMIT_GRIDS:
-            where = f"{grid} points"
-            runs = [_Search(self, iv, model).new_run(seg.basis.n, grid) for iv, seg in zip(intervals, segments)]
+            # the first grid for every limit; a denser one for the limits the last optimum broke
+            # between the points (the rate and joint limits, the torque limits, or both)
+            grids = (grid, None) if runs is None else _denser_grids(runs, grid)
+            if grids is None:
+                continue
+            where = (f"{grid} points" if grids[1] is None or grids[1] > grid else
+                     f"{grids[0]} points (the torque limits on {grids[1]})")
+            runs = [_Search(self, iv, model).new_run(seg.basis.n, *grids) for iv, seg in zip(intervals, segments)]
             if sequential is None:
                 sequential = sum(float(r.prob.f(r.prob.z(np.ravel(c)))[0]) for r, c in zip(runs, start))
             out, checks, bad = attempt(runs, start, curvature)
@@ -686,7 +698,7 @@ class EnergyOptimal(Strategy):
                 return _not_joint(segments, "; ".join(msgs)), "; ".join(msgs)
             if not bad:
                 break
-            msgs.append(f"{out.message}; not kept with the limits on {grid} points: interval {bad[0][0]}: {bad[0][1]}")
+            msgs.append(f"{out.message}; not kept with the limits on {where}: interval {bad[0][0]}: {bad[0][1]}")
             # the denser grid starts from this optimum, which breaks the limits only between the
             # coarser grid's points (the SQP's merit function takes the rows it breaks): some ten
             # times fewer iterations than from the sequential optimum again
@@ -744,10 +756,11 @@ class EnergyOptimal(Strategy):
         return d
 
 
-#: The joint optimum's grids of the rate and joint limits (points per interval, as
-#: :func:`~acroplan.core.limits.linear_limits`; the torque limits' grid is as dense, with at least
-#: :data:`TORQUE_LIMIT_GRID` points): the one-interval grid first, then a denser one when the result
-#: breaks a limit between the first grid's points (the dense check of :meth:`OptimalRun.result`;
+#: The joint optimum's grids of the limits (points per interval, as
+#: :func:`~acroplan.core.limits.linear_limits`; the torque limits' first grid as dense, with at least
+#: :data:`TORQUE_LIMIT_GRID` points): the one-interval grid first, then a denser one for the limits
+#: the result broke between the first grid's points (the rate and joint limits, the torque limits,
+#: or both: :func:`_denser_grids`; the dense check of :meth:`OptimalRun.result`;
 #: the bundled forward dive's joint optimum broke a rate limit by 6.0e-3 between 64 points, the
 #: double full-out's least integral of u^2 within the strength a torque limit by 150 N m between 65).
 JOINT_LIMIT_GRIDS = (64, 256)
@@ -760,8 +773,29 @@ EXCHANGE_ROUNDS = 3
 #: limits' at least :data:`TORQUE_LIMIT_GRID`).
 LIMIT_GRID = 64
 #: The denser grid of one interval's limits (points), when its optimum on :data:`LIMIT_GRID` breaks
-#: a limit between them (:meth:`_Search.denser`).
+#: a limit between them (:meth:`_Search.denser`; the torque limits' ``DENSE_LIMIT_GRID + 1``).
 DENSE_LIMIT_GRID = 256
+
+
+def _denser_grids(runs, grid):
+    """``(limit_grid, torque_grid)`` of a retry on ``grid`` points after ``runs`` (their last dense
+    check, :attr:`OptimalRun.broken`): the rate and joint limits on ``grid`` points when a run broke
+    them between its grid's points, the torque limits on ``grid + 1`` when a run broke those (each
+    kind otherwise on its grid as before; both denser when neither kind was found broken); ``None``
+    when that grid is no denser. The forward dive's torque optimum broke a rate limit between the
+    64 points, its torques 12.6 N m within the strength: its retries on 256 points had evaluated
+    the torques on 257 points an interval for nothing (benchmarks/RESULTS.md)."""
+    lin = max(r.prob.limit_grid for r in runs)
+    tq = max((r.prob.grid.size for r in runs if r.prob.grid is not None), default=None)
+    broke_lin = any(r.broken["limits"] for r in runs)
+    broke_tq = any(r.broken["torque"] for r in runs)
+    if not (broke_lin or broke_tq):
+        broke_lin = broke_tq = True
+    new_lin = max(lin, grid) if broke_lin else lin
+    new_tq = None if tq is None else (max(tq, grid + 1) if broke_tq else tq)
+    if new_lin == lin and new_tq == tq:
+        return None
+    return new_lin, new_tq
 
 
 def _not_joint(segments, message):

@@ -71,8 +71,11 @@ class OptimalSolve:
     start : str
         The start the optimum came from (``"auto"``, ``"deform"`` or ``"given"``).
     limit_grid : int
-        Points per interval of the grid the limits were imposed on (64, or more when the optimum
-        broke a limit between 64 points: :meth:`acroplan.core.optimal._Search.denser`).
+        Points per interval of the grid the rate and joint limits were imposed on (64, or more when
+        the optimum broke one between 64 points: :meth:`acroplan.core.optimal._Search.denser`).
+    torque_grid : int
+        Points per interval of the torque limits' grid (65, or more when the optimum broke one
+        between them); 0 without torque limits.
     """
 
     success: bool
@@ -91,6 +94,7 @@ class OptimalSolve:
     converged_in_basis: bool = False
     start: str = "given"
     limit_grid: int = 64
+    torque_grid: int = 0
 
     def to_dict(self, objective: str = "energy") -> dict:
         """The diagnostics as plain JSON types (non-finite numbers as ``None``): ``objective``,
@@ -104,7 +108,8 @@ class OptimalSolve:
                 "ladder": [[int(n), num(v)] for n, v in self.sizes],
                 "converged_in_basis": bool(self.converged_in_basis), "start": self.start, "solver": self.solver,
                 "evaluations": int(self.evaluations), "iterations": int(self.iterations),
-                "success": bool(self.success), "limit_grid": int(self.limit_grid)}
+                "success": bool(self.success), "limit_grid": int(self.limit_grid),
+                "torque_grid": int(self.torque_grid)}
 
 
 class OutOfEvaluations(RuntimeError):
@@ -115,7 +120,7 @@ class OptimalProblem:
     """One interval at one basis size, in reduced coordinates ``z`` (``c = c_p + Z z``)."""
 
     def __init__(self, system, basis, x0, x1, T, cost, B, d, max_evaluations, limits=None, torque_model=None,
-                 tau_max=None, limit_grid: int = 64):
+                 tau_max=None, limit_grid: int = 64, torque_grid: int | None = None):
         self.system, self.basis, self.T = system, basis, float(T)
         self.x0 = np.asarray(x0, dtype=float)
         self.x1 = np.asarray(x1, dtype=float)
@@ -141,9 +146,11 @@ class OptimalProblem:
             if A_c.shape[0]:
                 self.lin = (self.zmat(A_c), b_c - A_c @ self.c_p)
         self.tmax = None if tau_max is None else np.atleast_1d(np.asarray(tau_max, dtype=float))
-        # the torque limits' grid: TORQUE_LIMIT_GRID points, or as dense as the rate and joint limits'
-        # when those are denser (the joint optimum's retry)
-        self.grid = None if tau_max is None else np.linspace(0.0, 1.0, max(TORQUE_LIMIT_GRID, int(limit_grid) + 1))
+        # the torque limits' grid: TORQUE_LIMIT_GRID points, or as dense as the rate and joint
+        # limits' when those are denser, unless told (a retry densifies the limits it found broken
+        # between the points, the torque limits or the others)
+        points = max(TORQUE_LIMIT_GRID, int(limit_grid) + 1) if torque_grid is None else max(int(torque_grid), 2)
+        self.grid = None if tau_max is None else np.linspace(0.0, 1.0, points)
 
     def add_torque_times(self, s) -> int:
         """Impose the torque limits at the normalised times ``s`` too (an exchange round: where a
@@ -266,10 +273,10 @@ class OptimalRun:
     """The optimisation at one basis size: solve from a start, refine, report."""
 
     def __init__(self, system, basis, x0, x1, T, cost, torque_model, limits, tau_max, B, d, tol, max_evaluations,
-                 limit_grid: int = 64):
+                 limit_grid: int = 64, torque_grid: int | None = None):
         self.fn = cost_for(cost, system, basis, x0, T)
         self.prob = OptimalProblem(system, basis, x0, x1, T, self.fn, B, d, max_evaluations, limits, torque_model, tau_max,
-                                   limit_grid)
+                                   limit_grid, torque_grid)
         self.tol = tol
         #: whether the problem has inequalities (rate, joint or torque limits)
         self.inequalities = self.prob.lin is not None or self.prob.tmax is not None
@@ -277,6 +284,9 @@ class OptimalRun:
         self.z = None
         self.Hc = None  # constraint Hessians in c coordinates (the SQP's)
         self.its, self.why, self.failed = 0, "", ""
+        #: what the last :meth:`result` found broken between the grids' points (its dense check):
+        #: ``{"limits": rate or joint limits, "torque": torque limits}``
+        self.broken = {"limits": False, "torque": False}
 
     def solve(self, c0, *, curvature=None, kkt_tol=KKT_TOL, polish=True):
         prob = self.prob
@@ -372,6 +382,7 @@ class OptimalRun:
 
     def result(self, **extra) -> OptimalSolve:
         prob, z = self.prob, self.z
+        self.broken = {"limits": False, "torque": False}
         system, basis = prob.system, prob.basis
         m, n = prob.m, prob.n
         c = prob.c(z)
@@ -403,13 +414,15 @@ class OptimalRun:
                f"{kkt:.1e}")
         if prob.limits is not None:
             v = violation(system, basis, prob.x0, prob.T, c, prob.limits)
-            ok = ok and v["u"] <= COMPLIANCE_TOL and v["state"] <= COMPLIANCE_TOL
+            self.broken["limits"] = not (v["u"] <= COMPLIANCE_TOL and v["state"] <= COMPLIANCE_TOL)
+            ok = ok and not self.broken["limits"]
             msg += f", limit violation {max(v['u'], v['state']):.1e}"
         if prob.tmax is not None:
             tau, _ = call_torque(prob.torque_model, system, basis, prob.x0, prob.T, c, np.linspace(0.0, 1.0, 1025))
             excess = float(np.max(np.abs(tau) - prob.tmax[:, None]))
-            ok = ok and excess <= COMPLIANCE_TOL * max(1.0, float(np.max(prob.tmax[np.isfinite(prob.tmax)],
-                                                                          initial=1.0)))
+            self.broken["torque"] = not excess <= COMPLIANCE_TOL * max(1.0, float(np.max(
+                prob.tmax[np.isfinite(prob.tmax)], initial=1.0)))
+            ok = ok and not self.broken["torque"]
             msg += f", max(|tau| - tau_max) = {excess:.2e}"
         if self.why:
             msg += f" ({self.why})"
