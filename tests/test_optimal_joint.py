@@ -362,3 +362,38 @@ def test_a_retry_densifies_the_limits_that_were_broken_between_the_points():
     assert _denser_grids([run(64, None, True, False)], 256) == (256, None)
     assert _denser_grids([run(256, 65, True, False)], 256) is None
     assert _denser_grids([run(256, 257, True, True)], 256) is None
+
+
+def test_the_curvature_along_the_leading_coefficients_is_the_full_ones_there():
+    """OptimalProblem.curvature(leading=k) (the joint optimum's, chain.CURVATURE_LEADING): the
+    blocks of each input's first k coefficients with each other are the full forward differences'
+    (the same evaluations, averaged with their transposes as the full one is), the blocks of those
+    with the higher coefficients agree with the full ones to the differences' accuracy (one-sided
+    there: the higher directions are not differenced), the block of the higher coefficients with
+    each other is zero, and it spends m * k evaluations, not m * n. The acrobot's endpoint is not
+    linear in its coefficients, so the Hessians are not zero."""
+    from acroplan.core.basis import Legendre
+    from acroplan.core.optimum import OptimalProblem
+    from acroplan.zoo import random_segment
+
+    p = random_segment(np.random.default_rng(3))
+    system, n, k = p.robot, 10, 4
+    basis = Legendre(n)
+    c = np.random.default_rng(4).normal(scale=0.5, size=system.n_inputs * n)
+    x0, x1 = np.array([p.theta0, p.phi0]), np.array([p.thetaT, p.phiT])
+    prob = OptimalProblem(system, basis, x0, x1, p.T, "energy", None, None, 10 ** 6)
+    Ac = prob.endpoint(c)[1]
+    full = prob.curvature(c, Ac)
+    spent = prob.evaluations
+    part = prob.curvature(c, Ac, leading=k)
+    m = system.n_inputs
+    assert prob.evaluations - spent == m * k and spent == m * n + 1
+    lead = (np.arange(m)[:, None] * n + np.arange(k)[None, :]).ravel()
+    rest = np.setdiff1d(np.arange(m * n), lead)
+    big, q = np.abs(full).max(), full.shape[0]
+    assert big > 1e-3
+    ll, lr, rr = (np.ix_(np.arange(q), a, b) for a, b in ((lead, lead), (lead, rest), (rest, rest)))
+    np.testing.assert_allclose(part[ll], full[ll], rtol=0, atol=1e-12 * big)
+    np.testing.assert_allclose(part[lr], full[lr], rtol=0, atol=1e-6 * big)
+    assert not np.any(part[rr]) and np.abs(full[rr]).max() > 1e-6 * big
+    np.testing.assert_array_equal(part, part.transpose(0, 2, 1))

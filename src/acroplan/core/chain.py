@@ -17,8 +17,8 @@ the continuity of the input at each interior waypoint as linear equations (the r
 :math:`(e_j \\otimes b(1))^\\top c_k - (e_j \\otimes b(0))^\\top c_{k+1}`, :math:`b` the basis
 values), from the sequential optimum (feasible: every endpoint reached, the input continuous), at
 each interval's basis size from its ladder. The Jacobians are block-diagonal, the continuity
-rows constant; the constraints' Hessians are each interval's forward differences (refreshed as
-the one-interval SQP does).
+rows constant; the constraints' Hessians are each interval's forward differences along its
+inputs' first :data:`CURVATURE_LEADING` coefficients (refreshed as the one-interval SQP does).
 """
 
 from __future__ import annotations
@@ -33,7 +33,7 @@ from .optimum import KKT_TOL, OutOfEvaluations
 from .progress import note as progress_note
 from .sqp import kkt_multipliers, polish_endpoint, sqp
 
-__all__ = ["ChainProblem", "ChainOutcome", "joint_optimum", "MAX_ITER", "STAGE"]
+__all__ = ["ChainProblem", "ChainOutcome", "joint_optimum", "MAX_ITER", "STAGE", "CURVATURE_LEADING"]
 
 #: The progress stage of the joint optimum (the front door opens it; each endpoint evaluation of
 #: the intervals together updates it)
@@ -44,8 +44,11 @@ class ChainProblem:
     """The stacked problem (module docstring) over the intervals' :class:`OptimalProblem` s, in the
     interface :func:`acroplan.core.sqp.sqp` takes: ``f(z)``, ``h(z)``, ``ineq(z)``."""
 
-    def __init__(self, probs):
+    def __init__(self, probs, leading: int | None = None):
         self.probs = list(probs)
+        #: the constraint Hessians are differenced along each input's first ``leading`` coefficients
+        #: (all when ``None``): :meth:`OptimalProblem.curvature`
+        self.leading = leading
         sizes = [p.Z.shape[1] if not p.free else p.N for p in self.probs]
         self.offsets = np.concatenate([[0], np.cumsum(sizes)]).astype(int)
         self.N = int(self.offsets[-1])
@@ -119,15 +122,16 @@ class ChainProblem:
 
     def curvature(self, z):
         """The constraints' Hessians in ``z``, shape (q, N, N): each interval's forward differences
-        (:meth:`OptimalProblem.curvature`, ``N_k`` evaluations), block-diagonal; none for the
-        linear continuity rows."""
+        (:meth:`OptimalProblem.curvature`, along each input's first :attr:`leading` coefficients:
+        ``m * leading`` evaluations an interval), block-diagonal; none for the linear continuity
+        rows."""
         Hz = np.zeros((self.q, self.N, self.N))
         r = 0
         for k, (p, zk) in enumerate(zip(self.probs, self.split(z))):
             Ac = p.h(zk)[3]
             a, b = self.offsets[k], self.offsets[k + 1]
             progress_note(STAGE, self.evaluations, None, f"{self.evaluations} endpoint evaluations (curvature)")
-            for M in p.curvature(p.c(zk), Ac):
+            for M in p.curvature(p.c(zk), Ac, self.leading):
                 Hz[r, a:b, a:b] = p.zhess(M)
                 r += 1
         return Hz
@@ -153,6 +157,14 @@ class ChainOutcome:
     #: it stopped before the SQP
     curvature: np.ndarray | None = dataclasses.field(default=None, repr=False, compare=False)
 
+
+#: The joint optimum's constraint Hessians are forward differences along each input's first this
+#: many coefficients (the higher ones' blocks with each other zero, as the ladder pads a smaller
+#: size's; :meth:`OptimalProblem.curvature`): on the bundled dives 250 / 124 / 230 evaluations in
+#: the joint optimum instead of 372 / 290 / 354 (forward, back full, double full-out), the same
+#: optima to 1e-6 and KKT residuals below 1e-8 (benchmarks/RESULTS.md, 2026-12-06 second session).
+#: Six were fewer still on the back full but more on the double full-out (curvature refreshes).
+CURVATURE_LEADING = 10
 
 #: SQP iterations at most (the one-interval SQP's 40 at a size, times a few: one solve at the
 #: ladder's last sizes instead of a ladder)
@@ -185,7 +197,7 @@ def joint_optimum(runs, starts, *, tol: float, kkt_tol: float = KKT_TOL, max_ite
         differences at ``starts`` (some ``N`` evaluations).
     """
     probs = [r.prob for r in runs]
-    chain = ChainProblem(probs)
+    chain = ChainProblem(probs, CURVATURE_LEADING)
     z0 = chain.join([p.z(np.asarray(c, dtype=float).ravel()) for p, c in zip(probs, starts)])
     nan = math.nan
     try:

@@ -255,18 +255,29 @@ class OptimalProblem:
             np.negative(Jt, out=R[n_lin + n_tau:])
         return r, R
 
-    def curvature(self, c, Ac):
+    def curvature(self, c, Ac, leading: int | None = None):
         """Constraint Hessians in ``c`` coordinates, shape (q, N, N), by forward differences of the
-        endpoint Jacobian along every coordinate direction (N evaluations), symmetrised."""
-        q, N = Ac.shape[0], self.N
-        M = np.empty((q, N, N))
+        endpoint Jacobian along every coordinate direction (N evaluations), symmetrised; with
+        ``leading``, along each input's first ``leading`` coefficients only (``m * leading``
+        evaluations): the blocks of the higher coefficients with each other are left zero (as the
+        ladder pads a smaller size's Hessians: the higher Legendre coefficients move the endpoint
+        least), and their blocks with the leading ones are one-sided (not averaged with a
+        difference along the higher direction)."""
+        q, N, n = Ac.shape[0], self.N, self.n
+        cols = (np.arange(N) if leading is None or leading >= n
+                else (np.arange(self.m)[:, None] * n + np.arange(leading)[None, :]).ravel())
+        M = np.zeros((q, N, N))
         with backend.perturbations_of(self.system, self.basis, self.x0, self.T, c):
-            for k in range(N):
+            for k in cols:
                 eps = 1e-7 * max(1.0, abs(c[k]))
                 ck = c.copy()
                 ck[k] += eps
                 M[:, :, k] = (self.endpoint(ck)[1] - Ac) / eps
-        return 0.5 * (M + M.transpose(0, 2, 1))
+        if cols.size == N:
+            return 0.5 * (M + M.transpose(0, 2, 1))
+        out = M + M.transpose(0, 2, 1)  # each difference column gives its row too
+        out[np.ix_(np.arange(q), cols, cols)] *= 0.5
+        return out
 
 
 class OptimalRun:
