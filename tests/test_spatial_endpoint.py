@@ -307,3 +307,21 @@ def test_forward_differences_on_the_points_panels(name):
     y2, J2 = collocation.endpoint(body, basis, x0, T, far)
     assert np.array_equal(y_far, y2) and np.array_equal(J_far, J2)
     assert np.abs(y_near - collocation.endpoint(body, basis, x0, T, ck)[0]).max() < 1e-13
+
+
+def test_a_plan_is_evaluated_at_thousands_of_times():
+    """result.evaluate at 5000 times of a 3-D plan (an animation's frames): the collocation's panels
+    are cut at the times a chunk at a time (collocation.SAMPLE_CHUNK; cut at all 5000 at once they
+    passed the bound on panels, MAX_PANELS, and the call raised "the input is too large to
+    integrate"); the states are those of the same times evaluated 500 at a time, to rounding, with
+    unit quaternions."""
+    import acroplan
+
+    body, kw = falling_cat_turn()
+    r = acroplan.plan(body, verify=False, **kw)
+    t = np.linspace(r.times[0], r.times[-1], 5000)
+    big = r.evaluate(t, effort=False).states
+    parts = np.concatenate([r.evaluate(t[i:i + 500], effort=False).states for i in range(0, t.size, 500)], axis=1)
+    assert big.shape == (7, 5000)
+    np.testing.assert_allclose(big, parts, rtol=0, atol=1e-13)
+    np.testing.assert_allclose(np.linalg.norm(big[:4], axis=0), 1.0, rtol=0, atol=1e-13)

@@ -678,6 +678,10 @@ def endpoint(body, basis, x0, T, c, *, jacobian: bool = True):
     return xT, J
 
 
+#: :func:`sample` cuts the panels at this many times at most at once (more are taken in chunks).
+SAMPLE_CHUNK = 1024
+
+
 def sample(body, basis, x0, T, c, s) -> np.ndarray:
     """States at normalised times ``s`` (sorted, in [0, 1]) on one segment, as
     :func:`acroplan.core.backend.sample` returns them: the collocation's panels cut at ``s``, so
@@ -689,8 +693,16 @@ def sample(body, basis, x0, T, c, s) -> np.ndarray:
     numpy.ndarray, shape (4 + m, len(s))
     """
     s = np.asarray(s, dtype=float).reshape(-1)
+    pts = np.unique(np.clip(s, 0.0, 1.0))
+    if pts.size > SAMPLE_CHUNK:
+        # a chunk of the times at a time (each cut of the layout is exact on its own): the layout
+        # cut at every one of 5000 times would pass the panels' bound (MAX_PANELS), which is there
+        # for inputs too large to integrate, not for long outputs
+        vals = np.concatenate([sample(body, basis, x0, T, c, part)
+                               for part in np.array_split(pts, -(-pts.size // SAMPLE_CHUNK))], axis=1)
+        return vals[:, np.searchsorted(pts, np.clip(s, 0.0, 1.0))]
     seg = _Segment(body, basis, x0, T, c)
-    ys, widths, d = _solve(seg, points=np.unique(np.clip(s, 0.0, 1.0)))[:3]
+    ys, widths, d = _solve(seg, points=pts)[:3]
     bounds = np.concatenate([[0.0], np.cumsum(widths)])
     bounds[-1] = 1.0
     idx = np.clip(np.searchsorted(bounds, s - 1e-12), 0, bounds.size - 1)
