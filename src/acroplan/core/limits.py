@@ -209,12 +209,11 @@ def linear_limits(system, basis: InputBasis, x0, T: float, limits: Limits, grid:
     s = np.linspace(0.0, 1.0, grid)
     rows, rhs = [], []
 
-    def add(j, M, upper, sign):
-        for row, ub in zip(M, upper):
-            r = np.zeros(m * n)
-            r[j * n:(j + 1) * n] = sign * row
-            rows.append(r)
-            rhs.append(ub)
+    def add(j, M, upper, sign):  # the rows of input j's block, one block of rows at once
+        block = np.zeros((M.shape[0], m * n))
+        block[:, j * n:(j + 1) * n] = sign * M
+        rows.append(block)
+        rhs.append(np.asarray(upper, dtype=float))
 
     V = None
     for j, name in enumerate(system.input_names):
@@ -235,7 +234,7 @@ def linear_limits(system, basis: InputBasis, x0, T: float, limits: Limits, grid:
             add(j, W, np.full(grid - 2, q0 - lo - margin * width), -1.0)
     if not rows:
         return np.zeros((0, m * n)), np.zeros(0)
-    return np.array(rows), np.array(rhs)
+    return np.vstack(rows), np.concatenate(rhs)
 
 
 _GRID = np.linspace(0.0, 1.0, 257)
