@@ -415,6 +415,56 @@ def test_the_sqp_step_with_no_freedom_left_on_the_constraints():
     np.testing.assert_allclose(W @ p + A.T @ lam, -g, rtol=1e-13)
 
 
+def _known_qp(seed, N, q, M, active, units=3.0, slack_low=0.01, mu_scale=1.0):
+    """A quadratic program of known step, multipliers and active rows for qp_step: ``N`` unknowns,
+    ``q`` equations, ``M`` inequality rows in units from 10^-units to 10^units (angles, rates and
+    torques side by side), the rows ``active`` (indices, or how many to draw) active with known
+    multipliers, the step small beside the other rows' slack (a step near an optimum). Returns
+    ``(W, g, h, A, R, r, p_star, lam_star, mu_star, active)``."""
+    rng = np.random.default_rng(seed)
+    Q = np.linalg.qr(rng.normal(size=(N, N)))[0]
+    W = Q @ np.diag(rng.uniform(0.5, 5.0, N)) @ Q.T
+    A = rng.normal(size=(q, N))
+    p_star = 0.01 * rng.normal(size=N)  # a step near an optimum: small beside the rows' slack
+    h = -A @ p_star
+    R = rng.normal(size=(M, N)) * 10.0 ** rng.uniform(-units, units, size=(M, 1))
+    slack = np.abs(R @ rng.normal(size=N)) * rng.uniform(slack_low, 1.0, size=M)  # inactive rows: slack > 0
+    if np.ndim(active) == 0:
+        active = np.sort(rng.choice(M, int(active), replace=False))
+    slack[active] = 0.0
+    r = -(R @ p_star) - slack  # R p* + r = -slack <= 0
+    mu_star = np.zeros(M)
+    mu_star[active] = rng.uniform(0.5, 2.0, active.size) * mu_scale / np.abs(R[active]).max(axis=1)
+    lam_star = rng.normal(size=q)
+    g = -(W @ p_star + A.T @ lam_star + R.T @ mu_star)
+    return W, g, h, A, R, r, p_star, lam_star, mu_star, active
+
+
+def _the_known_step(out, p_star, lam_star, mu_star, R, r, scale):
+    """qp_step's ``(p, lambda, mu)`` against the known ones (the step to ``scale`` of its largest
+    entry, the multipliers to 100 and 1000 times that), every row kept; returns ``p``."""
+    p, lam, mu = out
+    np.testing.assert_allclose(p, p_star, rtol=0, atol=scale * np.abs(p_star).max())
+    np.testing.assert_allclose(lam, lam_star, rtol=100 * scale, atol=100 * scale)
+    np.testing.assert_allclose(mu, mu_star, rtol=1000 * scale, atol=10 * scale * mu_star.max())
+    assert np.all(R @ p + r <= 1e-9 * (1 + np.abs(r).max()))
+    return p
+
+
+def _counting(monkeypatch):
+    """The rows of every least-distance program qp_step solves, as a list filled as it goes."""
+    from acroplan.core import sqp
+
+    seen, inner = [], sqp.least_norm_step
+
+    def counted(J, rr, G, hh):
+        seen.append(G.shape[0])
+        return inner(J, rr, G, hh)
+
+    monkeypatch.setattr(sqp, "least_norm_step", counted)
+    return seen
+
+
 def test_the_qp_step_among_thousands_of_rows_in_mixed_units(monkeypatch):
     """qp_step on a quadratic program of known solution: 20 unknowns, 2 equations, 3000 inequality
     rows in units from 1e-3 to 1e3 (angles, rates and torques side by side), 6 of them active with
@@ -425,35 +475,9 @@ def test_the_qp_step_among_thousands_of_rows_in_mixed_units(monkeypatch):
     steps on the double full-out 200 ms each)."""
     from acroplan.core import sqp
 
-    rng = np.random.default_rng(5)
-    N, q, M = 20, 2, 3000
-    Q = np.linalg.qr(rng.normal(size=(N, N)))[0]
-    W = Q @ np.diag(rng.uniform(0.5, 5.0, N)) @ Q.T
-    A = rng.normal(size=(q, N))
-    p_star = 0.01 * rng.normal(size=N)  # a step near an optimum: small beside the rows' slack
-    h = -A @ p_star
-    R = rng.normal(size=(M, N)) * 10.0 ** rng.uniform(-3, 3, size=(M, 1))
-    slack = np.abs(R @ rng.normal(size=N)) * rng.uniform(0.01, 1.0, size=M)  # inactive rows: slack > 0
-    active = np.arange(6) * 500
-    slack[active] = 0.0
-    r = -(R @ p_star) - slack  # R p* + r = -slack <= 0
-    mu_star = np.zeros(M)
-    mu_star[active] = rng.uniform(0.5, 2.0, active.size) * 0.01 / np.abs(R[active]).max(axis=1)
-    lam_star = rng.normal(size=q)
-    g = -(W @ p_star + A.T @ lam_star + R.T @ mu_star)
-    seen = []
-    inner = sqp.least_norm_step
-
-    def counted(J, rr, G, hh):
-        seen.append(G.shape[0])
-        return inner(J, rr, G, hh)
-
-    monkeypatch.setattr(sqp, "least_norm_step", counted)
-    p, lam, mu = sqp.qp_step(W, g, h, A, R, r)
-    np.testing.assert_allclose(p, p_star, rtol=0, atol=1e-10 * np.abs(p_star).max())
-    np.testing.assert_allclose(lam, lam_star, rtol=1e-8, atol=1e-8)
-    np.testing.assert_allclose(mu, mu_star, rtol=1e-7, atol=1e-9 * mu_star.max())
-    assert np.all(R @ p + r <= 1e-9 * (1 + np.abs(r).max()))
+    W, g, h, A, R, r, p_star, lam_star, mu_star, _ = _known_qp(5, 20, 2, 3000, np.arange(6) * 500, mu_scale=0.01)
+    seen = _counting(monkeypatch)
+    _the_known_step(sqp.qp_step(W, g, h, A, R, r), p_star, lam_star, mu_star, R, r, scale=1e-10)
     assert seen and max(seen) <= 100, seen
 
 
@@ -466,35 +490,10 @@ def test_the_qp_step_with_more_active_rows_than_join_at_a_time(monkeypatch):
     the free step leaves in play (which they all saw before)."""
     from acroplan.core import sqp
 
-    rng = np.random.default_rng(11)
-    N, q, M, n_act = 120, 4, 4000, 80
-    Q = np.linalg.qr(rng.normal(size=(N, N)))[0]
-    W = Q @ np.diag(rng.uniform(0.5, 5.0, N)) @ Q.T
-    A = rng.normal(size=(q, N))
-    p_star = 0.01 * rng.normal(size=N)
-    h = -A @ p_star
-    R = rng.normal(size=(M, N)) * 10.0 ** rng.uniform(-2, 2, size=(M, 1))
-    slack = np.abs(R @ rng.normal(size=N)) * rng.uniform(0.01, 1.0, size=M)
-    active = np.sort(rng.choice(M, n_act, replace=False))
-    slack[active] = 0.0
-    r = -(R @ p_star) - slack
-    mu_star = np.zeros(M)
-    mu_star[active] = rng.uniform(0.5, 2.0, n_act) / np.abs(R[active]).max(axis=1)
-    lam_star = rng.normal(size=q)
-    g = -(W @ p_star + A.T @ lam_star + R.T @ mu_star)
-    seen = []
-    inner = sqp.least_norm_step
-
-    def counted(J, rr, G, hh):
-        seen.append(G.shape[0])
-        return inner(J, rr, G, hh)
-
-    monkeypatch.setattr(sqp, "least_norm_step", counted)
-    p, lam, mu = sqp.qp_step(W, g, h, A, R, r)
-    np.testing.assert_allclose(p, p_star, rtol=0, atol=1e-9 * np.abs(p_star).max())
-    np.testing.assert_allclose(lam, lam_star, rtol=1e-7, atol=1e-7)
-    np.testing.assert_allclose(mu, mu_star, rtol=1e-6, atol=1e-8 * mu_star.max())
-    assert np.all(R @ p + r <= 1e-9 * (1 + np.abs(r).max()))
+    n_act, q = 80, 4
+    W, g, h, A, R, r, p_star, lam_star, mu_star, _ = _known_qp(11, 120, q, 4000, n_act, units=2.0)
+    seen = _counting(monkeypatch)
+    _the_known_step(sqp.qp_step(W, g, h, A, R, r), p_star, lam_star, mu_star, R, r, scale=1e-9)
     assert len(seen) >= n_act // sqp.QP_ROWS  # several rounds
     # the rows in play of the free step (the unconstrained step on the equations' null space)
     Y, Z = np.linalg.qr(A.T, mode="complete")[0][:, :q], np.linalg.qr(A.T, mode="complete")[0][:, q:]
@@ -502,26 +501,6 @@ def test_the_qp_step_with_more_active_rows_than_join_at_a_time(monkeypatch):
     p_free = pY - Z @ np.linalg.solve(Z.T @ W @ Z, Z.T @ (g + W @ pY))
     in_play = np.count_nonzero(-r - R @ p_free < sqp.QP_NEAR * np.maximum(-r, 0.0))
     assert seen[0] == sqp.QP_ROWS and max(seen) < in_play / 2, (seen, in_play)
-
-
-def _known_qp(seed, N=60, q=3, M=2000, n_act=20):
-    """A quadratic program of known step, multipliers and active rows, rows in units from 1e-3 to
-    1e3 (as test_the_qp_step_among_thousands_of_rows_in_mixed_units builds them)."""
-    rng = np.random.default_rng(seed)
-    Q = np.linalg.qr(rng.normal(size=(N, N)))[0]
-    W = Q @ np.diag(rng.uniform(0.5, 5.0, N)) @ Q.T
-    A = rng.normal(size=(q, N))
-    p_star = 0.01 * rng.normal(size=N)
-    h = -A @ p_star
-    R = rng.normal(size=(M, N)) * 10.0 ** rng.uniform(-3, 3, size=(M, 1))
-    slack = np.abs(R @ rng.normal(size=N)) * rng.uniform(0.001, 1.0, size=M)
-    active = np.sort(rng.choice(M, n_act, replace=False))
-    slack[active] = 0.0
-    r = -(R @ p_star) - slack
-    mu_star = np.zeros(M)
-    mu_star[active] = rng.uniform(0.5, 2.0, n_act) / np.abs(R[active]).max(axis=1)
-    g = -(W @ p_star + A.T @ rng.normal(size=q) + R.T @ mu_star)
-    return W, g, h, A, R, r, p_star, active
 
 
 def test_the_qp_step_keeps_every_row_to_rounding_in_its_own_units():
@@ -535,7 +514,7 @@ def test_the_qp_step_keeps_every_row_to_rounding_in_its_own_units():
     from acroplan.core import sqp
 
     for seed in range(40):
-        W, g, h, A, R, r, p_star, active = _known_qp(seed)
+        W, g, h, A, R, r, p_star, _, _, active = _known_qp(seed, 60, 3, 2000, 20, slack_low=0.001)
         p, lam, mu = sqp.qp_step(W, g, h, A, R, r)
         assert np.max((R @ p + r) / (1.0 + np.abs(r))) <= 1e-12, seed
         np.testing.assert_allclose(p, p_star, rtol=0, atol=1e-9 * np.abs(p_star).max())

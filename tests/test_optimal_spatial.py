@@ -48,6 +48,15 @@ def _free_ends(kw):
     return {k: v for k, v in kw.items() if k not in ("start_rate", "end_rate")}
 
 
+def _within_ranges(body, r):
+    """Every joint within its range on 1025 points of the plan."""
+    lim = body.default_limits()
+    smp = r.evaluate(np.linspace(r.times[0], r.times[-1], 1025), effort=False)
+    for j, name in enumerate(body.links.joint_names):
+        lo, hi = lim.bounds(name)
+        assert smp.states[4 + j].min() >= lo - 1e-12 and smp.states[4 + j].max() <= hi + 1e-12, name
+
+
 def _independent_checks(body, kw, r):
     """The endpoint by Pinocchio, and the angular momentum along the plan by Pinocchio's map."""
     x0, _ = _ends(body, kw)
@@ -184,11 +193,7 @@ def test_energy_optimal_cat_keeps_its_joint_ranges_by_the_sqps_inequalities():
     # not reached at 30 coefficients, and the segment says so)
     assert o["kkt"] <= 1e-7, o
     assert o["kkt_converged"] == (o["kkt"] <= 1e-8)
-    lim = body.default_limits()
-    smp = r.evaluate(np.linspace(r.times[0], r.times[-1], 1025), effort=False)
-    for j, name in enumerate(body.links.joint_names):
-        lo, hi = lim.bounds(name)
-        assert smp.states[4 + j].min() >= lo - 1e-12 and smp.states[4 + j].max() <= hi + 1e-12, name
+    _within_ranges(body, r)
     assert o["cost"] <= 1.01 * CASADI_CAT_ENERGY, (o["cost"], CASADI_CAT_ENERGY)
 
 
@@ -205,9 +210,5 @@ def test_torque_optimal_cat_reports_its_refined_optimum_on_the_denser_grid():
     o = r.segments[0].optimality
     assert o["limit_grid"] == 256 and o["kkt"] <= 1e-3, o
     assert o["kkt_converged"] == (o["kkt"] <= 1e-8)
-    lim = body.default_limits()
-    smp = r.evaluate(np.linspace(r.times[0], r.times[-1], 1025), effort=False)
-    for j, name in enumerate(body.links.joint_names):
-        lo, hi = lim.bounds(name)
-        assert smp.states[4 + j].min() >= lo - 1e-12 and smp.states[4 + j].max() <= hi + 1e-12, name
+    _within_ranges(body, r)
     assert o["cost"] <= CASADI_CAT_TORQUE, (o["cost"], CASADI_CAT_TORQUE)
