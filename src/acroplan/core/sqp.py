@@ -199,7 +199,8 @@ def qp_step(W, g, h, A, R, r, hint=None):
     # back when a step breaks them, QP_ROWS at a time
     rows = _farthest(np.flatnonzero(f < QP_NEAR * np.maximum(-r, 0.0)), -f, R, T)
     if hint is not None and len(hint):
-        rows = np.union1d(rows, np.asarray(hint, dtype=int))
+        hint = np.asarray(hint, dtype=int)
+        rows = np.union1d(rows, hint[(hint >= 0) & (hint < R.shape[0])])
     w = np.zeros(e.size)
     E = R[rows] @ T
     for _ in range(QP_ROUNDS):
