@@ -100,7 +100,7 @@ class OptimalSolve:
         """The diagnostics as plain JSON types (non-finite numbers as ``None``): ``objective``,
         ``cost``, ``integral_u2``, ``kkt``, ``multipliers``, ``final_error``, ``basis_size``,
         ``ladder`` (``[[n, cost], ...]``), ``converged_in_basis``, ``start``, ``solver``,
-        ``evaluations``, ``iterations``."""
+        ``evaluations``, ``iterations``, ``success``, ``limit_grid``, ``torque_grid``."""
         num = (lambda v: float(v) if v is not None and math.isfinite(float(v)) else None)  # noqa: E731
         return {"objective": objective, "cost": num(self.objective), "integral_u2": num(self.energy),
                 "kkt": num(self.kkt), "multipliers": [num(v) for v in np.ravel(self.multipliers)],
