@@ -212,3 +212,31 @@ def test_torque_optimal_cat_reports_its_refined_optimum_on_the_denser_grid():
     assert o["kkt_converged"] == (o["kkt"] <= 1e-8)
     _within_ranges(body, r)
     assert o["cost"] <= CASADI_CAT_TORQUE, (o["cost"], CASADI_CAT_TORQUE)
+
+
+def test_a_size_with_no_step_within_the_limits_fails_before_the_curvature(monkeypatch):
+    """The falling cat's energy optimum (at rest at both ends) starts at the feasible plan's 6
+    coefficients, where no step keeps the linearised joint ranges (their rows lie 2e-3 inside): that
+    size fails as before ("no step keeps the linearised limits") but without the constraint
+    Hessians' forward differences first (24 evaluations spent to the same end), and the plan is the
+    same optimum from the next size."""
+    from acroplan.core import optimum
+
+    runs, curv = [], []
+    solve, curvature = optimum.OptimalRun.solve, optimum.OptimalProblem.curvature
+
+    def counted_solve(self, *a, **k):
+        out = solve(self, *a, **k)
+        runs.append((self.prob.n, self.why, self.prob.evaluations))
+        return out
+
+    monkeypatch.setattr(optimum.OptimalRun, "solve", counted_solve)
+    monkeypatch.setattr(optimum.OptimalProblem, "curvature",
+                        lambda self, *a, **k: curv.append(self.n) or curvature(self, *a, **k))
+    body, kw = falling_cat_turn()
+    r = acroplan.plan(body, objective="energy", verify=False, **kw)
+    assert r.success, r.message
+    refused = [(n, ev) for n, why, ev in runs if why == "no step keeps the linearised limits"]
+    assert refused and all(n == 6 for n, _ in refused), runs
+    assert 6 not in curv and all(ev <= 7 for _, ev in refused), (curv, refused)
+    assert r.segments[0].optimality["kkt"] <= 1e-8
