@@ -690,6 +690,11 @@ class EnergyOptimal(Strategy):
                 checks.append(run.result())
             return out, checks, [(k, r.message) for k, r in enumerate(checks) if not r.success]
 
+        def refused():
+            """The sequential segments, each saying why the joint optimum was not kept, and why."""
+            why = "; ".join(msgs)
+            return _not_joint(segments, why), why
+
         runs = None
         for grid in JOINT_LIMIT_GRIDS:
             # the first grid for every limit; a denser one for the limits the last optimum broke
@@ -705,7 +710,7 @@ class EnergyOptimal(Strategy):
             out, checks, bad = attempt(runs, start, curvature)
             if checks is None:
                 msgs.append(out.message)
-                return _not_joint(segments, "; ".join(msgs)), "; ".join(msgs)
+                return refused()
             if not bad:
                 break
             msgs.append(f"{out.message}; not kept with the limits on {where}: interval {bad[0][0]}: {bad[0][1]}")
@@ -725,7 +730,7 @@ class EnergyOptimal(Strategy):
                 out, checks, bad = attempt(runs, start, curvature)
                 if checks is None:
                     msgs.append(out.message)
-                    return _not_joint(segments, "; ".join(msgs)), "; ".join(msgs)
+                    return refused()
                 if not bad:
                     where = f"{grid} points and the torque limits at {added} more time(s) where they were broken"
                     break
@@ -733,9 +738,9 @@ class EnergyOptimal(Strategy):
                             f"{bad[0][0]}: {bad[0][1]}")
                 start, curvature = out.coefficients, out.curvature
             else:
-                return _not_joint(segments, "; ".join(msgs)), "; ".join(msgs)
+                return refused()
             if bad:
-                return _not_joint(segments, "; ".join(msgs)), "; ".join(msgs)
+                return refused()
         if msgs:
             out = dataclasses.replace(out, message="; ".join(msgs) + f"; then with the limits on {where}: " + out.message)
         new = []
