@@ -143,6 +143,20 @@ class FlywheelTorque:
 acroplan.register_torque_model(OptimalTestFlywheel, lambda system: FlywheelTorque())
 
 
+def test_torque_values_of_a_model_without_a_torques_method_is_its_call():
+    """A torque model that is a bare callable (no ``torques`` method, no Jacobian): ``torque_values``
+    is its call, tau = I u'/T exactly."""
+    from acroplan.core.basis import Legendre
+    from acroplan.core.objectives import torque_values
+
+    sysm, basis = OptimalTestFlywheel(), Legendre(5)
+    c = np.array([0.3, -1.0, 0.5, 0.25, -0.125])
+    s = np.linspace(0.0, 1.0, 7)
+    got = torque_values(FlywheelTorque(), sysm, basis, np.zeros(2), 1.3, c, s)
+    assert got.shape == (1, 7)
+    assert np.array_equal(got[0], sysm.I * (basis.matrix(s, 1) @ c) / 1.3)
+
+
 def flywheel_optimum(I, T, q0, q1, z0, z1):
     """min int (I u')^2 dt with q(T) = q1, z(T) = z1 and u free at the ends: the Euler-Lagrange
     equation makes u'' linear, the natural boundary conditions u'(0) = u'(T) = 0, so

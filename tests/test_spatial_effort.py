@@ -383,3 +383,20 @@ def test_the_torque_model_by_collocation_equals_the_taylor_route(segment):
     X = sample(body, basis, x0, T, c, s)
     want = np.stack([rot.to_matrix(X[:4, k]).T @ np.asarray(body.L) for k in range(s.size)], axis=1)
     assert np.abs(lam - want).max() <= 1e-13 * np.linalg.norm(body.L)
+
+
+def test_torque_values_alone_are_the_torques_of_the_model_with_its_jacobian(segment):
+    """``torque_values`` (what the optimal plans' dense checks call: the model's ``torques``, no
+    Jacobian) gives the torques of ``call_torque`` (the model's call, with the Jacobian) on 1025
+    points, to rounding (1e-12 of the largest): two code paths of the compiled recursion at the
+    momentum's collocation, one with the derivatives' sweep."""
+    from acroplan.core.objectives import call_torque, torque_values
+
+    body, basis, x0, T, c = segment
+    model = torque_model_of(body)[0]
+    s = np.linspace(0.0, 1.0, 1025)
+    tau, jac = call_torque(model, body, basis, x0, T, np.ravel(c), s)
+    alone = torque_values(model, body, basis, x0, T, np.ravel(c), s)
+    assert jac.shape == tau.shape + (np.size(c),)
+    assert alone.shape == tau.shape
+    assert np.max(np.abs(alone - tau)) <= 1e-12 * np.max(np.abs(tau))

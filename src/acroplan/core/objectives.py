@@ -92,6 +92,16 @@ class EnergyCost:
         return 0.5 * float(c @ g), g, self.H
 
 
+def torque_values(model, system, basis, x0, T, c, s):
+    """The torque model's :math:`\\tau` alone at flat ``c``, shape (p, K): its ``torques`` method when
+    it has one (no Jacobian computed), else its call with the Jacobian dropped."""
+    m, n = system.n_inputs, basis.n
+    c = np.asarray(c, dtype=float).reshape(m, n)
+    alone = getattr(model, "torques", None)
+    out = alone(system, basis, x0, T, c, s) if callable(alone) else model(system, basis, x0, T, c, s)
+    return np.atleast_2d(np.asarray(out[0] if isinstance(out, tuple) else out, dtype=float))
+
+
 def call_torque(model, system, basis, x0, T, c, s):
     """The torque model at flat ``c``: ``(tau (p, K), jacobian (p, K, N))``."""
     m, n = system.n_inputs, basis.n

@@ -16,7 +16,7 @@ from .basis import InputBasis
 from .errors import InvalidInputError
 from .limits import COMPLIANCE_TOL, linear_limits, violation
 from .linalg import least_norm_step, null_space
-from .objectives import TORQUE_LIMIT_GRID, TORQUE_MARGIN, EnergyCost, call_torque, cost_for, energy
+from .objectives import TORQUE_LIMIT_GRID, TORQUE_MARGIN, EnergyCost, call_torque, cost_for, energy, torque_values
 from .sqp import kkt_multipliers, kkt_step, polish_endpoint, sqp
 from .system import ControlAffineSystem
 
@@ -169,7 +169,7 @@ class OptimalProblem:
         if self.tmax is None:
             return np.zeros(0)
         s = np.linspace(0.0, 1.0, points)
-        tau, _ = call_torque(self.torque_model, self.system, self.basis, self.x0, self.T, self.c(z), s)
+        tau = torque_values(self.torque_model, self.system, self.basis, self.x0, self.T, self.c(z), s)
         over = np.abs(tau) - (self.tmax * (1.0 - TORQUE_MARGIN))[:, None]
         out = []
         for row in over:
@@ -429,7 +429,7 @@ class OptimalRun:
             ok = ok and not self.broken["limits"]
             msg += f", limit violation {max(v['u'], v['state']):.1e}"
         if prob.tmax is not None:
-            tau, _ = call_torque(prob.torque_model, system, basis, prob.x0, prob.T, c, np.linspace(0.0, 1.0, 1025))
+            tau = torque_values(prob.torque_model, system, basis, prob.x0, prob.T, c, np.linspace(0.0, 1.0, 1025))
             excess = float(np.max(np.abs(tau) - prob.tmax[:, None]))
             self.broken["torque"] = not excess <= COMPLIANCE_TOL * max(1.0, float(np.max(
                 prob.tmax[np.isfinite(prob.tmax)], initial=1.0)))
