@@ -535,6 +535,60 @@ def test_one_arm_lowered_tilts_and_twists_the_body(arm_twists):
     assert "twists" in right.summary()
 
 
+# ---------------------------------------------------------------------- aerial twist from the hips
+@pytest.fixture(scope="module")
+def hip_twists():
+    from acroplan.families.human.twist import asymmetric_hip_twist
+
+    return {leg: asymmetric_hip_twist(acroplan.simulate, leg=leg) for leg in ("right", "left", "both")}
+
+
+def test_one_leg_swung_out_tilts_and_twists_the_body(hip_twists, arm_twists):
+    """One leg swung out sideways (hip abduction 0 -> 40 degrees) in a backward layout somersault,
+    the arms overhead, tilts the body (Yeadon 1993, Part III: asymmetric hip movements); the left
+    leg's flight is the right leg's mirror image (1e-9); the straddle (both legs) neither tilts nor
+    twists (1e-9); the right leg twists the other way from the right arm lowered (it turns the other
+    way in the frontal plane); every flight checked by Pinocchio (1e-9)."""
+    from acroplan.families.human.twist import HIP_ANGLE
+
+    right, left, both = hip_twists["right"], hip_twists["left"], hip_twists["both"]
+    for r in (right, left, both):
+        assert r.result.status == "success"
+        assert max(s.verified_error for s in r.result.segments) < 1e-9
+    assert np.max(np.abs(right.tilt + left.tilt)) < 1e-9
+    assert np.max(np.abs(right.twist + left.twist)) < 1e-9
+    assert np.max(np.abs(right.somersault - left.somersault)) < 1e-9
+    assert np.max(np.abs(both.tilt)) < 1e-9 and np.max(np.abs(both.twist)) < 1e-9
+    s, _, twist = right.final
+    assert right.peak_tilt > 3.0 and twist > 0.1
+    assert np.sign(twist) == -np.sign(arm_twists["right"].final[2])
+    assert s < -1.0
+    assert right.summary().startswith("right leg swung out:")
+    # within the data's limits: the hip's range, and the minimum-jerk peak rate 1.875 angle / 0.3 s
+    lim = right.result.system.default_limits()
+    lo, hi = lim.bounds("right_hip_abduction")
+    assert lo <= 0.0 and HIP_ANGLE < hi
+    seg = right.result.segments[1]
+    t = np.linspace(seg.t0, seg.t1, 201)
+    u = np.asarray(seg.input(t))
+    names = right.result.system.links.joint_names
+    k = names.index("right_hip_abduction")
+    assert np.max(np.abs(u[k])) == pytest.approx(1.875 * HIP_ANGLE / 0.3, rel=1e-12)
+    assert np.max(np.abs(np.delete(u, k, axis=0))) == 0.0
+    assert 1.875 * HIP_ANGLE / 0.3 < lim.input_bound("u_right_hip_abduction")
+
+
+def test_hip_twist_problem_refuses_what_it_cannot_build():
+    from acroplan.families.human.twist import hip_twist_problem
+
+    with pytest.raises(InvalidInputError, match="leg"):
+        hip_twist_problem(leg="middle")
+    with pytest.raises(InvalidInputError, match="arms\\+hips"):
+        hip_twist_problem(spatial_from_yeadon(joints="arms"))
+    with pytest.raises(InvalidInputError, match="duration"):
+        hip_twist_problem(start=1.4, duration=0.3)
+
+
 # ------------------------------------------------------------------ problem files (the plug-in family)
 H3 = """[body]
 yeadon = "male1"
