@@ -109,9 +109,8 @@ def _flight(t0, tau, T):
 def _one_move(body, preset, side, joint, a0, a1, t0, tau, T, angular_momentum):
     """The body (with :math:`L`) and :func:`acroplan.simulate`'s keywords: ``joint`` of ``side``
     (or of both sides) moved from ``a0`` to ``a1`` by the minimum-jerk move (module docstring),
-    from the take-off shape (the shoulders abducted :math:`\\pi`, every other joint 0)."""
-    if side not in ("right", "left", "both"):
-        raise InvalidInputError("side", f"must be 'right', 'left' or 'both', got {side!r}", "give the side moved")
+    from the take-off shape (the shoulders abducted :math:`\\pi`, every other joint 0); the callers
+    check ``side`` under their own parameter's name."""
     if body is None:
         body = spatial_from_yeadon(joints=preset)
     if body.links.joint_names != PRESETS[preset]:
