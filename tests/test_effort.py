@@ -672,10 +672,13 @@ def test_the_positive_work_of_split_panels():
     assert np.unique(panels).size >= 5 and abs(pos[0] - exact) < 1e-14
 
 
-def test_the_spatial_effort_summary_in_four_calls_a_segment(monkeypatch):
-    """The falling cat's effort summary calls its torque model four times a segment (the grid, two
-    rounds of the roots with the peaks' two zooms, the split panels), and its roots' brackets of
-    1e-7 of a segment (ROOT_RTOL) give the same work and peaks as brackets of 1e-14 s to 1e-13."""
+def test_the_spatial_effort_summary_in_one_call_a_segment(monkeypatch):
+    """The falling cat's effort summary calls its torque model once a segment (the grid): every
+    panel's interpolant resolves its torques and powers (PanelInterpolants), and the later rounds
+    read them. With the interpolants off (INTERPOLANT_TAIL = -inf) the model is called four times a
+    segment (the grid, two rounds of the roots with the peaks' two zooms, the split panels): the same
+    work, peaks and integrals to 1e-13 (measured 1.2e-15); and there the roots' brackets of 1e-7 of a
+    segment (ROOT_RTOL) give the same numbers as brackets of 1e-14 s to 1e-13."""
     from acroplan.core import effort as E
     from acroplan.core import result as R
     from acroplan.families.spatial.examples import falling_cat_turn
@@ -691,9 +694,43 @@ def test_the_spatial_effort_summary_in_four_calls_a_segment(monkeypatch):
 
     monkeypatch.setattr(R.PlanResult, "_segment_torques", counted)
     fast = E.effort_summary(r)
+    assert len(calls) == len(r.segments)
+    calls.clear()
+    monkeypatch.setattr(E, "INTERPOLANT_TAIL", -math.inf)
+    model = E.effort_summary(r)
     assert len(calls) == 4 * len(r.segments)
     monkeypatch.setattr(E, "ROOT_RTOL", 1e-14 / max(s.t1 - s.t0 for s in r.segments))
     tight = E.effort_summary(r)
     for name, e in fast.items():
-        for field in ("positive_work", "peak_torque", "peak_power", "torque_squared"):
-            assert getattr(e, field) == pytest.approx(getattr(tight[name], field), rel=1e-13, abs=1e-15)
+        for field in ("positive_work", "peak_torque", "peak_power", "torque_squared", "net_work"):
+            assert getattr(e, field) == pytest.approx(getattr(model[name], field), rel=1e-13, abs=1e-15)
+            assert getattr(model[name], field) == pytest.approx(getattr(tight[name], field), rel=1e-13, abs=1e-15)
+
+
+def test_panel_interpolants_serve_where_they_resolve_and_call_the_model_elsewhere():
+    """PanelInterpolants on 8 panels of [0, 1] from the values at each panel's 32 Gauss nodes:
+    sin(20 t) + 0.3 (analytic: every panel resolved) to 1e-14 at 1000 random times, nodes and edges
+    included, without a call of the model; |t - 0.55| + t (a kink inside panel 4): that panel alone
+    goes to the model, in one call for all its times, and its times get the model's values."""
+    from acroplan.core.effort import _GAUSS32, PanelInterpolants
+
+    xg = _GAUSS32[0]
+    edges = np.linspace(0.0, 1.0, 9)
+    nodes = (edges[:-1, None] + (1.0 / 8) * xg[None, :])
+    t = np.concatenate([np.random.default_rng(3).uniform(0.0, 1.0, 1000), nodes[2], edges])
+    for f, bad in ((lambda x: np.sin(20 * x) + 0.3, []), (lambda x: np.abs(x - 0.55) + x, [4])):
+        asked = []
+
+        def model(x, f=f):
+            asked.append(np.array(x))
+            return f(x)[None, :], 2.0 * f(x)[None, :]
+
+        vals = np.stack([f(nodes), 2.0 * f(nodes)])
+        pi = PanelInterpolants(edges, vals, model, 1)
+        assert np.flatnonzero(~pi.resolved).tolist() == bad
+        tau, pw = pi(t)
+        assert np.abs(tau[0] - f(t)).max() < 1e-14 and np.abs(pw[0] - 2.0 * f(t)).max() < 2e-14
+        assert pi.calls == len(asked) == (1 if bad else 0)
+        if bad:
+            inside = (t >= edges[4]) & (t < edges[5])
+            assert np.array_equal(np.sort(asked[0]), np.sort(t[inside]))

@@ -15,12 +15,15 @@ from .objectives import gram
 from .progress import stage
 
 __all__ = ["JointEffort", "EFFORT_RULE", "PEAK_CANDIDATES", "PEAK_ZOOMS", "PEAK_POINTS", "ROOT_XTOL", "ROOT_RTOL",
-           "ROOT_POINTS", "effort_summary", "peak", "peaks"]
+           "ROOT_POINTS", "INTERPOLANT_TAIL", "effort_summary", "peak", "peaks"]
 
 
 #: How :meth:`PlanResult.effort` integrates and takes maxima (also written in ``to_dict()["effort"]``).
 EFFORT_RULE = ("integrals of tau^2 and tau u: composite 32-point Gauss-Legendre on each segment, on at least 8 "
-               "panels and one per radian of max|u| T (at most 4096); positive work: the same rule on each panel, "
+               "panels and one per radian of max|u| T (at most 4096); between the nodes, on a panel where the last "
+               "three Legendre coefficients of every row's values at its nodes are within 1e-12 of the row's largest "
+               "value, the degree-31 interpolant of those values, elsewhere the torque model; positive work: the same "
+               "rule on each panel, "
                "split at the sign changes of tau u (found between the nodes and panel edges, refined by 32-fold "
                "bracketing, then windows about the secant's zero, to brackets 1e-7 of the segment's duration and a "
                "secant step); peaks: the local maxima on those points within 1% of the largest, each refined by two "
@@ -129,11 +132,43 @@ def _gauss32():
 _GAUSS32 = _gauss32()
 
 
+def _to_legendre():
+    """The matrix (32, 32) from values at the 32 Gauss nodes to the Legendre coefficients of the
+    polynomial of degree 31 through them (on the panel mapped to [-1, 1]): :math:`a_k =
+    \\tfrac{2k + 1}{2} \\sum_j w_j P_k(x_j) f_j`, exact (the Gauss rule integrates degree 63)."""
+    x, w = np.polynomial.legendre.leggauss(32)
+    M = (np.polynomial.legendre.legvander(x, 31) * w[:, None]).T * ((2 * np.arange(32) + 1) / 2.0)[:, None]
+    M.setflags(write=False)
+    return M
+
+
+_TO_LEGENDRE = _to_legendre()
+
+
+def _barycentric():
+    """The 32 Gauss nodes on [0, 1] and their barycentric weights :math:`1 / \\prod_{k \\ne j} (x_j -
+    x_k)` (scaled to at most 1: the formula's quotient does not see a common factor)."""
+    x = _GAUSS32[0]
+    d = x[:, None] - x[None, :]
+    np.fill_diagonal(d, 1.0)
+    w = 1.0 / np.prod(d, axis=1)
+    w /= np.abs(w).max()
+    for a in (x, w):
+        a.setflags(write=False)
+    return x, w
+
+
+_NODES, _BARY = _barycentric()
+
+
 def _segment_effort(result, seg, model, inputs, xg, wg, acc) -> None:
     """Add one segment's integrals and peaks into the accumulators ``acc`` (by joint). The torque
-    model is called on batches of times (about four calls a segment: the grid, two rounds of the
-    roots with the two zooms of the peaks, the split panels), never point by point: a model that integrates (a
-    spatial body's momentum) costs as much for one time as for hundreds."""
+    model is called on the grid (every panel's Gauss nodes and edges); the later rounds (two of the
+    roots with the two zooms of the peaks, the split panels) read the panels' interpolants
+    (:class:`PanelInterpolants`) and call the model, once a round, only for times in panels the
+    interpolants do not resolve: never point by point, since a model that integrates (a spatial
+    body's momentum) costs as much for one time as for hundreds. One call a segment when every panel
+    is resolved, at most four."""
     T = seg.t1 - seg.t0
     basis = result.basis_for(seg)
     G = gram(basis)
@@ -141,7 +176,7 @@ def _segment_effort(result, seg, model, inputs, xg, wg, acc) -> None:
     acc["u2"] += T * np.array([c[i] @ G @ c[i] for i in inputs])
     P = int(min(4096, max(8, math.ceil(seg.max_abs_u * T))))
 
-    def motion(tt):
+    def model_motion(tt):
         budget.check()  # a plan's effort summary is inside its time budget (the command line's)
         return result._segment_torques(model, seg, np.atleast_1d(np.asarray(tt, dtype=float)), inputs)
 
@@ -150,11 +185,13 @@ def _segment_effort(result, seg, model, inputs, xg, wg, acc) -> None:
     h = T / P
     nodes = edges[:-1, None] + h * xg[None, :]  # (P, 32)
     grid = np.concatenate([np.column_stack([edges[:-1], nodes]).ravel(), edges[-1:]])
-    tau_g, pow_g = motion(grid)
+    tau_g, pow_g = model_motion(grid)
     p = tau_g.shape[0]
     inner = np.ones(grid.size, dtype=bool)
     inner[::33] = False  # the panel edges
     tau_q, pow_q = tau_g[:, inner].reshape(p, P, 32), pow_g[:, inner].reshape(p, P, 32)
+    # the later rounds read the panels' interpolants where they are resolved, the model elsewhere
+    motion = PanelInterpolants(edges, np.concatenate([tau_q, pow_q]), model_motion, p)
     panel_w = h * wg
     acc["tau2"] += np.einsum("jpk,k->j", tau_q**2, panel_w)
     panel_pow = np.einsum("jpk,k->jp", pow_q, panel_w)  # (p, P): the power's integral per panel
@@ -168,6 +205,74 @@ def _segment_effort(result, seg, model, inputs, xg, wg, acc) -> None:
                    xg, wg, acc["pos"])
     acc["peak_tau"] = np.maximum(acc["peak_tau"], top[:p])
     acc["peak_pow"] = np.maximum(acc["peak_pow"], top[p:])
+
+
+#: A panel's interpolant stands for the torque model (:class:`PanelInterpolants`) when the last three
+#: Legendre coefficients of every row's values at the panel's 32 Gauss nodes are within this of the
+#: row's largest value on the segment's grid. Measured (the bundled falling cat, twisting
+#: somersault and trunk twist): those coefficients are 2e-15 to 6e-14 of the rows' largest values
+#: (rounding), the interpolants off by at most 1e-13 of them at the panels' edges (the model's own
+#: values there); the back full twist's torques have panels with 2e-11 and 4e-10 (the model on
+#: those).
+INTERPOLANT_TAIL = 1e-12
+
+
+class PanelInterpolants:
+    """The torques and powers of one segment between the grid's points, from the values the model
+    gave at the 32 Gauss nodes of every panel: on each panel the polynomial of degree 31 through
+    them, where it resolves every row (:data:`INTERPOLANT_TAIL`: its Legendre coefficients by the
+    Gauss rule, exact for it), evaluated by the barycentric formula (its weights for the Gauss
+    nodes, :math:`1 / \\prod_{k \\ne j} (x_j - x_k)`); the times in the other panels go to the
+    model, in one call. Called like the model: ``(tau, power)`` at times ``tt``.
+
+    Parameters
+    ----------
+    edges : numpy.ndarray, shape (P + 1,)
+        The panels' edges (times).
+    values : numpy.ndarray, shape (r, P, 32)
+        Each row's values at each panel's nodes ``edges[k] + h * x_j`` (``x_j`` the 32 Gauss nodes
+        on [0, 1], ``h = (edges[-1] - edges[0]) / P``): the torque rows first, then the powers.
+    model : callable
+        ``model(tt) -> (tau, power)``, each (p, len(tt)).
+    p : int
+        The torque rows (the first ``p`` of ``values``).
+    """
+
+    def __init__(self, edges, values, model, p: int):
+        self.edges, self.model, self.p = np.asarray(edges, dtype=float), model, int(p)
+        self.values = np.asarray(values, dtype=float)
+        coef = self.values @ _TO_LEGENDRE.T  # (r, P, 32)
+        scale = np.abs(self.values).max(axis=(1, 2))
+        tail = np.abs(coef[:, :, -3:]).max(axis=2)  # (r, P)
+        #: the panels whose interpolants serve (every row's tail within INTERPOLANT_TAIL of its scale)
+        self.resolved = (tail <= INTERPOLANT_TAIL * scale[:, None]).all(axis=0)
+        #: calls of the model since construction
+        self.calls = 0
+
+    def __call__(self, tt):
+        t = np.atleast_1d(np.asarray(tt, dtype=float))
+        e = self.edges
+        k = np.clip(np.searchsorted(e, t, side="right") - 1, 0, e.size - 2)
+        ok = self.resolved[k]
+        out = np.empty((self.values.shape[0], t.size))
+        if ok.any():
+            at = np.flatnonzero(ok)
+            kk = k[at]
+            x = np.clip((t[at] - e[kk]) / (e[kk + 1] - e[kk]), 0.0, 1.0)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                D = _BARY[None, :] / (x[:, None] - _NODES[None, :])  # (M, 32)
+                hit = ~np.isfinite(D).all(axis=1)
+                D /= D.sum(axis=1, keepdims=True)
+            if hit.any():  # a time on a node: that node's value
+                D[hit] = x[hit, None] == _NODES[None, :]
+            for panel in np.unique(kk):
+                sel = kk == panel
+                out[:, at[sel]] = self.values[:, panel, :] @ D[sel].T
+        if not ok.all():
+            self.calls += 1
+            tau, pw = self.model(t[~ok])
+            out[:self.p, ~ok], out[self.p:, ~ok] = tau, pw
+        return out[:self.p], out[self.p:]
 
 
 def _lockstep(motion, searches):
