@@ -40,7 +40,8 @@ check afterwards, untimed):
             interval by interval) misses the end state by at most 1e-6.
 
 Run:  python benchmarks/peers_optimal_spatial.py [--problems trunk cat dive] [--objectives energy torque]
-      [--intervals 100] [--repeat 1] [--acroplan-only]   (needs casadi and pinocchio: pip install ".[bench]")
+      [--intervals 100] [--repeat 1] [--acroplan-only] [--sizes 6 10 14 20 26 30 36 42 48]
+      (needs casadi and pinocchio: pip install ".[bench]")
 """
 
 from __future__ import annotations
@@ -55,6 +56,7 @@ from peers_spatial import CasadiCat, casadi_field, casadi_rotation, resimulate_p
 from scipy.integrate import solve_ivp
 
 import acroplan
+from acroplan.core.optimal import objective_strategy
 from acroplan.families.spatial import dynamics
 from acroplan.families.spatial import rotations as rot
 from acroplan.families.spatial.check import pinocchio_errors, state_error
@@ -275,11 +277,23 @@ def dive_guess(body, kw, angles, N):
     return G
 
 
+#: the optimal ladder's basis sizes (``--sizes``; None: acroplan's default, acroplan.core.optimal.SIZES)
+LADDER = None
+
+
+def optimal_plan(body, objective, kw):
+    """``acroplan.plan`` with ``objective`` (no independent check); with ``--sizes``, the same
+    strategy as ``objective=`` builds (``objective_strategy``), on those ladder sizes."""
+    if LADDER is None:
+        return acroplan.plan(body, verify=False, objective=objective, **kw)
+    return acroplan.plan(body, verify=False, method=objective_strategy(objective, sizes=LADDER), **kw)
+
+
 def timed_plan(body, objective, kw, walls, cpus):
-    """``acroplan.plan`` of the problem (no independent check), its wall and CPU seconds appended
-    to ``walls`` and ``cpus``."""
+    """:func:`optimal_plan` of the problem, its wall and CPU seconds appended to ``walls`` and
+    ``cpus``."""
     t, c = time.perf_counter(), time.process_time()
-    r = acroplan.plan(body, verify=False, objective=objective, **kw)
+    r = optimal_plan(body, objective, kw)
     walls.append(time.perf_counter() - t)
     cpus.append(time.process_time() - c)
     return r
@@ -295,7 +309,7 @@ def run_dive(objective, args):
     t0 = time.perf_counter()
     peer = None if args.acroplan_only else CasadiDive(body, kw["times"], objective, args.intervals)
     print(f"[dive, {objective}: CasADi problem built in {time.perf_counter() - t0:.1f} s, once]")
-    acroplan.plan(body, verify=False, objective=objective, **kw)  # warm: compiled functions
+    optimal_plan(body, objective, kw)  # warm: compiled functions
     guess = dive_guess(body, kw, angles, args.intervals)
     if peer is not None:
         for j, k in enumerate(peer.nodes):   # each waypoint's sign the guess's at its node
@@ -382,7 +396,7 @@ def run(name, body, kw, objective, peer, args):
     x0 = np.array([kw[k][0] for k in names])
     x1 = np.array([kw[k][-1] for k in names])
     T = kw["times"][-1] - kw["times"][0]
-    acroplan.plan(body, verify=False, objective=objective, **kw)  # warm: compiled functions
+    optimal_plan(body, objective, kw)  # warm: compiled functions
     guess = guess_nodes(name, body, x0, x1, args.intervals)
     # the end attitude's sign the guess ends on: CasADi's end condition (vector part, q_N . q_1 >= 0)
     # then asks for the same rotation as acroplan's (whose residual, log(q_1^-1 q), has no sign)
@@ -433,12 +447,16 @@ def main():
     ap.add_argument("--intervals", type=int, default=100)
     ap.add_argument("--repeat", type=int, default=1)
     ap.add_argument("--acroplan-only", action="store_true", help="time acroplan alone (no CasADi)")
+    ap.add_argument("--sizes", type=int, nargs="+", default=None,
+                    help="acroplan's ladder of basis sizes (default acroplan.core.optimal.SIZES, up to 30)")
     args = ap.parse_args()
+    global LADDER
+    LADDER = None if args.sizes is None else tuple(args.sizes)
     import casadi
 
     print(f"machine: {platform.processor() or platform.machine()}, python {platform.python_version()}; acroplan "
           f"{acroplan.__version__}, casadi {casadi.__version__}; {args.intervals} RK4 intervals, repeat "
-          f"{args.repeat}")
+          f"{args.repeat}; acroplan's ladder {LADDER or 'default'}")
     if "dive" in args.problems:
         for objective in args.objectives:
             run_dive(objective, args)

@@ -257,17 +257,24 @@ class PanelInterpolants:
         out = np.empty((self.values.shape[0], t.size))
         if ok.any():
             at = np.flatnonzero(ok)
+            at = at[np.argsort(k[at], kind="stable")]  # by panel, each panel's times together
             kk = k[at]
             x = np.clip((t[at] - e[kk]) / (e[kk + 1] - e[kk]), 0.0, 1.0)
-            with np.errstate(divide="ignore", invalid="ignore"):
-                D = _BARY[None, :] / (x[:, None] - _NODES[None, :])  # (M, 32)
-                hit = ~np.isfinite(D).all(axis=1)
-                D /= D.sum(axis=1, keepdims=True)
-            if hit.any():  # a time on a node: that node's value
-                D[hit] = x[hit, None] == _NODES[None, :]
-            for panel in np.unique(kk):
-                sel = kk == panel
-                out[:, at[sel]] = self.values[:, panel, :] @ D[sel].T
+            diff = x[:, None] - _NODES[None, :]
+            hit = diff == 0.0
+            on_node = hit.any()
+            if on_node:
+                diff[hit] = 1.0
+            D = _BARY[None, :] / diff  # (M, 32)
+            if on_node:  # a time on a node: that node's value
+                rows = hit.any(axis=1)
+                D[rows] = hit[rows]
+            D /= D.sum(axis=1, keepdims=True)
+            cuts = np.flatnonzero(kk[1:] != kk[:-1]) + 1
+            res = np.empty((at.size, self.values.shape[0]))
+            for a, b in zip([0] + cuts.tolist(), cuts.tolist() + [at.size]):
+                res[a:b] = D[a:b] @ self.values[:, kk[a], :].T
+            out[:, at] = res.T
         if not ok.all():
             self.calls += 1
             tau, pw = self.model(t[~ok])
