@@ -40,7 +40,7 @@ check afterwards, untimed):
             interval by interval) misses the end state by at most 1e-6.
 
 Run:  python benchmarks/peers_optimal_spatial.py [--problems trunk cat dive] [--objectives energy torque]
-      [--intervals 100] [--repeat 1] [--acroplan-only] [--sizes 6 10 14 20 26 30 36 42 48]
+      [--intervals 100] [--repeat 1] [--acroplan-only] [--max-coefficients 48]
       (needs casadi and pinocchio: pip install ".[bench]")
 """
 
@@ -56,7 +56,6 @@ from peers_spatial import CasadiCat, casadi_field, casadi_rotation, resimulate_p
 from scipy.integrate import solve_ivp
 
 import acroplan
-from acroplan.core.optimal import objective_strategy
 from acroplan.families.spatial import dynamics
 from acroplan.families.spatial import rotations as rot
 from acroplan.families.spatial.check import pinocchio_errors, state_error
@@ -277,16 +276,14 @@ def dive_guess(body, kw, angles, N):
     return G
 
 
-#: the optimal ladder's basis sizes (``--sizes``; None: acroplan's default, acroplan.core.optimal.SIZES)
-LADDER = None
+#: the optimum's largest basis size (``--max-coefficients``, plan()'s ``max_coefficients``; None: the default, 30)
+MAX_COEFFICIENTS = None
 
 
 def optimal_plan(body, objective, kw):
-    """``acroplan.plan`` with ``objective`` (no independent check); with ``--sizes``, the same
-    strategy as ``objective=`` builds (``objective_strategy``), on those ladder sizes."""
-    if LADDER is None:
-        return acroplan.plan(body, verify=False, objective=objective, **kw)
-    return acroplan.plan(body, verify=False, method=objective_strategy(objective, sizes=LADDER), **kw)
+    """``acroplan.plan`` with ``objective`` (no independent check), and ``max_coefficients`` when given."""
+    extra = {} if MAX_COEFFICIENTS is None else {"max_coefficients": MAX_COEFFICIENTS}
+    return acroplan.plan(body, verify=False, objective=objective, **kw, **extra)
 
 
 def timed_plan(body, objective, kw, walls, cpus):
@@ -447,16 +444,16 @@ def main():
     ap.add_argument("--intervals", type=int, default=100)
     ap.add_argument("--repeat", type=int, default=1)
     ap.add_argument("--acroplan-only", action="store_true", help="time acroplan alone (no CasADi)")
-    ap.add_argument("--sizes", type=int, nargs="+", default=None,
-                    help="acroplan's ladder of basis sizes (default acroplan.core.optimal.SIZES, up to 30)")
+    ap.add_argument("--max-coefficients", type=int, default=None,
+                    help="plan()'s max_coefficients: the last basis size of acroplan's ladder (default 30)")
     args = ap.parse_args()
-    global LADDER
-    LADDER = None if args.sizes is None else tuple(args.sizes)
+    global MAX_COEFFICIENTS
+    MAX_COEFFICIENTS = args.max_coefficients
     import casadi
 
     print(f"machine: {platform.processor() or platform.machine()}, python {platform.python_version()}; acroplan "
           f"{acroplan.__version__}, casadi {casadi.__version__}; {args.intervals} RK4 intervals, repeat "
-          f"{args.repeat}; acroplan's ladder {LADDER or 'default'}")
+          f"{args.repeat}; acroplan's max_coefficients {MAX_COEFFICIENTS or 'default (30)'}")
     if "dive" in args.problems:
         for objective in args.objectives:
             run_dive(objective, args)

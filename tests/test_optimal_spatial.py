@@ -240,3 +240,63 @@ def test_a_size_with_no_step_within_the_limits_fails_before_the_curvature(monkey
     assert refused and all(n == 6 for n, _ in refused), runs
     assert 6 not in curv and all(ev <= 7 for _, ev in refused), (curv, refused)
     assert r.segments[0].optimality["kkt"] <= 1e-8
+
+
+def test_max_coefficients_climbs_the_ladder_past_30_and_the_cost_falls():
+    """The falling cat's least integral of u^2 within its joint ranges is still falling at 30
+    coefficients (said: not converged in the basis); with max_coefficients=36 the ladder goes on to
+    36, whose optimum (checked as every plan is) costs less than 30's, and the segment says which
+    sizes it climbed. max_coefficients=14 stops the ladder there."""
+    body, kw = falling_cat_turn()
+    kw = _free_ends(kw)
+    base = acroplan.plan(body, objective="energy", **kw).segments[0].optimality
+    assert [n for n, _ in base["ladder"]] == [6, 10, 14, 20, 26, 30] and not base["converged_in_basis"]
+    r = acroplan.plan(body, objective="energy", max_coefficients=36, **kw)
+    _independent_checks(body, kw, r)
+    _within_ranges(body, r)
+    o = r.segments[0].optimality
+    assert [n for n, _ in o["ladder"]] == [6, 10, 14, 20, 26, 30, 36] and o["basis_size"] == 36, o
+    # measured 132.167 at 30, 132.074 at 36: a fall of 7e-4, far above the KKT-level noise
+    assert o["cost"] < base["cost"] * (1 - 1e-4), (o["cost"], base["cost"])
+    short = acroplan.plan(body, objective="energy", max_coefficients=14, **kw).segments[0].optimality
+    assert [n for n, _ in short["ladder"]] == [6, 10, 14] and short["basis_size"] == 14, short
+
+
+@pytest.mark.parametrize("extra, says", [
+    ({"max_coefficients": 36}, "no objective"),
+    ({"max_coefficients": 36, "objective": "energy", "n_coefficients": 10}, "both given"),
+    ({"max_coefficients": 61, "objective": "energy"}, "at most 60"),
+    ({"max_coefficients": 4, "objective": "energy"}, "at least 6"),
+    ({"max_coefficients": 36.0, "objective": "energy"}, "whole number"),
+    ({"max_coefficients": 36, "method": "energy-optimal"}, "its own ladder"),
+])
+def test_max_coefficients_is_refused_where_it_means_nothing(extra, says):
+    """max_coefficients names the field and the fix wherever it cannot be the top of an optimum's
+    ladder: without an objective, with n_coefficients, out of [6, 60], not whole, with an optimal
+    strategy as the method."""
+    from acroplan.core.errors import InvalidInputError
+    from acroplan.planning.request import ladder_sizes
+
+    body, kw = falling_cat_turn()
+    with pytest.raises(InvalidInputError, match=says) as e:
+        acroplan.plan(body, **_free_ends(kw), **extra)
+    assert e.value.field == "max_coefficients"
+    assert ladder_sizes(48) == (6, 10, 14, 20, 26, 30, 36, 42, 48) and ladder_sizes(33)[-2:] == (30, 33)
+
+
+def test_max_coefficients_from_a_problem_file():
+    """``[options] max_coefficients`` reaches plan() as the keyword; a value that is no whole
+    number is refused naming the option."""
+    import tomllib
+
+    from acroplan.core.errors import InvalidInputError
+    from acroplan.io import examples
+    from acroplan.io.problem import parse_problem
+
+    data = tomllib.loads(examples.text("falling-cat"))
+    data.setdefault("options", {}).update(objective="energy", max_coefficients=36)
+    assert parse_problem(data).plan_kwargs()["max_coefficients"] == 36
+    data["options"]["max_coefficients"] = "36"
+    with pytest.raises(InvalidInputError) as e:
+        parse_problem(data)
+    assert e.value.field == "options.max_coefficients", e.value.field

@@ -26,9 +26,9 @@ from ..core.verify import VERIFY_TOL
 from .front import plan, solve, warm_up
 from .plausible import (DENSE_SEGMENTS, EXACT_EFFORT_SEGMENTS, PLAUSIBLE_FACTOR, beyond_capacity, plausibility,
                         waypoint_rate)
-from .request import (DEFAULT_SIZE, MAX_COEFFICIENTS, MAX_DURATION, MAX_TIME, MIN_DURATION, TIME_LIMIT,
-                      PlanRequest)
+from .request import (DEFAULT_SIZE, MAX_COEFFICIENTS, MAX_DURATION, MAX_LADDER_COEFFICIENTS, MAX_TIME, MIN_DURATION,
+                      TIME_LIMIT, PlanRequest)
 
 __all__ = ["plan", "solve", "warm_up", "PlanRequest", "CONDITIONS", "VERIFY_TOL", "DEFAULT_SIZE",
-           "MAX_COEFFICIENTS", "TIME_LIMIT", "MIN_DURATION", "MAX_DURATION", "MAX_TIME", "plausibility",
+           "MAX_COEFFICIENTS", "MAX_LADDER_COEFFICIENTS", "TIME_LIMIT", "MIN_DURATION", "MAX_DURATION", "MAX_TIME", "plausibility",
            "beyond_capacity", "waypoint_rate", "PLAUSIBLE_FACTOR", "EXACT_EFFORT_SEGMENTS", "DENSE_SEGMENTS"]

@@ -31,11 +31,11 @@ __all__ = ["plan", "solve", "warm_up"]
 
 
 def plan(system: ControlAffineSystem, *, times, conditions: str | None = None, method="auto", basis="legendre",
-         n_coefficients: int | None = None, limits: Limits | None = None, u_max: float | None = None,
-         state_bounds=None, input_bounds=None, verify: bool | str = True, tol: float = 1e-10,
-         max_evaluations: int = 2000, time_limit: float | None = TIME_LIMIT, start_rate=None, end_rate=None,
-         degrees: bool = False, objective: str | None = None, tau_max=None, capacity=None, progress=None,
-         **waypoints) -> PlanResult:
+         n_coefficients: int | None = None, max_coefficients: int | None = None, limits: Limits | None = None,
+         u_max: float | None = None, state_bounds=None, input_bounds=None, verify: bool | str = True,
+         tol: float = 1e-10, max_evaluations: int = 2000, time_limit: float | None = TIME_LIMIT, start_rate=None,
+         end_rate=None, degrees: bool = False, objective: str | None = None, tau_max=None, capacity=None,
+         progress=None, **waypoints) -> PlanResult:
     r"""Plan a motion of ``system`` through waypoints.
 
     Parameters
@@ -70,6 +70,13 @@ def plan(system: ControlAffineSystem, *, times, conditions: str | None = None, m
     n_coefficients : int, optional
         Coefficients per input per segment, at most :data:`MAX_COEFFICIENTS`. Default: the
         strategy's choice (6, the text's, for ``"deform"``; 6, 10 or 14 for ``"auto"``).
+    max_coefficients : int, optional
+        With ``objective`` (or ``tau_max``): the largest basis size of the optimum's ladder (below),
+        from 6 to :data:`MAX_LADDER_COEFFICIENTS`; above 30 the ladder goes on in steps of 6 (36,
+        42, ...) and ends at it. Default 30. For an optimum whose cost still falls at 30 (reported
+        as not converged in the basis; the bundled back full's least :math:`\int\tau^2`: 181.36 at
+        30, 179.87 at 48, ``benchmarks/RESULTS.md``); a smaller one stops the ladder early.
+        Refused with ``n_coefficients`` (one size, no ladder).
     limits : Limits, optional
         All bounds at once (``Limits()`` for none at all); without it and without limit keywords,
         the system's own (:meth:`ControlAffineSystem.default_limits`: a URDF's joint ranges and
@@ -106,7 +113,8 @@ def plan(system: ControlAffineSystem, *, times, conditions: str | None = None, m
         :meth:`~ControlAffineSystem.torque_model`). The endpoint is an equality, the limits are
         inequalities, in the input coefficients; the basis size goes up the ladder 6, 10, 14, 20,
         26, 30 until the optimal cost changes by less than 1e-4 (relative) from one size to the
-        next (``n_coefficients`` fixes one size), and each segment reports its relative KKT
+        next (``n_coefficients`` fixes one size, ``max_coefficients`` the ladder's last), and each
+        segment reports its relative KKT
         residual (target 1e-8) in :attr:`SegmentResult.optimality`
         (:mod:`acroplan.core.optimal`). Each interval is optimised on its own, with its input
         conditions, one after the other (with ``conditions="free"`` an interval starts with the
@@ -171,7 +179,8 @@ def plan(system: ControlAffineSystem, *, times, conditions: str | None = None, m
             with prog.scope("preparing the plan", unit="step"):
                 prepare(system)  # its family's strategies, torque model and starts (core.family.prepare)
                 req = PlanRequest.build(system, times=times, conditions=conditions, method=method, basis=basis,
-                                        n_coefficients=n_coefficients, limits=limits, u_max=u_max,
+                                        n_coefficients=n_coefficients, max_coefficients=max_coefficients,
+                                        limits=limits, u_max=u_max,
                                         state_bounds=state_bounds, input_bounds=input_bounds, verify=verify, tol=tol,
                                         max_evaluations=max_evaluations, time_limit=time_limit,
                                         start_rate=start_rate, end_rate=end_rate, degrees=degrees,

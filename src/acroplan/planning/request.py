@@ -24,7 +24,8 @@ from ..core.system import ControlAffineSystem, torque_model_of
 from ..core.verify import resolve_verify
 
 
-__all__ = ["PlanRequest", "checked_vector", "DEFAULT_SIZE", "MAX_COEFFICIENTS", "TIME_LIMIT", "MIN_DURATION",
+__all__ = ["PlanRequest", "checked_vector", "DEFAULT_SIZE", "MAX_COEFFICIENTS", "MAX_LADDER_COEFFICIENTS",
+           "ladder_sizes", "TIME_LIMIT", "MIN_DURATION",
            "MAX_DURATION", "MAX_TIME"]
 
 #: Coefficients per input per segment when neither ``n_coefficients`` nor the strategy says.
@@ -32,6 +33,9 @@ DEFAULT_SIZE = 6
 #: The largest ``n_coefficients``: more costs compile time and memory for no accuracy (the
 #: Legendre basis at 14 already reaches every target the planner meets).
 MAX_COEFFICIENTS = 30
+#: The largest ``max_coefficients``: the top of an optimum's ladder of basis sizes (an optimum's
+#: cost can still fall at 30 coefficients where a limit binds: benchmarks/RESULTS.md).
+MAX_LADDER_COEFFICIENTS = 60
 #: The default wall-clock budget of one plan, in seconds.
 TIME_LIMIT = 60.0
 #: Segment durations and times the arithmetic carries (the power-basis export takes T**(n-1)).
@@ -155,8 +159,9 @@ class PlanRequest:
 
     @classmethod
     def build(cls, system, *, times, conditions: str | None = None, method="auto", basis="legendre",
-              n_coefficients: int | None = None, limits: Limits | None = None, u_max: float | None = None,
-              state_bounds=None, input_bounds=None, verify: bool | str = True, tol: float = 1e-10,
+              n_coefficients: int | None = None, max_coefficients: int | None = None, limits: Limits | None = None,
+              u_max: float | None = None, state_bounds=None, input_bounds=None, verify: bool | str = True,
+              tol: float = 1e-10,
               max_evaluations: int = 2000, time_limit: float | None = TIME_LIMIT, start_rate=None,
               end_rate=None, degrees: bool = False, objective: str | None = None, tau_max=None,
               capacity=None, **named) -> "PlanRequest":
@@ -173,7 +178,8 @@ class PlanRequest:
             X, shorthand, u_max, state_bounds, input_bounds = _from_degrees(system, X, shorthand, u_max, state_bounds,
                                                                             input_bounds)
         asked = objective is not None or tau_max is not None
-        strategy, objective, torque_limits = _optimal_strategy(system, method, objective, tau_max)
+        ladder = _ladder(max_coefficients, asked, n_coefficients, method)
+        strategy, objective, torque_limits = _optimal_strategy(system, method, objective, tau_max, ladder)
         if conditions is None:  # optimal plans leave the end inputs free: pinned, the optimum is not attained
             conditions = "free" if asked else "spline"
         check_conditions(conditions, system)
@@ -377,9 +383,44 @@ def _check_compile_time(req: PlanRequest) -> None:
                             "compiled is then kept on disk: a second run loads it in seconds)")
 
 
-def _optimal_strategy(system, method, objective, tau_max):
+def ladder_sizes(top: int) -> tuple[int, ...]:
+    """The optimum's ladder of basis sizes up to ``top`` (:func:`plan`'s ``max_coefficients``):
+    :data:`acroplan.core.optimal.SIZES` up to it, then steps of 6 from 36, ending at ``top``."""
+    from ..core.optimal import SIZES
+
+    sizes = [n for n in SIZES if n <= top] + list(range(SIZES[-1] + 6, top + 1, 6))
+    if not sizes or sizes[-1] != top:
+        sizes.append(top)
+    return tuple(sizes)
+
+
+def _ladder(max_coefficients, asked: bool, n_coefficients, method) -> tuple[int, ...] | None:
+    """The ladder of ``max_coefficients`` (validated), ``None`` when it is not given."""
+    if max_coefficients is None:
+        return None
+    top = _whole("max_coefficients", max_coefficients, 48, MAX_LADDER_COEFFICIENTS)
+    if top < 6:
+        raise InvalidInputError("max_coefficients", f"must be at least 6, got {top}", "give for example 48")
+    optimal = (isinstance(method, str) and isinstance(STRATEGIES.get(method), EnergyOptimal)) or isinstance(
+        method, EnergyOptimal) or (isinstance(method, type) and issubclass(method, EnergyOptimal))
+    if optimal and not asked:
+        raise InvalidInputError("max_coefficients", f"is given with method={_short(method)}, an optimal strategy with "
+                                "its own ladder", "give objective= with max_coefficients (and method naming the "
+                                "feasible plan to start from), or the strategy its sizes: EnergyOptimal(sizes=...)")
+    if not asked:
+        raise InvalidInputError("max_coefficients", "is the top of an optimum's ladder of basis sizes, and no objective "
+                                "is given (the feasible plan has no ladder)",
+                                "give objective=\"energy\" or \"torque\" with it, or n_coefficients for the feasible "
+                                "plan's basis size")
+    if n_coefficients is not None:
+        raise InvalidInputError("max_coefficients", "and n_coefficients are both given: n_coefficients fixes one basis "
+                                "size, max_coefficients the last of the ladder", "give one of them")
+    return ladder_sizes(top)
+
+
+def _optimal_strategy(system, method, objective, tau_max, ladder=None):
     """``(strategy, objective, torque_limits)`` for ``method``, ``objective`` and ``tau_max``
-    (validated: :func:`plan`'s Parameters)."""
+    (validated: :func:`plan`'s Parameters), on the basis sizes ``ladder`` when given (:func:`_ladder`)."""
     if objective is not None and (not isinstance(objective, str) or objective not in OBJECTIVES):
         raise InvalidInputError("objective", f"must be None, \"energy\" or \"torque\", got {_short(objective)}",
                                 "give \"energy\" (least integral of |u|^2), \"torque\" (least integral of "
@@ -412,11 +453,12 @@ def _optimal_strategy(system, method, objective, tau_max):
                                 f"{objective!r}{' (set by tau_max)' if tau_max is not None else ''} is given too",
                                 "give objective= (and tau_max=) alone, with method naming the feasible plan to "
                                 "start from, or method= alone")
+    sized = {} if ladder is None else {"sizes": ladder}
     if isinstance(method, str) and method == "auto":
-        strategy = objective_strategy(objective, tau_max=tau_max)
+        strategy = objective_strategy(objective, tau_max=tau_max, **sized)
     else:  # the optimum starts from the plan of the method asked for
         strategy = objective_strategy(objective, tau_max=tau_max, feasible=resolve_strategy(method, system),
-                                      starts=("auto",))
+                                      starts=("auto",), **sized)
     why = strategy.unsupported(system)
     if why:
         raise InvalidInputError("objective", why, "leave objective and tau_max out")

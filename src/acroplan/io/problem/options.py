@@ -132,6 +132,7 @@ OPTION_PARSERS: dict[str, Callable[[str, Any, ControlAffineSystem], Any]] = {
     "method": _choice(("auto", "deform", "flat")),
     "basis": _choice(("legendre", "monomial")),
     "n_coefficients": _whole_option(1000, "6"),
+    "max_coefficients": _whole_option(1000, "48"),
     "max_evaluations": _whole_option(MAX_EVALUATIONS, "2000"),
     "time_limit": _time_limit,
     "degrees": _bool_option,
