@@ -202,12 +202,28 @@ def test_torques_of_a_lumped_robot_are_refused_saying_what_to_give(tmp_path):
     (["--tau-max", "abc"], ["--tau-max:", "is not a number"]),
     (["--tau-max", "30", "--tau-max", "phi=20"], ["--tau-max:", "mixes"]),
     (["--objective", "enrgy"], ["--objective"]),
+    (["--objective", "energy", "--max-coefficients", "61"], ["--max-coefficients:", "at most 60"]),
+    (["--max-coefficients", "36"], ["--max-coefficients:", "no objective"]),
 ])
 def test_bad_command_line_options_exit_2(tmp_path, args, words):
     res = run(["plan", write(tmp_path, BODY), "--out", tmp_path / "o", *args])
     assert res.exit_code == 2, res.output
     for w in words:
         assert w in res.output, res.output
+
+
+def test_max_coefficients_on_the_command_line_stops_the_ladder(tmp_path):
+    """``--objective energy --max-coefficients 6``: the ladder stops at its first size (without the
+    option it goes on to 10, measured), as plan(max_coefficients=6) gives."""
+    ladders = {}
+    for extra in ([], ["--max-coefficients", "6"]):
+        out = tmp_path / f"o{len(extra)}"
+        res = run(["plan", write(tmp_path, BODY), "--out", out, "--objective", "energy", "--no-plots", *extra])
+        assert res.exit_code == 0, res.output
+        segs = json.loads((out / "solution.json").read_text())["segments"]
+        ladders[len(extra)] = [[n for n, _ in seg["optimality"]["ladder"]] for seg in segs]
+    assert all(sizes == [6] for sizes in ladders[2]), ladders
+    assert any(len(sizes) > 1 for sizes in ladders[0]), ladders
 
 
 # ---------------------------------------------------------------------------- least momentum

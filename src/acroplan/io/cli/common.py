@@ -215,11 +215,14 @@ def common(f):
     return f
 
 
-def option_overrides(objective, tau_max) -> dict:
-    """The ``[options]`` that --objective and --tau-max write over the problem file's."""
+def option_overrides(objective, tau_max, max_coefficients=None) -> dict:
+    """The ``[options]`` that --objective, --tau-max and --max-coefficients write over the problem
+    file's."""
     out = {}
     if objective is not None:
         out["objective"] = objective
+    if max_coefficients is not None:
+        out["max_coefficients"] = int(max_coefficients)
     if tau_max:
         number, table = None, {}
         fix = "write --tau-max 50 (every joint), or --tau-max JOINT=50 once per limited joint"
@@ -250,7 +253,8 @@ def option_overrides(objective, tau_max) -> dict:
 
 def override_error(e: InvalidInputError, overrides: dict) -> InvalidInputError:
     """``e`` naming the command line's option when it is about a value the option gave."""
-    for key, flag in (("tau_max", "--tau-max"), ("objective", "--objective"), ("time_limit", "--time-limit")):
+    for key, flag in (("tau_max", "--tau-max"), ("objective", "--objective"), ("time_limit", "--time-limit"),
+                      ("max_coefficients", "--max-coefficients")):
         head = f"options.{key}"
         if key in overrides and (e.field in (head, key) or e.field.startswith(head + ".")):
             rest = e.field[len(head) + 1:] if e.field.startswith(head) else ""

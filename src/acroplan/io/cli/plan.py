@@ -33,9 +33,13 @@ from .common import (EXIT_BY_STATUS, allow_outside_option, allowed_paths, check_
 @click.option("--tau-max", "tau_max", multiple=True, metavar="VALUE",
               help="Torque limit |tau| <= VALUE: a number for every joint, or JOINT=VALUE (repeatable; joints "
                    "not named have none). Overrides the file's [options] tau_max; implies an optimal plan.")
+@click.option("--max-coefficients", "max_coefficients", type=int, default=None, metavar="N",
+              help="With an optimal plan: the last basis size of its ladder (default 30; above it 36, 42, ..., "
+                   "at most 60), for an optimum whose cost still falls at 30. Overrides the file's [options] "
+                   "max_coefficients.")
 @allow_outside_option
 def plan_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do_animate, degrees, time_limit, objective,
-             tau_max, allow_outside):
+             tau_max, max_coefficients, allow_outside):
     """Plan a motion through the waypoints of PROBLEM (a TOML file) and write the results.
 
     \b
@@ -63,8 +67,9 @@ def plan_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do_ani
     \b
     --objective energy|torque plans the least integral of u^2 or of tau^2 instead of the fast
     feasible plan; --tau-max adds torque limits (and an energy-optimal plan unless an objective
-    is given). Both override the file's [options]; without plan.conditions in the file, an
-    optimal plan leaves the end rates free (conditions "free").
+    is given); --max-coefficients N takes the optimum's ladder of basis sizes to N. They
+    override the file's [options]; without plan.conditions in the file, an optimal plan leaves
+    the end rates free (conditions "free").
 
     PROBLEM may also be a folder of problem files, or a file of many problems ([[problem]] tables,
     each with an optional name): they are planned on all cores, each into OUT/NAME/, with
@@ -89,7 +94,7 @@ def plan_cmd(problem, example, out, force, quiet, as_json, no_plots, fmt, do_ani
       acroplan plan many-dives/ --out results --no-plots
     """
     try:
-        overrides = option_overrides(objective, tau_max)
+        overrides = option_overrides(objective, tau_max, max_coefficients)
         if time_limit is not None:  # validated with the file's options (a compile longer than it is refused)
             overrides["time_limit"] = float(time_limit)
         allowed = allowed_paths(allow_outside)
