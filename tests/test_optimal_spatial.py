@@ -269,17 +269,18 @@ def test_max_coefficients_climbs_the_ladder_past_30_and_the_cost_falls():
     ({"max_coefficients": 4, "objective": "energy"}, "at least 6"),
     ({"max_coefficients": 36.0, "objective": "energy"}, "whole number"),
     ({"max_coefficients": 36, "method": "energy-optimal"}, "its own ladder"),
+    ({"max_coefficients": 60, "objective": "energy", "times": [0.0, 5e5]}, "at most 53"),
 ])
 def test_max_coefficients_is_refused_where_it_means_nothing(extra, says):
     """max_coefficients names the field and the fix wherever it cannot be the top of an optimum's
     ladder: without an objective, with n_coefficients, out of [6, 60], not whole, with an optimal
-    strategy as the method."""
+    strategy as the method, with a segment so long that T**(N - 1) leaves the arithmetic's range."""
     from acroplan.core.errors import InvalidInputError
     from acroplan.planning.request import ladder_sizes
 
     body, kw = falling_cat_turn()
     with pytest.raises(InvalidInputError, match=says) as e:
-        acroplan.plan(body, **_free_ends(kw), **extra)
+        acroplan.plan(body, **{**_free_ends(kw), **extra})
     assert e.value.field == "max_coefficients"
     assert ladder_sizes(48) == (6, 10, 14, 20, 26, 30, 36, 42, 48) and ladder_sizes(33)[-2:] == (30, 33)
 

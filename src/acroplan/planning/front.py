@@ -114,8 +114,7 @@ def plan(system: ControlAffineSystem, *, times, conditions: str | None = None, m
         inequalities, in the input coefficients; the basis size goes up the ladder 6, 10, 14, 20,
         26, 30 until the optimal cost changes by less than 1e-4 (relative) from one size to the
         next (``n_coefficients`` fixes one size, ``max_coefficients`` the ladder's last), and each
-        segment reports its relative KKT
-        residual (target 1e-8) in :attr:`SegmentResult.optimality`
+        segment reports its relative KKT residual (target 1e-8) in :attr:`SegmentResult.optimality`
         (:mod:`acroplan.core.optimal`). Each interval is optimised on its own, with its input
         conditions, one after the other (with ``conditions="free"`` an interval starts with the
         input the one before ended with); then, through interior waypoints with
@@ -180,8 +179,8 @@ def plan(system: ControlAffineSystem, *, times, conditions: str | None = None, m
                 prepare(system)  # its family's strategies, torque model and starts (core.family.prepare)
                 req = PlanRequest.build(system, times=times, conditions=conditions, method=method, basis=basis,
                                         n_coefficients=n_coefficients, max_coefficients=max_coefficients,
-                                        limits=limits, u_max=u_max,
-                                        state_bounds=state_bounds, input_bounds=input_bounds, verify=verify, tol=tol,
+                                        limits=limits, u_max=u_max, state_bounds=state_bounds,
+                                        input_bounds=input_bounds, verify=verify, tol=tol,
                                         max_evaluations=max_evaluations, time_limit=time_limit,
                                         start_rate=start_rate, end_rate=end_rate, degrees=degrees,
                                         objective=objective, tau_max=tau_max, capacity=capacity, **waypoints)

@@ -25,8 +25,7 @@ from ..core.verify import resolve_verify
 
 
 __all__ = ["PlanRequest", "checked_vector", "DEFAULT_SIZE", "MAX_COEFFICIENTS", "MAX_LADDER_COEFFICIENTS",
-           "ladder_sizes", "TIME_LIMIT", "MIN_DURATION",
-           "MAX_DURATION", "MAX_TIME"]
+           "ladder_sizes", "TIME_LIMIT", "MIN_DURATION", "MAX_DURATION", "MAX_TIME"]
 
 #: Coefficients per input per segment when neither ``n_coefficients`` nor the strategy says.
 DEFAULT_SIZE = 6
@@ -161,8 +160,7 @@ class PlanRequest:
     def build(cls, system, *, times, conditions: str | None = None, method="auto", basis="legendre",
               n_coefficients: int | None = None, max_coefficients: int | None = None, limits: Limits | None = None,
               u_max: float | None = None, state_bounds=None, input_bounds=None, verify: bool | str = True,
-              tol: float = 1e-10,
-              max_evaluations: int = 2000, time_limit: float | None = TIME_LIMIT, start_rate=None,
+              tol: float = 1e-10, max_evaluations: int = 2000, time_limit: float | None = TIME_LIMIT, start_rate=None,
               end_rate=None, degrees: bool = False, objective: str | None = None, tau_max=None,
               capacity=None, **named) -> "PlanRequest":
         """Validate :func:`plan`'s arguments (same keywords). Raises :class:`InvalidInputError`."""
@@ -178,7 +176,7 @@ class PlanRequest:
             X, shorthand, u_max, state_bounds, input_bounds = _from_degrees(system, X, shorthand, u_max, state_bounds,
                                                                             input_bounds)
         asked = objective is not None or tau_max is not None
-        ladder = _ladder(max_coefficients, asked, n_coefficients, method)
+        ladder = _ladder(max_coefficients, asked, n_coefficients, method, t)
         strategy, objective, torque_limits = _optimal_strategy(system, method, objective, tau_max, ladder)
         if conditions is None:  # optimal plans leave the end inputs free: pinned, the optimum is not attained
             conditions = "free" if asked else "spline"
@@ -394,8 +392,10 @@ def ladder_sizes(top: int) -> tuple[int, ...]:
     return tuple(sizes)
 
 
-def _ladder(max_coefficients, asked: bool, n_coefficients, method) -> tuple[int, ...] | None:
-    """The ladder of ``max_coefficients`` (validated), ``None`` when it is not given."""
+def _ladder(max_coefficients, asked: bool, n_coefficients, method, times) -> tuple[int, ...] | None:
+    """The ladder of ``max_coefficients`` (validated against the waypoint ``times``: the power-basis
+    export divides by :math:`T^{n-1}`, which must stay within 1e-300 and 1e300), ``None`` when it is
+    not given."""
     if max_coefficients is None:
         return None
     top = _whole("max_coefficients", max_coefficients, 48, MAX_LADDER_COEFFICIENTS)
@@ -415,6 +415,14 @@ def _ladder(max_coefficients, asked: bool, n_coefficients, method) -> tuple[int,
     if n_coefficients is not None:
         raise InvalidInputError("max_coefficients", "and n_coefficients are both given: n_coefficients fixes one basis "
                                 "size, max_coefficients the last of the ladder", "give one of them")
+    durations = np.diff(np.asarray(times, dtype=float))
+    k = int(np.argmax(np.abs(np.log10(durations))))
+    worst = abs(math.log10(durations[k]))
+    if worst * (top - 1) > 300:
+        most = max(6, 1 + int(300 // worst))
+        raise InvalidInputError("max_coefficients", f"is {top}, and a segment of {durations[k]:g} s would take "
+                                f"T**{top - 1} out of the arithmetic's range (the power-basis export)",
+                                f"give at most {most}, or rescale the times")
     return ladder_sizes(top)
 
 
