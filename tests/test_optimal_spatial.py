@@ -249,8 +249,10 @@ def test_max_coefficients_climbs_the_ladder_past_30_and_the_cost_falls():
     sizes it climbed. max_coefficients=14 stops the ladder there."""
     body, kw = falling_cat_turn()
     kw = _free_ends(kw)
-    base = acroplan.plan(body, objective="energy", **kw).segments[0].optimality
+    seg = acroplan.plan(body, objective="energy", **kw).segments[0]
+    base = seg.optimality
     assert [n for n, _ in base["ladder"]] == [6, 10, 14, 20, 26, 30] and not base["converged_in_basis"]
+    assert "max_coefficients takes the ladder further, up to 60" in seg.message, seg.message  # the fix, named
     r = acroplan.plan(body, objective="energy", max_coefficients=36, **kw)
     _independent_checks(body, kw, r)
     _within_ranges(body, r)

@@ -152,7 +152,8 @@ from .strategies import AUTO_DEFAULT, Interval, IntervalOutcome, Strategy, make_
 from .system import ControlAffineSystem, torque_model_of
 
 __all__ = ["EnergyOptimal", "TorqueOptimal", "OptimalSolve", "optimize_segment", "energy", "TorqueModel",
-           "OBJECTIVES", "objective_strategy", "FAMILY_STARTS", "register_starts", "family_starts", "SIZES", "RTOL",
+           "OBJECTIVES", "objective_strategy", "FAMILY_STARTS", "register_starts", "family_starts", "SIZES",
+           "MAX_LADDER_SIZE", "RTOL",
            "KKT_TOL", "STAGE_KKT_TOL", "FIRST_KKT_TOL", "DEFORM_BUDGET", "DEFORM_TOL", "DISTINCT", "PROMISING",
            "FAMILY_PROMISING", "MAX_REFRESH", "TORQUE_QUADRATURE", "TORQUE_LIMIT_GRID", "TORQUE_MARGIN", "tau_vector"]
 
@@ -161,6 +162,8 @@ _step = kkt_step
 
 #: Basis sizes of the ladder (:class:`EnergyOptimal`), smallest first.
 SIZES = (6, 10, 14, 20, 26, 30)
+#: The largest basis size a ladder may climb to (:func:`acroplan.plan`'s ``max_coefficients``)
+MAX_LADDER_SIZE = 60
 #: The ladder stops when the optimum's cost changes by less than this, relative, between sizes.
 RTOL = 1e-4
 #: Endpoint evaluations allowed to path deformation from the minimum-norm input (the second start).
@@ -515,9 +518,13 @@ class _Search:
                     f"< {st.rtol:g} (relative)")
         elif iv.sizes is not None:
             note = "one basis size (n_coefficients given)"
-        else:
-            note = ("NOT converged in the basis at the largest size tried"
-                    + (f": {self.reasons[-1]}" if self.reasons else ""))
+        elif self.reasons:
+            note = f"NOT converged in the basis at the largest size tried: {self.reasons[-1]}"
+        else:  # the ladder's sizes ran out with the cost still changing
+            top = history[-1][0]
+            note = (f"NOT converged in the basis at the largest size tried ({top} coefficients"
+                    + (f"; max_coefficients takes the ladder further, up to {MAX_LADDER_SIZE})" if top < MAX_LADDER_SIZE
+                       else ")"))
         ladder = ", ".join(f"{n}: {v:.10g}" for n, v in history)
         msg = (f"{st.name}: {res.message}; sizes (n: cost) {ladder}; {note}; start: {start_label}"
                + (f" ({self.notes[0]})" if self.notes else "") + f"; integral of |u|^2 = {res.energy:.10g}")

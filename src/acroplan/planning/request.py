@@ -18,7 +18,7 @@ from ..core.errors import InvalidInputError
 from ..core.family import family_of
 from ..core.keywords import PLAN_KEYWORDS
 from ..core.limits import Limits
-from ..core.optimal import OBJECTIVES, EnergyOptimal, tau_vector, objective_strategy
+from ..core.optimal import MAX_LADDER_SIZE, OBJECTIVES, EnergyOptimal, objective_strategy, tau_vector
 from ..core.strategies import STRATEGIES, Strategy, resolve_strategy
 from ..core.system import ControlAffineSystem, torque_model_of
 from ..core.verify import resolve_verify
@@ -34,7 +34,7 @@ DEFAULT_SIZE = 6
 MAX_COEFFICIENTS = 30
 #: The largest ``max_coefficients``: the top of an optimum's ladder of basis sizes (an optimum's
 #: cost can still fall at 30 coefficients where a limit binds: benchmarks/RESULTS.md).
-MAX_LADDER_COEFFICIENTS = 60
+MAX_LADDER_COEFFICIENTS = MAX_LADDER_SIZE
 #: The default wall-clock budget of one plan, in seconds.
 TIME_LIMIT = 60.0
 #: Segment durations and times the arithmetic carries (the power-basis export takes T**(n-1)).
