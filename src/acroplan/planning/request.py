@@ -392,6 +392,12 @@ def ladder_sizes(top: int) -> tuple[int, ...]:
     return tuple(sizes)
 
 
+def _is_optimal(method) -> bool:
+    """Whether ``method`` is an optimal strategy: a registered name of one, an instance or a class."""
+    return ((isinstance(method, str) and isinstance(STRATEGIES.get(method), EnergyOptimal))
+            or isinstance(method, EnergyOptimal) or (isinstance(method, type) and issubclass(method, EnergyOptimal)))
+
+
 def _ladder(max_coefficients, asked: bool, n_coefficients, method, times) -> tuple[int, ...] | None:
     """The ladder of ``max_coefficients`` (validated against the waypoint ``times``: the power-basis
     export divides by :math:`T^{n-1}`, which must stay within 1e-300 and 1e300), ``None`` when it is
@@ -401,9 +407,7 @@ def _ladder(max_coefficients, asked: bool, n_coefficients, method, times) -> tup
     top = _whole("max_coefficients", max_coefficients, 48, MAX_LADDER_COEFFICIENTS)
     if top < 6:
         raise InvalidInputError("max_coefficients", f"must be at least 6, got {top}", "give for example 48")
-    optimal = (isinstance(method, str) and isinstance(STRATEGIES.get(method), EnergyOptimal)) or isinstance(
-        method, EnergyOptimal) or (isinstance(method, type) and issubclass(method, EnergyOptimal))
-    if optimal and not asked:
+    if _is_optimal(method) and not asked:
         raise InvalidInputError("max_coefficients", f"is given with method={_short(method)}, an optimal strategy with "
                                 "its own ladder", "give objective= with max_coefficients (and method naming the "
                                 "feasible plan to start from), or the strategy its sizes: EnergyOptimal(sizes=...)")
@@ -453,11 +457,8 @@ def _optimal_strategy(system, method, objective, tau_max, ladder=None):
                                         "use objective=\"energy\" or leave it out, or give a body with its masses "
                                         "and inertias (for example Acrobot.from_physical)")
     vec = None if tau_max is None else tau_vector(tau_max, model)
-    optimal = (method if isinstance(method, str) and isinstance(STRATEGIES.get(method), EnergyOptimal)
-               else method if isinstance(method, EnergyOptimal)
-               or (isinstance(method, type) and issubclass(method, EnergyOptimal)) else None)
-    if optimal is not None:
-        raise InvalidInputError("method", f"is an optimal strategy ({_short(optimal)}) and objective="
+    if _is_optimal(method):
+        raise InvalidInputError("method", f"is an optimal strategy ({_short(method)}) and objective="
                                 f"{objective!r}{' (set by tau_max)' if tau_max is not None else ''} is given too",
                                 "give objective= (and tau_max=) alone, with method naming the feasible plan to "
                                 "start from, or method= alone")
