@@ -125,6 +125,10 @@ def test_every_dive_is_an_optimal_plan_within_the_strength_data(plans, name):
     for seg in res.segments:
         opt = seg.optimality
         assert opt["objective"] == OBJECTIVE[name] and opt["kkt_converged"], seg.message
+        # the ladder of basis sizes went on to its last size or converged: no size stopped it by
+        # breaking a torque limit between the grid's points (the double full-out's second and
+        # third intervals had stopped at 14 of 30 coefficients so)
+        assert opt["converged_in_basis"] or opt["ladder"][-1][0] == 30, seg.message
 
 
 def test_a_3d_human_brings_its_strength_as_the_capacity():

@@ -647,6 +647,22 @@ def test_a_peak_by_two_zooms_and_the_parabola_and_ends_that_need_none():
     assert abs(peaks(counted(h), grid, h(grid)[None, :])[0] - 2.0) < 1e-14 and len(calls) == 2
 
 
+def test_peak_times_give_each_peak_with_its_time():
+    """effort.peak_times: the peaks of effort.peaks (the same numbers) and where they are: the
+    cosine's peak and the narrow bump's between the samples to 1e-9 of the interval (two zooms and
+    the parabola's vertex), a maximum at an end at the end."""
+    from acroplan.core.effort import peak_times, peaks
+
+    grid = np.linspace(0.0, 1.0, 101)
+    rows = lambda t: np.vstack([1.0 + 0.5 * np.cos(30.0 * (t - 0.41137)),  # noqa: E731
+                                1.0 + np.exp(-400.0 * (t - 0.9965) ** 2), np.exp(t)])
+    got, when = peak_times(rows, grid, rows(grid))
+    assert np.array_equal(got, peaks(rows, grid, rows(grid)))
+    assert np.allclose(got, [1.5, 2.0, np.e], rtol=1e-14, atol=0)
+    on = 0.41137 + 2.0 * np.pi / 30.0 * np.round((when[0] - 0.41137) * 30.0 / (2.0 * np.pi))
+    assert abs(when[0] - on) < 1e-9 and abs(when[1] - 0.9965) < 1e-9 and when[2] == 1.0
+
+
 def test_the_positive_work_of_split_panels():
     """effort._positive_work on P(t) = sin(20 t) + 0.3 over [0, 1] on 8 panels, split at its exact
     roots (the pieces up to each panel's last root by the panel's rule, the rest as the panel's

@@ -307,15 +307,16 @@ def test_the_joint_optimum_takes_the_times_where_it_broke_a_torque_limit(monkeyp
 
 def test_torque_excess_times_are_the_worst_point_of_each_stretch_above_the_rows():
     """OptimalProblem.torque_excess_times: on the dense check's points, one time per stretch where
-    |tau| is above the rows' bound (the limit less its margin), at the stretch's largest excess;
-    add_torque_times puts them on the grid (two more rows each), once."""
+    |tau| is above the rows' bound (the limit less its margin), at the stretch's largest excess, or,
+    for the stretch holding the joint's peak, the peak refined between the points (here at the
+    analytic maximum); add_torque_times puts them on the grid (two more rows each), once."""
     from acroplan.core.basis import Legendre
-    from acroplan.core.objectives import TORQUE_MARGIN
+    from acroplan.core.objectives import TORQUE_MARGIN, torque_check_grid
     from acroplan.core.optimum import OptimalProblem
     from test_optimal import FlywheelTorque, OptimalTestFlywheel
 
     sysm, basis, T = OptimalTestFlywheel(), Legendre(6), 1.0
-    s = np.linspace(0.0, 1.0, 1025)
+    s = torque_check_grid()
     x = 2.0 * s - 1.0                                      # u = x^2/2 - x^4/4: tau = I u' / T peaks inside,
     c = np.linalg.lstsq(basis.matrix(s), x**2 / 2 - x**4 / 4, rcond=None)[0][None, :]  # at x = -+1/sqrt(3)
     model = FlywheelTorque()
@@ -328,18 +329,68 @@ def test_torque_excess_times_are_the_worst_point_of_each_stretch_above_the_rows(
     over = np.abs(tau) > bound
     stretches = int(over[0]) + int(np.count_nonzero(over[1:] & ~over[:-1]))
     assert times.size == stretches >= 2
+    peaks = (1.0 + np.array([-1.0, 1.0]) / np.sqrt(3.0)) / 2.0
+    refined = [t for t in times if np.min(np.abs(peaks - t)) < 1e-9]
+    assert len(refined) == 1                               # the joint's peak, refined (one of the two)
     for t in times:
-        k = int(np.rint(t * 1024))
+        if t in refined:
+            continue
+        k = int(np.flatnonzero(s == t)[0])                 # a point of the check's grid
         assert abs(tau[k]) > bound
         run = np.arange(k, k + 1)
         while run[0] > 0 and over[run[0] - 1]:
             run = np.r_[run[0] - 1, run]
-        while run[-1] < 1024 and over[run[-1] + 1]:
+        while run[-1] < s.size - 1 and over[run[-1] + 1]:
             run = np.r_[run, run[-1] + 1]
         assert abs(tau[k]) == np.abs(tau[run]).max()
     rows = prob.ineq(prob.z(c.ravel()))[0].size
     assert prob.add_torque_times(times) == times.size and prob.add_torque_times(times) == 0
     assert prob.ineq(prob.z(c.ravel()))[0].size == rows + 2 * times.size
+
+
+class _BumpTorque:
+    """tau = I u'/T plus a narrow bump (height ``a``, 2e-4 of the interval wide) at ``s0``."""
+
+    joint_names = ("q",)
+
+    def __init__(self, a, s0):
+        self.a, self.s0 = a, s0
+
+    def __call__(self, system, basis, x0, T, c, s):
+        s = np.asarray(s, dtype=float)
+        c = np.asarray(c, dtype=float).reshape(1, -1)
+        return (system.I * (basis.matrix(s, 1) @ c[0]) / T + self.a * np.exp(-((s - self.s0) / 2e-4) ** 2))[None, :]
+
+
+def test_the_dense_check_refines_a_torque_peak_between_its_points():
+    """A torque peak narrower than the check's points near an interval's end (where a motion with
+    many coefficients has its narrowest features), on a torque within 1% of its limit: the check
+    refines it (OptimalRun.result says the limit is broken, by the bump's analytic excess), and the
+    exchange rounds' time is the bump's, though every point of the grid is within the rows' bound."""
+    from acroplan.core.basis import Legendre
+    from acroplan.core.objectives import TORQUE_MARGIN, torque_check_grid
+    from acroplan.core.optimum import OptimalRun
+    from test_optimal import OptimalTestFlywheel
+
+    sysm, basis, T = OptimalTestFlywheel(), Legendre(4), 1.0
+    s = torque_check_grid()
+    gaps = np.diff(s)
+    k = int(np.argmax(np.where(s[:-1] > 0.99, gaps, 0.0)))
+    s0 = 0.5 * (s[k] + s[k + 1])                          # half-way between two of the check's points
+    assert gaps[k] > 5e-4                                 # the bump (2e-4 wide) falls between them
+    c = np.linalg.lstsq(basis.matrix(s), 0.99 * T * s / sysm.I, rcond=None)[0][None, :]  # tau = 0.99 + bump
+    tmax = 1.0
+    model = _BumpTorque(0.02, s0)
+    sampled = float(np.abs(model(sysm, basis, np.zeros(2), T, c, s)).max())
+    assert sampled < tmax * (1 - TORQUE_MARGIN)          # every point of the grid within the bound
+    run = OptimalRun(sysm, basis, np.zeros(2), np.zeros(2), T, "energy", model, None, [tmax], None, None, 1e-10, 100)
+    prob = run.prob
+    _, _, peak, when = prob.torque_check(c.ravel())
+    assert peak[0] == pytest.approx(1.01, rel=1e-12) and when[0] == pytest.approx(s0, abs=1e-9)
+    assert np.allclose(prob.torque_excess_times(prob.z(c.ravel())), [s0], atol=1e-9, rtol=0)
+    run.z = prob.z(c.ravel())
+    res = run.result()
+    assert run.broken["torque"] and "max(|tau| - tau_max) = 1.00e-02" in res.message
 
 
 def test_a_retry_densifies_the_limits_that_were_broken_between_the_points():

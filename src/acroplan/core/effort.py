@@ -14,7 +14,7 @@ from .errors import InvalidInputError
 from .objectives import gram
 from .progress import stage
 
-__all__ = ["JointEffort", "EFFORT_RULE", "PEAK_CANDIDATES", "PEAK_ZOOMS", "PEAK_POINTS", "ROOT_XTOL", "ROOT_RTOL",
+__all__ = ["JointEffort", "EFFORT_RULE", "peak_times", "PEAK_CANDIDATES", "PEAK_ZOOMS", "PEAK_POINTS", "ROOT_XTOL", "ROOT_RTOL",
            "ROOT_POINTS", "INTERPOLANT_TAIL", "effort_summary", "peak", "peaks"]
 
 
@@ -360,12 +360,26 @@ def _hopeful(x, f, i, best, *, ends: bool = False):
     return keep
 
 
-def _peak_rounds(grid, values):
+def peak_times(f, grid, values) -> tuple[np.ndarray, np.ndarray]:
+    """``(peaks, times)``: :func:`peaks` of every row of ``values`` and the time of each (the
+    refined point that gave it, or the vertex of the last zoom's parabola)."""
+    return _drive(f, _peak_rounds(grid, values, with_times=True))
+
+
+def _raise(best, when, rows, vals, times) -> None:
+    """``best[r] = max(best[r], v)`` for each ``(r, v, t)``, with ``when[r] = t`` where it rose."""
+    for r, v, t in zip(rows, vals, times):
+        if v > best[r]:
+            best[r], when[r] = v, t
+
+
+def _peak_rounds(grid, values, with_times: bool = False):
     """:func:`peaks` as a search generator (:func:`_lockstep`): yields the times of a zoom, receives
-    the rows' values there, returns the peaks (r,). A candidate goes on to the next zoom only while
-    it can still reach its row's best (:func:`_hopeful`)."""
+    the rows' values there, returns the peaks (r,) (and their times, ``with_times``). A candidate
+    goes on to the next zoom only while it can still reach its row's best (:func:`_hopeful`)."""
     v = np.abs(values)
     best = v.max(axis=1)
+    when = grid[np.argmax(v, axis=1)]
     pad = np.full((v.shape[0], 1), -np.inf)
     left, right = np.hstack([pad, v[:, :-1]]), np.hstack([v[:, 1:], pad])
     # each row's local maxima within 1% of its largest, the largest first (ties in time order)
@@ -391,18 +405,27 @@ def _peak_rounds(grid, values):
         k = np.arange(rows.size)
         fx = np.abs(np.asarray(got, dtype=float)).reshape(-1, rows.size, n)[rows, k]
         i = np.argmax(fx, axis=1)
-        np.maximum.at(best, rows, fx[k, i])
+        if with_times:
+            _raise(best, when, rows, fx[k, i], xs[k, i])
+        else:
+            np.maximum.at(best, rows, fx[k, i])
         if zoom == PEAK_ZOOMS - 1:  # the parabola's vertex, where the best point has two smaller neighbours
             r = k[(i > 0) & (i < n - 1)]
             c = i[r]
             f0, fm, fp = fx[r, c], fx[r, c - 1], fx[r, c + 1]
             d = 2.0 * f0 - fm - fp
-            vertex = np.where(d > 0.0, f0 + (fp - fm) ** 2 / (8.0 * np.where(d > 0.0, d, 1.0)), f0)
-            np.maximum.at(best, rows[r], vertex)
+            pos = d > 0.0
+            dd = np.where(pos, d, 1.0)
+            vertex = np.where(pos, f0 + (fp - fm) ** 2 / (8.0 * dd), f0)
+            if with_times:
+                h = (hi[r] - lo[r]) / (n - 1)
+                _raise(best, when, rows[r], vertex, xs[r, c] + np.where(pos, h * (fp - fm) / (2.0 * dd), 0.0))
+            else:
+                np.maximum.at(best, rows[r], vertex)
             break
         live = _hopeful(xs, fx, i, best[rows])
         rows, lo, hi = rows[live], xs[k, np.maximum(i - 1, 0)][live], xs[k, np.minimum(i + 1, n - 1)][live]
-    return best
+    return (best, when) if with_times else best
 
 
 #: Bracket width (seconds) at which :func:`_roots` takes a root, unless told another.

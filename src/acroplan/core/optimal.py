@@ -62,11 +62,15 @@ Solvers
   solved by non-negative least squares), the active limits' multipliers in the merit function, the
   KKT residual and the curvature updates; the optimum is then brought onto the endpoint by
   minimum-norm Newton steps as :func:`~acroplan.core.limits.solve_with_limits`, and success needs
-  the limits to hold exactly (:func:`~acroplan.core.limits.violation`) and the torque limits on
-  1025 points. A size whose optimum breaks a limit between the grid's 64 points is solved again
-  from it with the limits it broke (the rate and joint limits, or the torque limits, or both) on
-  :data:`DENSE_LIMIT_GRID` points (:meth:`_Search.denser`), and so is the intervals' joint optimum
-  (:data:`JOINT_LIMIT_GRIDS`). (Before issue #22 the limits went to
+  the limits to hold exactly (:func:`~acroplan.core.limits.violation`) and the torque limits at
+  their peaks (sampled on :func:`~acroplan.core.objectives.torque_check_grid`, the peaks within 1%
+  of a limit refined between the points as the plan's effort summary refines them:
+  :meth:`~acroplan.core.optimum.OptimalProblem.torque_check`). A size whose optimum breaks a limit
+  between the grid's 64 points is solved again from it with the limits it broke (the rate and
+  joint limits, or the torque limits, or both) on :data:`DENSE_LIMIT_GRID` points
+  (:meth:`_Search.denser`), then, while it still breaks a torque limit, with the times of the
+  largest excesses added to the torque limits' grid (:data:`EXCHANGE_ROUNDS`); and so is the
+  intervals' joint optimum (:data:`JOINT_LIMIT_GRIDS`). (Before issue #22 the limits went to
   scipy's SLSQP, where the falling cat's energy optimum took 160 s; ``benchmarks/RESULTS.md`` has
   the figure now.) A size whose linearised limits no step can keep (a start far outside them)
   fails, and the next size is tried. The second-order correction of a trial step keeps the limits
@@ -345,11 +349,16 @@ class _Search:
         solved again from its optimum with the limits it broke between its grid's points on
         :data:`DENSE_LIMIT_GRID` points (the rate and joint limits, the torque limits, or both:
         :func:`_denser_grids`), when it broke some (its endpoint met, the dense check of
-        :meth:`OptimalRun.result` failed) and the denser grid's optimum does not. The bundled forward
-        dive's least integral of u^2 within the strength broke a torque limit by 0.23 to 414 N m
-        between 65 points at every size, and ended not converged. (Starting the next sizes, or the
-        joint optimum, on the denser grid was slower: each evaluation of the torque limits costs
-        four times as much.)"""
+        :meth:`OptimalRun.result` failed) and the denser grid's optimum does not; while that one
+        still breaks only a torque limit, up to :data:`EXCHANGE_ROUNDS` exchange rounds (the times
+        of the largest excesses join its torque grid, :meth:`OptimalProblem.torque_excess_times`,
+        and its SQP goes on). The bundled forward dive's least integral of u^2 within the strength
+        broke a torque limit by 0.23 to 414 N m between 65 points at every size, and ended not
+        converged; without the exchange rounds the double full-out's ladders stopped at 14 of 30
+        coefficients on two intervals, their 20 coefficients' optima breaking a torque limit
+        between 257 points (the least integral of u^2 then 0.14% higher). (Starting the next sizes,
+        or the joint optimum, on the denser grid was slower: each evaluation of the torque limits
+        costs four times as much.)"""
         ok, value, full = run.brief()
         if ok or run.failed or not run.inequalities or full is None or not full.final_error <= run.tol:
             return run, ok, value, full
@@ -359,6 +368,20 @@ class _Search:
         again = self.new_run(n, *grids).solve(run.prob.c(run.z), curvature=run.Hc, kkt_tol=kkt_tol, polish=False)
         self.evaluations += again.prob.evaluations
         ok2, value2, full2 = again.brief()
+        for _ in range(EXCHANGE_ROUNDS):
+            if ok2 or again.failed or full2 is None or not again.broken["torque"] or again.broken["limits"]:
+                break
+            # the denser grid's optimum still breaks a torque limit between its points: the times of
+            # the largest excesses join the grid and the SQP goes on from there (as the joint
+            # optimum's exchange rounds; the 3-D human's arms-and-hips back full, least integral of
+            # u^2 within the strength, broke a hip's by 0.4 to 0.6 N m between 257 points at 14
+            # coefficients, and its ladder had stopped at 10)
+            before = again.prob.evaluations
+            if not again.prob.add_torque_times(again.prob.torque_excess_times(again.z)):
+                break
+            again.solve(again.prob.c(again.z), curvature=again.Hc, kkt_tol=kkt_tol, polish=False)
+            self.evaluations += again.prob.evaluations - before
+            ok2, value2, full2 = again.brief()
         if ok2:
             return again, ok2, value2, full2
         return run, ok, value, full
@@ -558,8 +581,8 @@ class EnergyOptimal(Strategy):
     tau_max : float, sequence or dict, optional
         Torque limits :math:`|\\tau_j| \\le \\bar\\tau_j` per joint (one number for all, one per
         joint, or a dict by the model's ``joint_names``), imposed on a grid of
-        :data:`TORQUE_LIMIT_GRID` points with a margin of :data:`TORQUE_MARGIN` and checked on 1025
-        points; together with the rate and joint limits of :func:`plan` they are the SQP's
+        :data:`TORQUE_LIMIT_GRID` points with a margin of :data:`TORQUE_MARGIN` and checked at their
+        peaks (module docstring); together with the rate and joint limits of :func:`plan` they are the SQP's
         inequalities (module docstring).
     kkt_tol : float
         Target relative KKT residual of the reported optimum (default :data:`KKT_TOL`).

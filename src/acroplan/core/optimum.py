@@ -16,7 +16,8 @@ from .basis import InputBasis
 from .errors import InvalidInputError
 from .limits import COMPLIANCE_TOL, linear_limits, violation
 from .linalg import least_norm_step, null_space
-from .objectives import TORQUE_LIMIT_GRID, TORQUE_MARGIN, EnergyCost, call_torque, cost_for, energy, torque_values
+from .objectives import (TORQUE_LIMIT_GRID, TORQUE_MARGIN, EnergyCost, call_torque, cost_for, energy, torque_check_grid,
+                         torque_values)
 from .sqp import kkt_multipliers, kkt_step, polish_endpoint, sqp
 from .system import ControlAffineSystem
 
@@ -162,22 +163,57 @@ class OptimalProblem:
         self.grid = grid
         return int(added)
 
-    def torque_excess_times(self, z, points: int = 1025) -> np.ndarray:
-        """The normalised times, on ``points`` uniform points (the dense check's), of the largest
-        excess of each stretch where a joint's :math:`|\\tau|` is above its row's bound
-        (:math:`(1 - \\text{TORQUE\\_MARGIN})\\,\\bar\\tau`); empty without torque limits."""
+    def torque_check(self, c):
+        """``(s, tau, peak, when)``: the torques on the dense check's points ``s``
+        (:func:`~.objectives.torque_check_grid`), shape (p, K), and each joint's peak :math:`|\\tau|`
+        (p,) with its time, refined between the points (:func:`~.effort.peak_times`, as the plan's
+        effort summary refines them) for the joints whose sampled peak is within 1% of their row's
+        bound; the others' are the sampled peaks."""
+        from .effort import peak_times
+
+        model, system, basis, x0, T = self.torque_model, self.system, self.basis, self.x0, self.T
+        s = torque_check_grid()
+        tau = torque_values(model, system, basis, x0, T, c, s)
+        at = np.argmax(np.abs(tau), axis=1)
+        peak, when = np.abs(tau[np.arange(tau.shape[0]), at]), s[at]
+        bound = np.broadcast_to(self.tmax, peak.shape) * (1.0 - TORQUE_MARGIN)
+        near = np.flatnonzero(np.isfinite(bound) & (peak >= 0.99 * bound))
+        if near.size:
+            def f(xs):
+                order = np.argsort(xs, kind="stable")
+                out = np.empty((near.size, xs.size))
+                out[:, order] = torque_values(model, system, basis, x0, T, c, xs[order])[near]
+                return out
+
+            peak[near], when[near] = peak_times(f, s, tau[near])
+        return s, tau, peak, when
+
+    def torque_excess_times(self, z) -> np.ndarray:
+        """The normalised times of the largest excess of each stretch where a joint's
+        :math:`|\\tau|` is above its row's bound (:math:`(1 - \\text{TORQUE\\_MARGIN})\\,\\bar\\tau`),
+        from :meth:`torque_check`: on its points, the stretch's worst point, or the joint's refined
+        peak where that lies in the stretch or between the points, above the bound; empty without
+        torque limits."""
         if self.tmax is None:
             return np.zeros(0)
-        s = np.linspace(0.0, 1.0, points)
-        tau = torque_values(self.torque_model, self.system, self.basis, self.x0, self.T, self.c(z), s)
-        over = np.abs(tau) - (self.tmax * (1.0 - TORQUE_MARGIN))[:, None]
+        s, tau, peak, when = self.torque_check(self.c(z))
+        bound = np.broadcast_to(self.tmax, peak.shape) * (1.0 - TORQUE_MARGIN)
+        over = np.abs(tau) - bound[:, None]
         out = []
-        for row in over:
+        for j, row in enumerate(over):
+            refined = bool(peak[j] > bound[j])
             bad = np.flatnonzero(row > 0.0)
             if bad.size:
                 # the stretches of consecutive points above the bound, each's worst point
                 for run in np.split(bad, np.flatnonzero(np.diff(bad) > 1) + 1):
-                    out.append(s[run[np.argmax(row[run])]])
+                    lo, hi = s[max(run[0] - 1, 0)], s[min(run[-1] + 1, s.size - 1)]
+                    if refined and lo <= when[j] <= hi:
+                        out.append(when[j])
+                        refined = False
+                    else:
+                        out.append(s[run[np.argmax(row[run])]])
+            if refined:  # a peak above the bound between the points, none of them above it
+                out.append(when[j])
         return np.unique(np.asarray(out, dtype=float))
 
     # coordinates
@@ -429,8 +465,8 @@ class OptimalRun:
             ok = ok and not self.broken["limits"]
             msg += f", limit violation {max(v['u'], v['state']):.1e}"
         if prob.tmax is not None:
-            tau = torque_values(prob.torque_model, system, basis, prob.x0, prob.T, c, np.linspace(0.0, 1.0, 1025))
-            excess = float(np.max(np.abs(tau) - prob.tmax[:, None]))
+            peak = prob.torque_check(c.ravel())[2]
+            excess = float(np.max(peak - np.broadcast_to(prob.tmax, peak.shape)))
             self.broken["torque"] = not excess <= COMPLIANCE_TOL * max(1.0, float(np.max(
                 prob.tmax[np.isfinite(prob.tmax)], initial=1.0)))
             ok = ok and not self.broken["torque"]
