@@ -38,19 +38,23 @@ TORQUE_CHECK_POINTS = (1025, 257)
 
 
 def torque_check_grid() -> np.ndarray:
-    """The normalised times (sorted, in [0, 1]) on which an optimum's torques are checked against
-    their limits, and where the exchange rounds look for the largest excesses: the union of
-    :data:`TORQUE_CHECK_POINTS` ``[0]`` uniform points and ``[1]`` Chebyshev-Lobatto points
-    :math:`(1 - \\cos(\\pi k / K)) / 2`, which crowd towards the ends.
+    """The normalised times (sorted, in [0, 1]) on which an optimum's torques are sampled for the
+    check against their limits (the peaks near a limit are then refined between them:
+    :meth:`~acroplan.core.optimum.OptimalProblem.torque_check`), and where the exchange rounds look
+    for the largest excesses: the union of :data:`TORQUE_CHECK_POINTS` ``[0]`` uniform points and
+    ``[1]`` Chebyshev-Lobatto points :math:`(1 - \\cos(\\pi k / K)) / 2`, which crowd towards the
+    ends.
 
     A motion with :math:`n` coefficients an input has features about :math:`1/n^2` of the interval
-    wide near its ends (the spacing of a degree-:math:`n` polynomial's extrema there), which the
-    uniform points alone miss from :math:`n \\approx 20`; the Chebyshev points there are 1e-5 to
-    1e-4 of the interval apart. On uniform points alone, the bundled back double full-out's least
-    :math:`\\int u^2` within the strength passed this check at 30 coefficients and was then refused
-    by the exact peaks of the plan's own check (``not_converged``); a 3-D human with arms and hips
-    passed it with four joints' torques above their limits within 0.3% of an interval's end (a
-    shoulder's at 90.04 N m, its limit 89.9)."""
+    wide near its ends (the spacing of a degree-:math:`n` polynomial's extrema there): the peak of
+    :math:`s (1 - s)\\, T_n''(2 s - 1)` near an end is missed by 1e-3 of its height from :math:`n =
+    20` on the uniform points alone, 3e-3 at 30, 5e-2 at 50 (the Chebyshev points there are 1e-5
+    to 1e-4 of the interval apart; the refinement then finds it to 1e-9). Checked on the uniform
+    points alone, the bundled back double full-out's least :math:`\\int u^2` within the strength,
+    its ladders taken to 30 coefficients, passed and was then refused by the exact peaks of the
+    plan's own check (``not_converged``); a 3-D human with arms and hips passed it with four joints'
+    torques above their limits within 0.3% of an interval's end (a shoulder's at 90.04 N m, its
+    limit 89.9)."""
     return _CHECK_GRID
 
 
