@@ -197,8 +197,12 @@ def _bounded(system: ControlAffineSystem, limits: Limits):
     return out
 
 
-def linear_limits(system, basis: InputBasis, x0, T: float, limits: Limits, grid: int = 64, margin: float = 0.0):
-    """Rows ``A`` and bounds ``b`` with ``A c <= b`` on a grid (flattened input-major ``c``).
+def linear_limits(system, basis: InputBasis, x0, T: float, limits: Limits, grid: int = 64, margin: float = 0.0,
+                  ends: int = 0):
+    """Rows ``A`` and bounds ``b`` with ``A c <= b`` on a grid (flattened input-major ``c``): ``grid``
+    uniform points, and with ``ends`` > 1 also that many Chebyshev-Lobatto points
+    :math:`(1 - \\cos(\\pi k / (\\text{ends} - 1))) / 2`, which crowd towards the ends, where a
+    polynomial of many coefficients has its narrowest features.
 
     Returns
     -------
@@ -207,6 +211,9 @@ def linear_limits(system, basis: InputBasis, x0, T: float, limits: Limits, grid:
     """
     m, n = system.n_inputs, basis.n
     s = np.linspace(0.0, 1.0, grid)
+    if ends > 1:
+        s = np.union1d(s, 0.5 * (1.0 - np.cos(np.pi * np.arange(ends) / (ends - 1))))
+        s[0], s[-1] = 0.0, 1.0
     rows, rhs = [], []
 
     def add(j, M, upper, sign):  # the rows of input j's block, one block of rows at once
@@ -222,16 +229,16 @@ def linear_limits(system, basis: InputBasis, x0, T: float, limits: Limits, grid:
             continue
         V = basis.matrix(s) if V is None else V
         U = U * (1.0 - margin)
-        add(j, V, np.full(grid, U), 1.0)
-        add(j, V, np.full(grid, U), -1.0)
+        add(j, V, np.full(s.size, U), 1.0)
+        add(j, V, np.full(s.size, U), -1.0)
     for j, i, lo, hi in _bounded(system, limits):
         W = T * basis.integral(s[1:-1])  # the ends are the waypoints themselves
         q0 = float(x0[i])
         width = (hi - lo) if np.isfinite(hi - lo) else 1.0
         if np.isfinite(hi):
-            add(j, W, np.full(grid - 2, hi - q0 - margin * width), 1.0)
+            add(j, W, np.full(s.size - 2, hi - q0 - margin * width), 1.0)
         if np.isfinite(lo):
-            add(j, W, np.full(grid - 2, q0 - lo - margin * width), -1.0)
+            add(j, W, np.full(s.size - 2, q0 - lo - margin * width), -1.0)
     if not rows:
         return np.zeros((0, m * n)), np.zeros(0)
     return np.vstack(rows), np.concatenate(rhs)

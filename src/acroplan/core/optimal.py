@@ -70,7 +70,8 @@ Solvers
   joint limits, or the torque limits, or both) on :data:`DENSE_LIMIT_GRID` points
   (:meth:`_Search.denser`), then, while it still breaks a torque limit, with the times of the
   largest excesses added to the torque limits' grid (:data:`EXCHANGE_ROUNDS`); and so is the
-  intervals' joint optimum (:data:`JOINT_LIMIT_GRIDS`). (Before issue #22 the limits went to
+  intervals' joint optimum (:data:`JOINT_LIMIT_GRIDS`, the first grid with
+  :data:`JOINT_LIMIT_ENDS` Chebyshev points at the ends too). (Before issue #22 the limits went to
   scipy's SLSQP, where the falling cat's energy optimum took 160 s; ``benchmarks/RESULTS.md`` has
   the figure now.) A size whose linearised limits no step can keep (a start far outside them)
   fails, and the next size is tried. The second-order correction of a trial step keeps the limits
@@ -304,15 +305,17 @@ class _Search:
             self._conditions[n] = (bn,) + tuple(self.interval.conditions(bn))
         return self._conditions[n]
 
-    def new_run(self, n, limit_grid: int | None = None, torque_grid: int | None = None) -> OptimalRun:
+    def new_run(self, n, limit_grid: int | None = None, torque_grid: int | None = None,
+                limit_ends: int = 0) -> OptimalRun:
         """A run at size ``n`` with the rate and joint limits on ``limit_grid`` points (default
-        :data:`LIMIT_GRID`) and the torque limits on ``torque_grid`` (default as
+        :data:`LIMIT_GRID`; and ``limit_ends`` Chebyshev points, :func:`~acroplan.core.limits.linear_limits`)
+        and the torque limits on ``torque_grid`` (default as
         :class:`~acroplan.core.optimum.OptimalProblem`)."""
         limit_grid = LIMIT_GRID if limit_grid is None else limit_grid
         bn, B, d = self.sized(n)
         iv = self.interval
         return OptimalRun(self.system, bn, iv.x0, iv.x1, iv.T, self.cost, self.model, self.limits, self.tmax, B, d,
-                          iv.tol, iv.max_evaluations, limit_grid, torque_grid)
+                          iv.tol, iv.max_evaluations, limit_grid, torque_grid, limit_ends)
 
     def first_stage(self, n, candidates):
         """Optimise the candidates ``(label, coefficients, promising)`` at size ``n``: the first one
@@ -729,12 +732,16 @@ class EnergyOptimal(Strategy):
         for grid in JOINT_LIMIT_GRIDS:
             # the first grid for every limit; a denser one for the limits the last optimum broke
             # between the points (the rate and joint limits, the torque limits, or both)
-            grids = (grid, None) if runs is None else _denser_grids(runs, grid)
+            first = runs is None
+            grids = (grid, None) if first else _denser_grids(runs, grid)
             if grids is None:
                 continue
+            ends = JOINT_LIMIT_ENDS if first else 0
             where = (f"{grid} points" if grids[1] is None or grids[1] > grid else
-                     f"{grids[0]} points (the torque limits on {grids[1]})")
-            runs = [_Search(self, iv, model).new_run(seg.basis.n, *grids) for iv, seg in zip(intervals, segments)]
+                     f"{grids[0]} points (the torque limits on {grids[1]})") + (
+                         f" and {ends} Chebyshev points" if ends else "")
+            runs = [_Search(self, iv, model).new_run(seg.basis.n, *grids, limit_ends=ends)
+                    for iv, seg in zip(intervals, segments)]
             if sequential is None:
                 sequential = sum(float(r.prob.f(r.prob.z(np.ravel(c)))[0]) for r, c in zip(runs, start))
             out, checks, bad = attempt(runs, start, curvature)
@@ -809,6 +816,15 @@ class EnergyOptimal(Strategy):
 #: the bundled forward dive's joint optimum broke a rate limit by 6.0e-3 between 64 points, the
 #: double full-out's least integral of u^2 within the strength a torque limit by 150 N m between 65).
 JOINT_LIMIT_GRIDS = (64, 256)
+#: Chebyshev-Lobatto points the joint optimum's first grid of the rate and joint limits also has
+#: (:func:`~acroplan.core.limits.linear_limits`), which crowd towards the intervals' ends, where
+#: the inputs of 30 coefficients have their narrowest features: the bundled forward dive's joint
+#: optimum on 64 uniform points broke a rate limit by 1.1e-2 rad/s between them and was solved
+#: again on 256 (46 + 12 SQP iterations); with the 64 Chebyshev points too it is kept at once (27),
+#: 13.5-13.9 s -> 7.8-9.9 s warm, its least integral of tau^2 1314.234 against 1314.315
+#: (benchmarks/RESULTS.md). Only the joint optimum's: in the one-interval ladders the same points
+#: made the falling cat's least integral of u^2 twice as slow.
+JOINT_LIMIT_ENDS = 64
 #: Exchange rounds of the joint optimum after its densest grid (:meth:`EnergyOptimal.joint`): the
 #: times where its torques broke a limit between the grid's points are added to the torque limits'
 #: grid and the SQP goes on. The double full-out's least integral of u^2 within the strength broke

@@ -121,7 +121,7 @@ class OptimalProblem:
     """One interval at one basis size, in reduced coordinates ``z`` (``c = c_p + Z z``)."""
 
     def __init__(self, system, basis, x0, x1, T, cost, B, d, max_evaluations, limits=None, torque_model=None,
-                 tau_max=None, limit_grid: int = 64, torque_grid: int | None = None):
+                 tau_max=None, limit_grid: int = 64, torque_grid: int | None = None, limit_ends: int = 0):
         self.system, self.basis, self.T = system, basis, float(T)
         self.x0 = np.asarray(x0, dtype=float)
         self.x1 = np.asarray(x1, dtype=float)
@@ -143,7 +143,8 @@ class OptimalProblem:
         self.limit_grid = int(limit_grid)
         self.lin = None
         if self.limits is not None:
-            A_c, b_c = linear_limits(system, basis, self.x0, T, self.limits, grid=limit_grid, margin=2e-3)
+            A_c, b_c = linear_limits(system, basis, self.x0, T, self.limits, grid=limit_grid, margin=2e-3,
+                                     ends=limit_ends)
             if A_c.shape[0]:
                 self.lin = (self.zmat(A_c), b_c - A_c @ self.c_p)
         self.tmax = None if tau_max is None else np.atleast_1d(np.asarray(tau_max, dtype=float))
@@ -320,10 +321,10 @@ class OptimalRun:
     """The optimisation at one basis size: solve from a start, refine, report."""
 
     def __init__(self, system, basis, x0, x1, T, cost, torque_model, limits, tau_max, B, d, tol, max_evaluations,
-                 limit_grid: int = 64, torque_grid: int | None = None):
+                 limit_grid: int = 64, torque_grid: int | None = None, limit_ends: int = 0):
         self.fn = cost_for(cost, system, basis, x0, T)
         self.prob = OptimalProblem(system, basis, x0, x1, T, self.fn, B, d, max_evaluations, limits, torque_model, tau_max,
-                                   limit_grid, torque_grid)
+                                   limit_grid, torque_grid, limit_ends)
         self.tol = tol
         #: whether the problem has inequalities (rate, joint or torque limits)
         self.inequalities = self.prob.lin is not None or self.prob.tmax is not None
