@@ -252,29 +252,37 @@ class PanelInterpolants:
     def __call__(self, tt):
         t = np.atleast_1d(np.asarray(tt, dtype=float))
         e = self.edges
-        k = np.clip(np.searchsorted(e, t, side="right") - 1, 0, e.size - 2)
+        k = np.searchsorted(e, t, side="right")
+        k -= 1
+        np.minimum(k, e.size - 2, out=k)
+        np.maximum(k, 0, out=k)
         ok = self.resolved[k]
-        out = np.empty((self.values.shape[0], t.size))
+        r = self.values.shape[0]
+        out = np.empty((r, t.size))
         if ok.any():
             at = np.flatnonzero(ok)
             at = at[np.argsort(k[at], kind="stable")]  # by panel, each panel's times together
             kk = k[at]
-            x = np.clip((t[at] - e[kk]) / (e[kk + 1] - e[kk]), 0.0, 1.0)
-            diff = x[:, None] - _NODES[None, :]
-            hit = diff == 0.0
-            on_node = hit.any()
-            if on_node:
-                diff[hit] = 1.0
-            D = _BARY[None, :] / diff  # (M, 32)
-            if on_node:  # a time on a node: that node's value
+            x = t[at] - e[kk]
+            x /= e[kk + 1] - e[kk]
+            np.minimum(x, 1.0, out=x)
+            np.maximum(x, 0.0, out=x)
+            D = np.subtract.outer(x, _NODES)  # (M, 32), then the weights w_j / (x - x_j) in place
+            hit = D == 0.0
+            if hit.any():  # a time on a node: that node's value
+                D[hit] = 1.0
+                np.divide(_BARY, D, out=D)
                 rows = hit.any(axis=1)
                 D[rows] = hit[rows]
-            D /= D.sum(axis=1, keepdims=True)
+            else:
+                np.divide(_BARY, D, out=D)
+            den = D.sum(axis=1)
             cuts = np.flatnonzero(kk[1:] != kk[:-1]) + 1
-            res = np.empty((at.size, self.values.shape[0]))
+            res = np.empty((r, at.size))
             for a, b in zip([0] + cuts.tolist(), cuts.tolist() + [at.size]):
-                res[a:b] = D[a:b] @ self.values[:, kk[a], :].T
-            out[:, at] = res.T
+                np.matmul(self.values[:, kk[a], :], D[a:b].T, out=res[:, a:b])
+            res /= den  # the formula's quotient, after the products
+            out[:, at] = res
         if not ok.all():
             self.calls += 1
             tau, pw = self.model(t[~ok])

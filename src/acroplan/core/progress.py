@@ -406,10 +406,10 @@ def stage(name: str, total: float | None = None, *, unit: str = "", leave: bool 
     prog = current()
     own = prog is None
     if own:
-        prog = Progress()
-        if not prog.enabled:
+        if not auto():  # decided before a Progress is made (its clock reads /proc: 0.1 ms a stage)
             yield NULL_STAGE
             return
+        prog = Progress(True)
     st = prog.stage(name, total, unit=unit, leave=leave, show=show)
     try:
         if own:
