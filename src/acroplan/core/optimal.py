@@ -821,8 +821,8 @@ JOINT_LIMIT_GRIDS = (64, 256)
 #: the inputs of 30 coefficients have their narrowest features: the bundled forward dive's joint
 #: optimum on 64 uniform points broke a rate limit by 1.1e-2 rad/s between them and was solved
 #: again on 256 (46 + 12 SQP iterations); with the 64 Chebyshev points too it is kept at once (27),
-#: 13.5-13.9 s -> 7.8-9.9 s warm, its least integral of tau^2 1314.234 against 1314.315
-#: (benchmarks/RESULTS.md). Only the joint optimum's: in the one-interval ladders the same points
+#: 13.5-16.7 s -> 7.8-11.3 s warm over several runs, its least integral of tau^2 1314.234 against
+#: 1314.315 (benchmarks/RESULTS.md, "2026-12-06 (fifth session)"). Only the joint optimum's: in the one-interval ladders the same points
 #: made the falling cat's least integral of u^2 twice as slow.
 JOINT_LIMIT_ENDS = 64
 #: Exchange rounds of the joint optimum after its densest grid (:meth:`EnergyOptimal.joint`): the
