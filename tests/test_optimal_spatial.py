@@ -219,8 +219,12 @@ def test_a_size_with_no_step_within_the_limits_fails_before_the_curvature(monkey
     coefficients, where no step keeps the linearised joint ranges (their rows lie 2e-3 inside): that
     size fails as before ("no step keeps the linearised limits") but without the constraint
     Hessians' forward differences first (24 evaluations spent to the same end), and the plan is the
-    same optimum from the next size."""
-    from acroplan.core import optimum
+    same optimum from the next size. (That size is tried here with START_PROJECTION_ERROR off: by
+    default the feasible plan's projection there, 0.80 off its input, is not tried at all: the test
+    below.)"""
+    from acroplan.core import optimal, optimum
+
+    monkeypatch.setattr(optimal, "START_PROJECTION_ERROR", math.inf)
 
     runs, curv = [], []
     solve, curvature = optimum.OptimalRun.solve, optimum.OptimalProblem.curvature
@@ -240,6 +244,31 @@ def test_a_size_with_no_step_within_the_limits_fails_before_the_curvature(monkey
     assert refused and all(n == 6 for n, _ in refused), runs
     assert 6 not in curv and all(ev <= 7 for _, ev in refused), (curv, refused)
     assert r.segments[0].optimality["kkt"] <= 1e-8
+
+
+def test_a_size_the_feasible_plan_does_not_project_onto_is_not_tried(monkeypatch):
+    """optimal.START_PROJECTION_ERROR: the falling cat's feasible plan has two pieces; its least
+    squares projection onto 6 coefficients misses its input by 0.80 (relative L2), onto 10 by less
+    than 0.5. The energy optimum's first size is 10 (no optimisation spent at 6: no endpoint
+    evaluated there), the message says why, and the ladder's note is the ladder's own (its sizes ran
+    out), not a start's; the optimum is the one reached when 6 is tried and fails (the same cost to
+    1e-9)."""
+    from acroplan.core import optimal
+
+    sizes = []
+    new_run = optimal._Search.new_run
+    monkeypatch.setattr(optimal._Search, "new_run", lambda self, n, *a, **k: sizes.append(n) or new_run(self, n, *a, **k))
+    body, kw = falling_cat_turn()
+    r = acroplan.plan(body, objective="energy", verify=False, **kw)
+    assert r.success, r.message
+    msg, o = r.segments[0].message, r.segments[0].optimality
+    assert 6 not in sizes and o["ladder"][0][0] == 10
+    assert "6 coefficients not tried: the auto start's projection misses its input by 0.80 (relative)" in msg
+    assert "NOT converged in the basis at the largest size tried (30 coefficients" in msg
+    monkeypatch.setattr(optimal, "START_PROJECTION_ERROR", math.inf)
+    again = acroplan.plan(body, objective="energy", verify=False, **kw)
+    assert 6 in sizes and again.segments[0].optimality["ladder"][0][0] == 10
+    assert again.segments[0].optimality["cost"] == pytest.approx(o["cost"], rel=1e-9)
 
 
 def test_max_coefficients_climbs_the_ladder_past_30_and_the_cost_falls():
