@@ -117,7 +117,8 @@ optimum going up the ladder:
   from that optimum, relative, in :math:`L^2`) and *promising* (its cost below
   :data:`FAMILY_PROMISING` = 2 times that optimum's).
 * otherwise, or when those fail, **the plan of the system's own** ``method="auto"`` (projected on
-  the basis when it has several pieces) and, as the second start, **path deformation from the
+  the basis when it has several pieces; a size whose projection misses the plan's input by more
+  than :data:`START_PROJECTION_ERROR` is not tried with it) and, as the second start, **path deformation from the
   minimum-norm input** (the text's method, :func:`~acroplan.core.continuation.solve_segment`, at
   most :data:`DEFORM_BUDGET` evaluations), optimised when distinct and promising (cost below
   :data:`PROMISING` = 8 times); a system whose class sets ``optimal_deform_start = False`` (the
