@@ -257,7 +257,8 @@ def test_a_size_the_feasible_plan_does_not_project_onto_is_not_tried(monkeypatch
 
     sizes = []
     new_run = optimal._Search.new_run
-    monkeypatch.setattr(optimal._Search, "new_run", lambda self, n, *a, **k: sizes.append(n) or new_run(self, n, *a, **k))
+    monkeypatch.setattr(optimal._Search, "new_run",
+                        lambda self, n, *a, **k: sizes.append(n) or new_run(self, n, *a, **k))
     body, kw = falling_cat_turn()
     r = acroplan.plan(body, objective="energy", verify=False, **kw)
     assert r.success, r.message

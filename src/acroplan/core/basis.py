@@ -27,7 +27,7 @@ from numpy.polynomial import Polynomial as _Poly
 
 from .errors import InvalidInputError
 
-__all__ = ["InputBasis", "Monomial", "Legendre", "make_basis", "basis_tables"]
+__all__ = ["InputBasis", "Monomial", "Legendre", "make_basis", "basis_tables", "check_points"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -245,6 +245,20 @@ def make_basis(basis, n: int) -> InputBasis:
         raise InvalidInputError("basis", f"unknown basis {r if len(r) <= 80 else r[:77] + '...'}",
                                 f"use one of {sorted(_BASES)} or an InputBasis")
     return _BASES[basis](n)
+
+
+def check_points(uniform: int, ends: int = 0) -> np.ndarray:
+    """Sorted normalised times in [0, 1]: ``uniform`` uniform points and, with ``ends`` > 1, also
+    ``ends`` Chebyshev-Lobatto points :math:`(1 - \\cos(\\pi k / (\\text{ends} - 1))) / 2`, which crowd
+    towards the ends, where a polynomial input of :math:`n` coefficients has its narrowest features
+    (its extrema about :math:`1/n^2` of the interval apart there). The points on which the limits
+    of an optimum are imposed or checked (:func:`~acroplan.core.limits.linear_limits`,
+    :func:`~acroplan.core.objectives.torque_check_grid`)."""
+    s = np.linspace(0.0, 1.0, uniform)
+    if ends > 1:
+        s = np.union1d(s, 0.5 * (1.0 - np.cos(np.pi * np.arange(ends) / (ends - 1))))
+        s[0], s[-1] = 0.0, 1.0
+    return s
 
 
 @functools.lru_cache(maxsize=64)

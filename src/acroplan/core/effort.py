@@ -14,8 +14,8 @@ from .errors import InvalidInputError
 from .objectives import gram
 from .progress import stage
 
-__all__ = ["JointEffort", "EFFORT_RULE", "peak_times", "PEAK_CANDIDATES", "PEAK_ZOOMS", "PEAK_POINTS", "ROOT_XTOL", "ROOT_RTOL",
-           "ROOT_POINTS", "INTERPOLANT_TAIL", "effort_summary", "peak", "peaks"]
+__all__ = ["JointEffort", "EFFORT_RULE", "peak_times", "PEAK_CANDIDATES", "PEAK_ZOOMS", "PEAK_POINTS", "ROOT_XTOL",
+           "ROOT_RTOL", "ROOT_POINTS", "INTERPOLANT_TAIL", "effort_summary", "peak", "peaks"]
 
 
 #: How :meth:`PlanResult.effort` integrates and takes maxima (also written in ``to_dict()["effort"]``).
@@ -198,8 +198,8 @@ def _segment_effort(result, seg, model, inputs, xg, wg, acc) -> None:
     acc["net"] += panel_pow.sum(axis=1)
     # the roots of the powers and the zooms of the peaks in lockstep: one call a round for both
     rows, panels, lo, hi = _brackets(grid, pow_g, P)
-    found, top = _lockstep(motion, [(_root_rounds(rows, lo, hi, ROOT_RTOL * T), lambda tp: tp[1]),
-                                    (_peak_rounds(grid, np.vstack([tau_g, pow_g])), np.vstack)])
+    found, (top, _) = _lockstep(motion, [(_root_rounds(rows, lo, hi, ROOT_RTOL * T), lambda tp: tp[1]),
+                                         (_peak_rounds(grid, np.vstack([tau_g, pow_g])), np.vstack)])
     at = np.array([n for n, _ in found], dtype=int)
     _positive_work(motion, edges, rows[at], panels[at], np.array([r for _, r in found], dtype=float), panel_pow,
                    xg, wg, acc["pos"])
@@ -337,7 +337,7 @@ def peaks(f, grid, values) -> np.ndarray:
     by up to :math:`|f''| h^2 / 8`). On the bundled falling cat and twisting somersault (grid
     spacing about 1e-3 s, :math:`h` about 1e-6 s) the peaks agree with three zooms of 129 points to
     2e-13 relative (one zoom: 2e-9)."""
-    return _drive(f, _peak_rounds(grid, values))
+    return _drive(f, _peak_rounds(grid, values))[0]
 
 
 def _hopeful(x, f, i, best, *, ends: bool = False):
@@ -371,20 +371,25 @@ def _hopeful(x, f, i, best, *, ends: bool = False):
 def peak_times(f, grid, values) -> tuple[np.ndarray, np.ndarray]:
     """``(peaks, times)``: :func:`peaks` of every row of ``values`` and the time of each (the
     refined point that gave it, or the vertex of the last zoom's parabola)."""
-    return _drive(f, _peak_rounds(grid, values, with_times=True))
+    return _drive(f, _peak_rounds(grid, values))
 
 
 def _raise(best, when, rows, vals, times) -> None:
-    """``best[r] = max(best[r], v)`` for each ``(r, v, t)``, with ``when[r] = t`` where it rose."""
-    for r, v, t in zip(rows, vals, times):
-        if v > best[r]:
-            best[r], when[r] = v, t
+    """``best[r] = max(best[r], v)`` over the candidates ``(r, v, t)``, with ``when[r] = t`` where
+    it rose (each row's largest candidate)."""
+    if not rows.size:
+        return
+    order = np.lexsort((vals, rows))  # by row, each row's largest value last
+    last = np.r_[rows[order][1:] != rows[order][:-1], True]
+    r, v, t = rows[order][last], vals[order][last], times[order][last]
+    up = v > best[r]
+    best[r[up]], when[r[up]] = v[up], t[up]
 
 
-def _peak_rounds(grid, values, with_times: bool = False):
-    """:func:`peaks` as a search generator (:func:`_lockstep`): yields the times of a zoom, receives
-    the rows' values there, returns the peaks (r,) (and their times, ``with_times``). A candidate
-    goes on to the next zoom only while it can still reach its row's best (:func:`_hopeful`)."""
+def _peak_rounds(grid, values):
+    """:func:`peak_times` as a search generator (:func:`_lockstep`): yields the times of a zoom,
+    receives the rows' values there, returns the peaks (r,) and their times. A candidate goes on to
+    the next zoom only while it can still reach its row's best (:func:`_hopeful`)."""
     v = np.abs(values)
     best = v.max(axis=1)
     when = grid[np.argmax(v, axis=1)]
@@ -413,10 +418,7 @@ def _peak_rounds(grid, values, with_times: bool = False):
         k = np.arange(rows.size)
         fx = np.abs(np.asarray(got, dtype=float)).reshape(-1, rows.size, n)[rows, k]
         i = np.argmax(fx, axis=1)
-        if with_times:
-            _raise(best, when, rows, fx[k, i], xs[k, i])
-        else:
-            np.maximum.at(best, rows, fx[k, i])
+        _raise(best, when, rows, fx[k, i], xs[k, i])
         if zoom == PEAK_ZOOMS - 1:  # the parabola's vertex, where the best point has two smaller neighbours
             r = k[(i > 0) & (i < n - 1)]
             c = i[r]
@@ -425,15 +427,12 @@ def _peak_rounds(grid, values, with_times: bool = False):
             pos = d > 0.0
             dd = np.where(pos, d, 1.0)
             vertex = np.where(pos, f0 + (fp - fm) ** 2 / (8.0 * dd), f0)
-            if with_times:
-                h = (hi[r] - lo[r]) / (n - 1)
-                _raise(best, when, rows[r], vertex, xs[r, c] + np.where(pos, h * (fp - fm) / (2.0 * dd), 0.0))
-            else:
-                np.maximum.at(best, rows[r], vertex)
+            h = (hi[r] - lo[r]) / (n - 1)
+            _raise(best, when, rows[r], vertex, xs[r, c] + np.where(pos, h * (fp - fm) / (2.0 * dd), 0.0))
             break
         live = _hopeful(xs, fx, i, best[rows])
         rows, lo, hi = rows[live], xs[k, np.maximum(i - 1, 0)][live], xs[k, np.minimum(i + 1, n - 1)][live]
-    return (best, when) if with_times else best
+    return best, when
 
 
 #: Bracket width (seconds) at which :func:`_roots` takes a root, unless told another.

@@ -31,7 +31,7 @@ from typing import Mapping
 import numpy as np
 
 from . import backend
-from .basis import InputBasis
+from .basis import InputBasis, check_points
 from .errors import InvalidInputError
 from .linalg import null_space
 from .system import ControlAffineSystem
@@ -200,9 +200,8 @@ def _bounded(system: ControlAffineSystem, limits: Limits):
 def linear_limits(system, basis: InputBasis, x0, T: float, limits: Limits, grid: int = 64, margin: float = 0.0,
                   ends: int = 0):
     """Rows ``A`` and bounds ``b`` with ``A c <= b`` on a grid (flattened input-major ``c``): ``grid``
-    uniform points, and with ``ends`` > 1 also that many Chebyshev-Lobatto points
-    :math:`(1 - \\cos(\\pi k / (\\text{ends} - 1))) / 2`, which crowd towards the ends, where a
-    polynomial of many coefficients has its narrowest features.
+    uniform points, and with ``ends`` > 1 also that many Chebyshev-Lobatto points, which crowd
+    towards the ends (:func:`~acroplan.core.basis.check_points`).
 
     Returns
     -------
@@ -210,10 +209,7 @@ def linear_limits(system, basis: InputBasis, x0, T: float, limits: Limits, grid:
     b : numpy.ndarray, shape (q,)
     """
     m, n = system.n_inputs, basis.n
-    s = np.linspace(0.0, 1.0, grid)
-    if ends > 1:
-        s = np.union1d(s, 0.5 * (1.0 - np.cos(np.pi * np.arange(ends) / (ends - 1))))
-        s[0], s[-1] = 0.0, 1.0
+    s = check_points(grid, ends)
     rows, rhs = [], []
 
     def add(j, M, upper, sign):  # the rows of input j's block, one block of rows at once

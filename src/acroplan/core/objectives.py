@@ -19,7 +19,7 @@ from typing import Callable
 
 import numpy as np
 
-from .basis import InputBasis
+from .basis import InputBasis, check_points
 from .errors import InvalidInputError
 
 __all__ = ["energy", "TorqueModel", "EnergyCost", "TorqueCost", "cost_for", "call_torque", "tau_vector", "gram",
@@ -58,15 +58,8 @@ def torque_check_grid() -> np.ndarray:
     return _CHECK_GRID
 
 
-def _check_grid() -> np.ndarray:
-    uniform, cheb = TORQUE_CHECK_POINTS
-    s = np.union1d(np.linspace(0.0, 1.0, uniform), 0.5 * (1.0 - np.cos(np.pi * np.arange(cheb) / (cheb - 1))))
-    s[0], s[-1] = 0.0, 1.0
-    s.setflags(write=False)
-    return s
-
-
-_CHECK_GRID = _check_grid()
+_CHECK_GRID = check_points(*TORQUE_CHECK_POINTS)
+_CHECK_GRID.setflags(write=False)
 
 #: ``torque(system, basis, x0, T, c, s) -> tau`` or ``(tau, jacobian)``: the joint torques of the
 #: motion that input coefficients ``c`` (shape ``(m, basis.n)``) produce from ``x0`` in time ``T``,

@@ -118,8 +118,8 @@ optimum going up the ladder:
   :data:`FAMILY_PROMISING` = 2 times that optimum's).
 * otherwise, or when those fail, **the plan of the system's own** ``method="auto"`` (projected on
   the basis when it has several pieces; a size whose projection misses the plan's input by more
-  than :data:`START_PROJECTION_ERROR` is not tried with it) and, as the second start, **path deformation from the
-  minimum-norm input** (the text's method, :func:`~acroplan.core.continuation.solve_segment`, at
+  than :data:`START_PROJECTION_ERROR` is not tried with it) and, as the second start, **path
+  deformation from the minimum-norm input** (the text's method, :func:`~acroplan.core.continuation.solve_segment`, at
   most :data:`DEFORM_BUDGET` evaluations), optimised when distinct and promising (cost below
   :data:`PROMISING` = 8 times); a system whose class sets ``optimal_deform_start = False`` (the
   spatial bodies) has no second start unless ``starts`` names it.
@@ -847,8 +847,8 @@ JOINT_LIMIT_GRIDS = (64, 256)
 #: optimum on 64 uniform points broke a rate limit by 1.1e-2 rad/s between them and was solved
 #: again on 256 (46 + 12 SQP iterations); with the 64 Chebyshev points too it is kept at once (27),
 #: 13.5-16.7 s -> 7.8-11.3 s warm over several runs, its least integral of tau^2 1314.234 against
-#: 1314.315 (benchmarks/RESULTS.md, "2026-12-06 (fifth session)"). Only the joint optimum's: in the one-interval ladders the same points
-#: made the falling cat's least integral of u^2 twice as slow.
+#: 1314.315 (benchmarks/RESULTS.md, "2026-12-06 (fifth session)"). Only the joint optimum's: in the
+#: one-interval ladders the same points made the falling cat's least integral of u^2 twice as slow.
 JOINT_LIMIT_ENDS = 64
 #: Exchange rounds of the joint optimum after its densest grid (:meth:`EnergyOptimal.joint`): the
 #: times where its torques broke a limit between the grid's points are added to the torque limits'

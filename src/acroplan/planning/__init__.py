@@ -31,4 +31,5 @@ from .request import (DEFAULT_SIZE, MAX_COEFFICIENTS, MAX_DURATION, MAX_LADDER_C
 
 __all__ = ["plan", "solve", "warm_up", "PlanRequest", "CONDITIONS", "VERIFY_TOL", "DEFAULT_SIZE",
            "MAX_COEFFICIENTS", "MAX_LADDER_COEFFICIENTS", "TIME_LIMIT", "MIN_DURATION", "MAX_DURATION", "MAX_TIME",
-           "plausibility", "beyond_capacity", "waypoint_rate", "PLAUSIBLE_FACTOR", "EXACT_EFFORT_SEGMENTS", "DENSE_SEGMENTS"]
+           "plausibility", "beyond_capacity", "waypoint_rate", "PLAUSIBLE_FACTOR", "EXACT_EFFORT_SEGMENTS",
+           "DENSE_SEGMENTS"]
