@@ -377,13 +377,10 @@ def peak_times(f, grid, values) -> tuple[np.ndarray, np.ndarray]:
 def _raise(best, when, rows, vals, times) -> None:
     """``best[r] = max(best[r], v)`` over the candidates ``(r, v, t)``, with ``when[r] = t`` where
     it rose (each row's largest candidate)."""
-    if not rows.size:
-        return
-    order = np.lexsort((vals, rows))  # by row, each row's largest value last
-    last = np.r_[rows[order][1:] != rows[order][:-1], True]
-    r, v, t = rows[order][last], vals[order][last], times[order][last]
-    up = v > best[r]
-    best[r[up]], when[r[up]] = v[up], t[up]
+    before = best[rows]
+    np.maximum.at(best, rows, vals)
+    rose = (vals > before) & (vals == best[rows])
+    when[rows[rose]] = times[rose]
 
 
 def _peak_rounds(grid, values):
