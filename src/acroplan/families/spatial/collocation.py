@@ -434,10 +434,12 @@ def _momentum(seg, starts, widths, d):
     lam = np.einsum("a,iab,b->i", seg.x0[:4], seg.Q, seg.x0[:4])
     queue = [(starts[k], widths[k], _take(d, k)) for k in range(widths.size)][::-1]
     out = []
+    split = False
     while queue:
         a0, H, dk = queue.pop()
         r = _momentum_panel(seg, lam, H, dk)
         if r is None or r[4] > SOLUTION_TAIL_TOL:
+            split = True
             h = H / 2.0
             if h < MIN_PANEL or len(out) + len(queue) + 2 > MAX_PANELS:
                 raise IntegrationError(f"the input is too large to integrate: more than {MAX_PANELS} panels on "
@@ -447,10 +449,13 @@ def _momentum(seg, starts, widths, d):
             continue
         lam = r[0]
         out.append((a0, H, dk) + r[1:4])
+    more = (np.stack([o[3] for o in out]), np.stack([o[4] for o in out]), np.stack([o[5] for o in out]))
+    if not split:  # the layout as given (its node data restacked panel by panel were the same arrays)
+        return (starts, widths, d) + more
     st = np.array([o[0] for o in out])
     wd = np.array([o[1] for o in out])
     dd = {k: np.stack([o[2][k] for o in out]) for k in out[0][2]}
-    return st, wd, dd, np.stack([o[3] for o in out]), np.stack([o[4] for o in out]), np.stack([o[5] for o in out])
+    return (st, wd, dd) + more
 
 
 _CONJ = np.array([1.0, -1.0, -1.0, -1.0])
@@ -840,13 +845,15 @@ def _sweep(seg, jacobian):
         dOc = (dOm_du[..., :, None] * d["Bm"][:, :, None, None, :]
                + Tn * dOm_ds[..., :, None] * d["Bi"][:, :, None, None, :]).reshape(P, N, 3, m * n)
         rhsF = _skew(Lam) @ dOc  # [Lambda]x dOmega^c, (P, N, 3, m n)
-        a = seg.a
-        dlam_a = np.zeros((P + 1, 3, m * n))
-        dF = np.empty((P, N, 3, m * n))
+        a, b, mn = seg.a, seg.b, m * n
+        dlam_a = np.zeros((P + 1, 3, mn))
+        dF = np.empty((P, N, 3, mn))
+        # the sums over the nodes as matrix products (einsum's were a third of this sweep)
+        aF = (a @ rhsF.reshape(P, N, 3 * mn)).reshape(P, N, 3, mn)  # (alpha (x) 1) [Lambda]x dOmega^c
         for k in range(P):
             H = widths[k]
-            R = np.repeat(dlam_a[k][None], N, axis=0) + H * np.einsum("ij,jcx->icx", a, rhsF[k])  # (N, 3, mn)
-            dL = (Si[k] @ R.reshape(3 * N, m * n)).reshape(N, 3, m * n)
+            R = H * aF[k] + dlam_a[k]  # (N, 3, mn)
+            dL = (Si[k] @ R.reshape(3 * N, mn)).reshape(N, 3, mn)
             dF[k] = Jb[k] @ dL + rhsF[k]
-            dlam_a[k + 1] = dlam_a[k] + H * np.einsum("j,jcx->cx", seg.b, dF[k])
+            dlam_a[k + 1] = dlam_a[k] + H * (b @ dF[k].reshape(N, 3 * mn)).reshape(3, mn)
     return starts, widths, lam_a, F, dlam_a, dF
