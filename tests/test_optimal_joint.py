@@ -308,10 +308,10 @@ def test_the_retry_on_a_denser_grid_starts_from_the_coarser_grids_optimum(monkey
 
 def test_an_interval_whose_optimum_breaks_a_limit_between_the_grid_points_is_solved_on_a_denser_one(monkeypatch):
     """One interval (``optimal._Search.denser``): with a rate limit 5% below the unlimited optimum's
-    peak and a grid of 4 points, the larger sizes' optima break the limit between them and the
-    dense check refuses them; each is then solved again on DENSE_LIMIT_GRID points from that optimum:
-    the plan succeeds, within the limit everywhere, on the denser grid (``limit_grid`` in its
-    diagnostics), and at a cost no lower than the unlimited optimum's."""
+    peak and a grid of 4 points, the optima break the limit between them and the dense check
+    refuses them; the first size's and the reported one are then solved again on DENSE_LIMIT_GRID
+    points from that optimum: the plan succeeds, within the limit everywhere, on the denser grid
+    (``limit_grid`` in its diagnostics), and at a cost no lower than the unlimited optimum's."""
     import acroplan.core.optimal as optimal
 
     free = acroplan.plan(DoubleIntegrator(), times=[0.0, 1.0], x=[0.0, 1.0], v=[0.0, 0.0], objective="energy",
@@ -334,6 +334,41 @@ def test_an_interval_whose_optimum_breaks_a_limit_between_the_grid_points_is_sol
     assert float(np.abs(res.segments[0].input(np.linspace(0.0, 1.0, 4001))).max()) <= top * (1 + 1e-9)
     assert opt["cost"] >= free.segments[0].optimality["cost"]
     assert res.segments[0].verified_error < 1e-9
+
+
+def test_the_ladder_compares_its_sizes_on_their_grids_and_checks_the_one_it_reports(monkeypatch):
+    """``optimal.LADDER_ON_GRID``: the ladder's sizes are warm starts compared with their limits met
+    on their grids; only the first size (where starts are compared) and the reported one are
+    checked between the points and solved on the denser grid. The same problem as above (a grid of
+    4 points, a rate limit 5% below the unlimited peak), planned both ways: the same basis size and
+    optimum (to 1e-9), within the limit on 4001 points, with no denser solve at the sizes between;
+    the size between is entered at its grid's optimum, which the limit between the points can only
+    raise."""
+    import acroplan.core.optimal as optimal
+
+    kw = dict(times=[0.0, 1.0], x=[0.0, 1.0], v=[0.0, 0.0], objective="energy")
+    free = acroplan.plan(DoubleIntegrator(), verify=False, **kw)
+    top = 0.95 * float(np.abs(free.segments[0].input(np.linspace(0.0, 1.0, 2001))).max())
+    monkeypatch.setattr(optimal, "LIMIT_GRID", 4)
+    denser = optimal._Search.denser
+    out = {}
+    for on in (True, False):
+        calls = []
+        monkeypatch.setattr(optimal, "LADDER_ON_GRID", on)
+        monkeypatch.setattr(optimal._Search, "denser",
+                            lambda self, run, n, kkt, calls=calls: calls.append(n) or denser(self, run, n, kkt))
+        res = acroplan.plan(DoubleIntegrator(), verify=False, u_max=top, **kw)
+        assert res.status == "success", res.message
+        out[on] = (res, calls)
+    (on, on_calls), (off, off_calls) = out[True], out[False]
+    o, f = on.segments[0].optimality, off.segments[0].optimality
+    sizes = [n for n, _ in o["ladder"]]
+    assert o["basis_size"] == f["basis_size"] == sizes[-1] and len(sizes) >= 3, (o["ladder"], f["ladder"])
+    assert abs(o["cost"] - f["cost"]) <= 1e-9 * f["cost"]
+    assert on_calls == [sizes[0], sizes[-1]] and set(off_calls) == set(sizes)
+    between = {n: v for n, v in o["ladder"][1:-1]}
+    assert all(between[n] <= v for n, v in f["ladder"][1:-1])
+    assert float(np.abs(on.segments[0].input(np.linspace(0.0, 1.0, 4001))).max()) <= top * (1 + 1e-9)
 
 
 def test_the_joint_optimum_takes_the_times_where_it_broke_a_torque_limit(monkeypatch):

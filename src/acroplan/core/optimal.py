@@ -65,12 +65,14 @@ Solvers
   the limits to hold exactly (:func:`~acroplan.core.limits.violation`) and the torque limits at
   their peaks (sampled on :func:`~acroplan.core.objectives.torque_check_grid`, the peaks within 1%
   of a limit refined between the points as the plan's effort summary refines them:
-  :meth:`~acroplan.core.optimum.OptimalProblem.torque_check`). A size whose optimum breaks a limit
-  between the grid's 64 points is solved again from it with the limits it broke (the rate and
-  joint limits, or the torque limits, or both) on :data:`DENSE_LIMIT_GRID` points
-  (:meth:`_Search.denser`), then, while it still breaks a torque limit, with the times of the
-  largest excesses added to the torque limits' grid (:data:`EXCHANGE_ROUNDS`); and so is the
-  intervals' joint optimum (:data:`JOINT_LIMIT_GRIDS`, the first grid with
+  :meth:`~acroplan.core.optimum.OptimalProblem.torque_check`). The ladder's sizes are compared
+  with their limits met on their grids (:data:`LADDER_ON_GRID`: each size is the next one's warm
+  start); the reported optimum, when it breaks a limit between the grid's 64 points, is solved
+  again from it with the limits it broke (the rate and joint limits, or the torque limits, or both)
+  on :data:`DENSE_LIMIT_GRID` points (:meth:`_Search.denser`), then, while it still breaks a torque
+  limit, with the times of the largest excesses added to the torque limits' grid
+  (:data:`EXCHANGE_ROUNDS`); and so is the first size's optimum, where the starts are compared,
+  and the intervals' joint optimum (:data:`JOINT_LIMIT_GRIDS`, the first grid with
   :data:`JOINT_LIMIT_ENDS` Chebyshev points at the ends too). (Before issue #22 the limits went to
   scipy's SLSQP, where the falling cat's energy optimum took 160 s; ``benchmarks/RESULTS.md`` has
   the figure now.) A size whose linearised limits no step can keep (a start far outside them)
@@ -501,13 +503,20 @@ class _Search:
                     break
             run.solve(c0, curvature=Hc, kkt_tol=STAGE_KKT_TOL, polish=False)
             self.evaluations += run.prob.evaluations - before
-            run, ok, value, full = self.denser(run, n, STAGE_KKT_TOL)
+            ok = False
+            if LADDER_ON_GRID:
+                # the sizes compared on their grids alone; the reported one is checked between the
+                # points (and solved on the denser grid where it breaks a limit there) by report
+                ok, value, full = run.brief(on_grid=True)
+                run.checked = not ok
+            if not ok:
+                run, ok, value, full = self.denser(run, n, STAGE_KKT_TOL)
             before = run.prob.evaluations  # counted so far (a denser grid's run, by denser)
             if ok and abs(previous - value) < rtol * abs(value):
                 # a stop on a loosely solved size: decide on the refined optimum (lower, so the change
                 # can only grow)
                 run.refine(self.strategy.kkt_tol)
-                ok, value, full = run.brief()
+                ok, value, full = run.brief(on_grid=not run.checked)
             self.evaluations += run.prob.evaluations - before
             if not ok or value > previous * (1.0 + 1e-9):
                 self.ladder_stop = f"{n} coefficients: " + (full.message if full is not None else
@@ -530,7 +539,7 @@ class _Search:
         current.refine(st.kkt_tol)
         res = current.result()
         self.evaluations += current.prob.evaluations - before
-        if not res.success and current.z is not unrefined:
+        if not res.success and (current.z is not unrefined or not current.checked):
             # the refinement left the limits between the grid's points: solved again from it with
             # those limits on the denser grid (the falling cat's least integral of tau^2, refined to
             # a KKT residual of 7e-9, broke a joint range between the 64 points, and the ladder's
@@ -855,6 +864,14 @@ JOINT_LIMIT_ENDS = 64
 #: grid and the SQP goes on. The double full-out's least integral of u^2 within the strength broke
 #: one by 0.2 N m between 257 points; one round brings it within (benchmarks/RESULTS.md).
 EXCHANGE_ROUNDS = 3
+#: Whether the ladder's sizes are compared with their limits met on their grids alone
+#: (:meth:`_Search.ladder`): each size is a warm start of the next, and only the reported one is
+#: checked between its grid's points (and solved again on the denser grid where it breaks a limit
+#: there, :meth:`_Search.denser`, by :meth:`_Search.report`). Checking every size (``False``) cost
+#: the bundled dives 16 / 25 / 56 dense checks and 319 / 642 / 734 endpoint evaluations (back full,
+#: forward, double full-out) against 8 / 18 / 30 and 319 / 606 / 675, for the same optima to 1e-13
+#: (benchmarks/RESULTS.md, 2026-12-06, sixth session).
+LADDER_ON_GRID = True
 #: Points per interval of the grid of one interval's rate, joint and torque limits (the torque
 #: limits' at least :data:`TORQUE_LIMIT_GRID`).
 LIMIT_GRID = 64

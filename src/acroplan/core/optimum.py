@@ -18,7 +18,7 @@ from .limits import COMPLIANCE_TOL, linear_limits, violation
 from .linalg import least_norm_step, null_space
 from .objectives import (TORQUE_LIMIT_GRID, TORQUE_MARGIN, EnergyCost, call_torque, cost_for, energy, torque_check_grid,
                          torque_values)
-from .sqp import kkt_multipliers, kkt_step, polish_endpoint, sqp
+from .sqp import INEQ_TOL, kkt_multipliers, kkt_step, polish_endpoint, sqp
 from .system import ControlAffineSystem
 
 __all__ = ["OptimalSolve", "optimize_segment", "OptimalRun", "OptimalProblem", "OutOfEvaluations", "KKT_TOL",
@@ -335,6 +335,9 @@ class OptimalRun:
         #: what the last :meth:`result` found broken between the grids' points (its dense check):
         #: ``{"limits": rate or joint limits, "torque": torque limits}``
         self.broken = {"limits": False, "torque": False}
+        #: whether the current point's limits were checked between the grid's points (a ladder's size
+        #: below the top may be taken on its grid alone: :data:`acroplan.core.optimal.LADDER_ON_GRID`)
+        self.checked = True
 
     def solve(self, c0, *, curvature=None, kkt_tol=KKT_TOL, polish=True):
         prob = self.prob
@@ -412,10 +415,12 @@ class OptimalRun:
         p, _ = out
         return max(-(float(g @ p) + 0.5 * float(p @ W @ p)) / f, 0.0)
 
-    def brief(self):
+    def brief(self, on_grid: bool = False):
         """``(success, cost)`` of the current point, cheaply (no KKT residual, no message); the full
-        :meth:`result` when it failed."""
-        if self.failed or self.inequalities:
+        :meth:`result` when it failed. ``on_grid``: the limits checked on the grid's rows alone
+        (:meth:`OptimalProblem.ineq`, to :data:`~acroplan.core.sqp.INEQ_TOL`), not between its
+        points (the dense check of :meth:`result`)."""
+        if self.failed or (self.inequalities and not on_grid):
             r = self.result()
             return r.success, r.objective, r
         try:
@@ -423,7 +428,8 @@ class OptimalRun:
         except (OutOfEvaluations, backend.IntegrationError):
             r = self.result()
             return r.success, r.objective, r
-        if self.prob.system.error(y, self.prob.x1) > self.tol:
+        if self.prob.system.error(y, self.prob.x1) > self.tol or (
+                self.inequalities and not self.prob.ineq(self.z)[0].max(initial=-1.0) <= INEQ_TOL):
             r = self.result()
             return False, r.objective, r
         return True, self.prob.f(self.z)[0], None
