@@ -508,7 +508,7 @@ class _Search:
                 # the sizes compared on their grids alone; the reported one is checked between the
                 # points (and solved on the denser grid where it breaks a limit there) by report
                 ok, value, full = run.brief(on_grid=True)
-                run.checked = not ok
+                run.checked = not (ok and run.inequalities)
             if not ok:
                 run, ok, value, full = self.denser(run, n, STAGE_KKT_TOL)
             before = run.prob.evaluations  # counted so far (a denser grid's run, by denser)

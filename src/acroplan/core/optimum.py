@@ -335,8 +335,8 @@ class OptimalRun:
         #: what the last :meth:`result` found broken between the grids' points (its dense check):
         #: ``{"limits": rate or joint limits, "torque": torque limits}``
         self.broken = {"limits": False, "torque": False}
-        #: whether the current point's limits were checked between the grid's points (a ladder's size
-        #: below the top may be taken on its grid alone: :data:`acroplan.core.optimal.LADDER_ON_GRID`)
+        #: whether the current point's limits were checked between the grid's points (a ladder's sizes
+        #: are taken on their grids alone: :data:`acroplan.core.optimal.LADDER_ON_GRID`)
         self.checked = True
 
     def solve(self, c0, *, curvature=None, kkt_tol=KKT_TOL, polish=True):
