@@ -41,8 +41,8 @@ the body-frame momentum :math:`\\lambda = R(q)^\\top L` carries the nonlinearity
 .. math::  \\lambda' = \\lambda \\times \\Omega ,\\qquad \\Omega = \\omega + W \\lambda ,
 
 and its Gauss collocation is solved first, panel after panel, by Newton's method (3N x 3N systems,
-from the start's momentum turned back by the body's turn at the frozen momentum; one compiled
-kernel per node count gives the residual and the Jacobian's blocks), then the attitude as at
+from the momentum carried node to node by Heun's method on rotations; one compiled kernel per
+node count gives the residual and the Jacobian's blocks), then the attitude as at
 :math:`L = 0` with :math:`\\Omega` at the nodes. Collocating :math:`\\lambda` and then :math:`q` at the
 same nodes is exactly the Gauss collocation of the coupled system :math:`(\\lambda, q)`, so the
 endpoint keeps order :math:`2N`. Gauss methods keep quadratic invariants exactly: :math:`|q|^2` and
@@ -336,39 +336,56 @@ def _guess_kernel(N: int):
 def _build_guess_kernel(N: int):
     """The start of a panel's Newton iteration (:func:`_momentum_panel`), compiled: inputs, flat,
     :math:`\\lambda_0` (3), :math:`\\omega` (N x 3), :math:`W` (N x 9); parameter :math:`H`; outputs
-    :math:`\\Lambda_j = \\exp(-[\\theta_j]_\\times)\\, \\lambda_0` (N x 3), :math:`\\theta_j = H \\sum_i
-    \\alpha_{ji}\\, (\\omega_i + W_i \\lambda_0)`, by Rodrigues' formula with
-    :math:`(1 - \\cos t)/t^2 = \\tfrac12 (\\sin(t/2) / (t/2))^2` and :math:`\\sin t / t` at
-    :math:`t^2 + 10^{-300}` (a guess: its last digits change only where Newton's method starts)."""
+    :math:`\\Lambda_j` (N x 3), :math:`\\lambda' = \\lambda \\times \\Omega`, :math:`\\Omega = \\omega + W
+    \\lambda`, integrated from the panel's start to its nodes one node after the other by Heun's
+    method on rotations: from node :math:`j - 1` to node :math:`j` (:math:`\\delta = H(\\gamma_j -
+    \\gamma_{j-1})`, the first step from the start with node 0's fields), a predictor
+    :math:`\\lambda^* = \\exp(-\\delta [\\Omega_{j-1}]_\\times)\\, \\lambda_{j-1}` and
+    :math:`\\lambda_j = \\exp(-\\tfrac{\\delta}{2} [\\Omega_{j-1} + \\Omega_j(\\lambda^*)]_\\times)\\,
+    \\lambda_{j-1}`, each rotation by Rodrigues' formula with :math:`(1 - \\cos t)/t^2 = \\tfrac12
+    (\\sin(t/2) / (t/2))^2` and :math:`\\sin t / t` at :math:`t^2 + 10^{-300}` (a guess: its last
+    digits change only where Newton's method starts). On the bundled forward dive's second interval
+    (11 panels, 1/16 and 1/8 of it wide, L = 75 kg m^2/s) it is 25 to 200 times closer to the
+    solution than the start's momentum turned back by the body's turn at the frozen momentum (the
+    former start: off by 15-24 kg m^2/s on the widest panels), and Newton's method takes 30
+    iterations there instead of 38 (benchmarks/RESULTS.md, 2026-12-06, sixth session)."""
     import heyoka as hy
 
-    a = _gauss(N)[2]
+    gam = _gauss(N)[0]
     v = hy.make_vars(*[f"v{i}" for i in range(12 * N + 3)])
-    lam = v[:3]
     w = [v[3 + 3 * j:6 + 3 * j] for j in range(N)]
     W = [[v[3 * N + 3 + 9 * j + 3 * r:3 * N + 6 + 9 * j + 3 * r] for r in range(3)] for j in range(N)]
     H = hy.par[0]
-    Om = [[w[i][r] + W[i][r][0] * lam[0] + W[i][r][1] * lam[1] + W[i][r][2] * lam[2] for r in range(3)]
-          for i in range(N)]
-    out = []
-    for j in range(N):
-        th = [-H * sum(float(a[j, i]) * Om[i][r] for i in range(N)) for r in range(3)]
+
+    def omega(j, lam):
+        return [w[j][r] + W[j][r][0] * lam[0] + W[j][r][1] * lam[1] + W[j][r][2] * lam[2] for r in range(3)]
+
+    def turned(th, lam):  # exp([th]x) lam
         t = hy.sqrt(th[0] * th[0] + th[1] * th[1] + th[2] * th[2] + 1e-300)
         s1 = hy.sin(t) / t
         h = hy.sin(0.5 * t) / (0.5 * t)
         s2 = 0.5 * h * h
         tv = [th[1] * lam[2] - th[2] * lam[1], th[2] * lam[0] - th[0] * lam[2], th[0] * lam[1] - th[1] * lam[0]]
         ttv = [th[1] * tv[2] - th[2] * tv[1], th[2] * tv[0] - th[0] * tv[2], th[0] * tv[1] - th[1] * tv[0]]
-        out += [lam[r] + s1 * tv[r] + s2 * ttv[r] for r in range(3)]
+        return [lam[r] + s1 * tv[r] + s2 * ttv[r] for r in range(3)]
+
+    out, lam, before, om = [], list(v[:3]), 0.0, None
+    for j in range(N):
+        dt = float(gam[j] - before)
+        start = omega(j, lam) if om is None else om  # the first step with node 0's fields
+        pred = turned([-H * dt * start[r] for r in range(3)], lam)
+        end = omega(j, pred)
+        lam = turned([-H * (0.5 * dt) * (start[r] + end[r]) for r in range(3)], lam)
+        om, before = omega(j, lam), float(gam[j])
+        out += lam
     return hy.cfunc(out, list(v))
 
 
 def _momentum_panel(seg, lam, H, d, start=None):
     """Newton's method on one panel's collocation equations of :math:`\\lambda' = \\lambda \\times
-    \\Omega`, :math:`\\Omega = \\omega + W \\lambda`, from the guess :math:`\\Lambda_j =
-    \\exp(-[\\theta_j]_\\times)\\, \\lambda`, :math:`\\theta_j = H \\sum_i \\alpha_{ji}\\, \\Omega_i(\\lambda)` (the
-    start's momentum turned back by the body's turn to node :math:`j` at the frozen momentum,
-    :func:`_build_guess_kernel`). Each iteration is one call of the compiled kernel
+    \\Omega`, :math:`\\Omega = \\omega + W \\lambda`, from the guess of :func:`_build_guess_kernel` (the
+    momentum carried from the panel's start to its nodes by Heun's method on rotations). Each
+    iteration is one call of the compiled kernel
     (:func:`_build_momentum_kernel`: the residual and ``S``) and one LAPACK solve in place. Returns
     ``(lam1, Lam, J, Si, tail)`` (``J`` the blocks :math:`\\partial(\\lambda \\times \\Omega)/\\partial
     \\lambda` at the nodes, ``Si`` the inverse of the panel's ``S`` at the solution: the derivatives
