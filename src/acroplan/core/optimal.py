@@ -534,12 +534,18 @@ class _Search:
     def report(self, current, history, predicted_stop, start_label):
         """The reported optimum: ``current`` refined to ``kkt_tol``, with the ladder and its notes."""
         st, iv = self.strategy, self.interval
+        if not current.checked:
+            # a size taken on its grid alone (LADDER_ON_GRID): checked between the points first, and
+            # solved on the denser grid where it breaks a limit there, at the ladder's tolerance, so
+            # that the refinement below is done once, on the grid it ends on
+            current = self.denser(current, current.prob.n, STAGE_KKT_TOL)[0]
+            current.checked = True
         before = current.prob.evaluations
         unrefined = current.z
         current.refine(st.kkt_tol)
         res = current.result()
         self.evaluations += current.prob.evaluations - before
-        if not res.success and (current.z is not unrefined or not current.checked):
+        if not res.success and current.z is not unrefined:
             # the refinement left the limits between the grid's points: solved again from it with
             # those limits on the denser grid (the falling cat's least integral of tau^2, refined to
             # a KKT residual of 7e-9, broke a joint range between the 64 points, and the ladder's
