@@ -875,8 +875,9 @@ EXCHANGE_ROUNDS = 3
 #: checked between its grid's points (and solved again on the denser grid where it breaks a limit
 #: there, :meth:`_Search.denser`, by :meth:`_Search.report`). Checking every size (``False``) cost
 #: the bundled dives 16 / 25 / 56 dense checks and 319 / 642 / 734 endpoint evaluations (back full,
-#: forward, double full-out) against 8 / 18 / 30 and 319 / 606 / 675, for the same optima to 1e-13
-#: (benchmarks/RESULTS.md, 2026-12-06, sixth session).
+#: forward, double full-out) against 8 / 18 / 30 and 319 / 606 / 675 when it was introduced, for the
+#: same optima to 1e-13 (benchmarks/RESULTS.md, 2026-12-06, sixth session; the counts move with the
+#: code's last bits, so compare them only between adjacent versions).
 LADDER_ON_GRID = True
 #: Points per interval of the grid of one interval's rate, joint and torque limits (the torque
 #: limits' at least :data:`TORQUE_LIMIT_GRID`).
