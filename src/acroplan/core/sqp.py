@@ -36,7 +36,12 @@ active set changes little: 1-2 rounds instead of 10-13 on that joint optimum). A
 broken beyond rounding by its own magnitude, as active by its distance in :math:`w`; the step is
 refined once onto the equations and the binding rows (a least-squares correction), so that a full
 step keeps the active rows to rounding and the merit function's penalty (thousands) does not
-refuse it at the end.
+refuse it at the end. When the reduced Hessian had negative eigenvalues, the step of the model with
+their magnitudes is not the program's; the step is then Newton's on the binding rows taken as
+equations with the model as it is (:func:`_active_newton`: a few rounds of a primal active-set
+method), when the model is positive definite on their null space there and the step keeps every
+row with multipliers not negative: a local solution of the program itself, so that the SQP
+converges quadratically where the Lagrangian bends down along a direction the active limits block.
 """
 
 from __future__ import annotations
@@ -184,6 +189,7 @@ def qp_step(W, g, h, A, R, r, hint=None):
     pY = Y @ -np.linalg.solve(RA.T, h)
     Wr = Zr.T @ W @ Zr
     e, V = np.linalg.eigh(0.5 * (Wr + Wr.T))
+    flipped = bool(e[0] < 0.0)  # the model was changed: its step is not the program's (ACTIVE_NEWTON)
     e = np.maximum(np.abs(e), 1e-6 * max(float(np.abs(e).max()), 1e-300))
     gr = Zr.T @ (g + W @ pY)
     ystar = -(V @ ((V.T @ gr) / e))
@@ -241,8 +247,81 @@ def qp_step(W, g, h, A, R, r, hint=None):
         bind = act[mu[act] > 0.0]  # the rows that bind (within the tolerance above, some need not)
         M = np.vstack([A, R[bind]])
         p = p + np.linalg.lstsq(M, np.concatenate([-h - A @ p, -r[bind] - R[bind] @ p]), rcond=1e-12)[0]
+    if flipped and ACTIVE_NEWTON:
+        start = np.flatnonzero(mu > 0.0)
+        at = np.flatnonzero(np.abs(r) <= 1e-7)  # the rows at their bound now (as _Point.active)
+        exact = _active_newton(W, g, h, A, R, r, np.union1d(np.union1d(start, at), hint if hint is not None and
+                                                            len(hint) else np.zeros(0, dtype=int)))
+        if exact is not None:
+            p, mu = exact
     lam = -np.linalg.solve(RA, Y.T @ (W @ p + g + R.T @ mu))
     return p, lam, mu
+
+
+#: Whether :func:`qp_step` takes the Newton step of the binding rows (:func:`_active_newton`) when
+#: it had changed the model's negative curvature. Without it, where the Lagrangian's curvature is
+#: negative along a direction that the binding rows block, the flipped model's step pointed the
+#: right way but fell short by a constant fraction, and the SQP converged linearly: the falling
+#: cat's least integral of u^2 at 30 coefficients, from the ladder's KKT residual of 9e-4 to 1e-8,
+#: took 36 full steps, each 18% of the Newton step (the reduced Hessian's least eigenvalue -0.084
+#: off the binding joint-range rows); with it, 16 steps from the ladder's padded curvature, 3 from
+#: fresh constraint Hessians, and that optimum's endpoint evaluations 265 -> 225. The twisting dives'
+#: counts move by a few percent either way, the falling cat's least integral of tau^2 (whose SQP
+#: creeps on the torque cost's Gauss-Newton model either way) 522 -> 605 (``benchmarks/RESULTS.md``,
+#: 2026-12-06, seventh session).
+ACTIVE_NEWTON = True
+#: Rounds of :func:`_active_newton`'s working set.
+ACTIVE_ROUNDS = 8
+
+
+def _active_newton(W, g, h, A, R, r, work):
+    """The Newton step of the quadratic program with the model :math:`W` as it is, by a few rounds
+    of a primal active-set method from the working set ``work`` (rows taken as equations,
+    :math:`W p + A^\\top\\lambda + R_w^\\top\\mu_w = -g`, :math:`A p = -h`, :math:`R_w p = -r_w`):
+    a row whose multiplier is negative leaves the set, a row the step breaks joins it (the only move
+    where the model is not positive definite on the set's null space: its step is a saddle's), at
+    most :data:`ACTIVE_ROUNDS` times. ``(p, mu)`` when a round's step keeps every row with
+    multipliers not negative and :math:`W` is positive definite on the null space of its equations
+    (so that ``p`` is a local solution of the program); ``None`` when no round gets there."""
+    work = np.asarray(work, dtype=int)
+    q, N = A.shape
+    for _ in range(ACTIVE_ROUNDS):
+        M = np.vstack([A, R[work]])
+        k = M.shape[0]
+        if k >= N:
+            return None
+        Q, RM = np.linalg.qr(M.T, mode="complete")
+        Y, Zb, RM = Q[:, :k], Q[:, k:], RM[:k, :k]
+        d = np.abs(np.diag(RM))
+        if d.min() <= 1e-12 * max(1.0, d.max()):
+            return None
+        Wr = Zb.T @ W @ Zb
+        e, V = np.linalg.eigh(0.5 * (Wr + Wr.T))
+        top = max(float(np.abs(e).max()), 1e-300)
+        convex = bool(e[0] > 1e-10 * top)
+        if not convex and not np.abs(e).min() > 1e-10 * top:
+            return None
+        pY = Y @ -np.linalg.solve(RM.T, np.concatenate([h, r[work]]))
+        p = pY - Zb @ (V @ ((V.T @ (Zb.T @ (g + W @ pY))) / e))
+        over = r + R @ p
+        over[work] = 0.0
+        broken = np.flatnonzero(over > 1e-12 * (1.0 + np.abs(r)))
+        if not convex:  # a saddle of the model on this face: only the rows its step breaks can help
+            if not broken.size:
+                return None
+            work = np.union1d(work, broken[np.argsort(-over[broken], kind="stable")[:QP_ROWS]])
+            continue
+        mu_w = -np.linalg.solve(RM, Y.T @ (W @ p + g))[q:]
+        if work.size and mu_w.min() < -1e-10 * max(1.0, float(np.abs(mu_w).max())):
+            work = np.delete(work, int(np.argmin(mu_w)))
+            continue
+        if broken.size:
+            work = np.union1d(work, broken[np.argsort(-over[broken], kind="stable")[:QP_ROWS]])
+            continue
+        mu = np.zeros(r.size)
+        mu[work] = np.maximum(mu_w, 0.0)
+        return p, mu
+    return None
 
 
 def _violation(h, r) -> float:
