@@ -116,6 +116,18 @@ def kkt_multipliers(g, A, C=None):
     return lam, (math.sqrt(float(res @ res)) / gn if gn > 0 else 0.0)
 
 
+def _null_space(M):
+    """``(Y, Z, R)`` of the complete QR factorisation :math:`M^\\top = [Y\\ Z] [R; 0]` of rows ``M``
+    (k, N): :math:`Y` spans their range, :math:`Z` their null space; ``None`` when ``M`` is
+    rank-deficient (a diagonal entry of :math:`R` below 1e-12 of the largest)."""
+    k = M.shape[0]
+    Q, R = np.linalg.qr(M.T, mode="complete")
+    dR = np.abs(np.diag(R[:k, :k]))
+    if dR.min() <= 1e-12 * max(1.0, dR.max()):
+        return None
+    return Q[:, :k], Q[:, k:], R[:k, :k]
+
+
 def kkt_step(W, g, h, A, H, convex_only=False):
     """The SQP step: the KKT system :math:`W p + A^\\top\\lambda = -g`, :math:`A p = -h`, with
     :math:`W` replaced, when it is not positive definite on :math:`\\ker A`, by the reduced
@@ -142,11 +154,10 @@ def kkt_step(W, g, h, A, H, convex_only=False):
     if q >= N:  # no freedom left on the constraints: the step is theirs (least squares if over-determined)
         p = -np.linalg.lstsq(A, h, rcond=None)[0]
         return p, -np.linalg.lstsq(A.T, W @ p + g, rcond=None)[0]
-    Q, R = np.linalg.qr(A.T, mode="complete")
-    Y, Zr, R = Q[:, :q], Q[:, q:], R[:q, :q]
-    dR = np.abs(np.diag(R))
-    if dR.min() <= 1e-12 * max(1.0, dR.max()):
+    qr = _null_space(A)
+    if qr is None:
         return None
+    Y, Zr, R = qr
     pY = -np.linalg.solve(R.T, h)
     Wr = Zr.T @ W @ Zr
     e, V = np.linalg.eigh(0.5 * (Wr + Wr.T))
@@ -181,11 +192,10 @@ def qp_step(W, g, h, A, R, r, hint=None):
     N, q = W.shape[0], A.shape[0]
     if q >= N:
         return None
-    Q, RA = np.linalg.qr(A.T, mode="complete")
-    Y, Zr, RA = Q[:, :q], Q[:, q:], RA[:q, :q]
-    dR = np.abs(np.diag(RA))
-    if dR.min() <= 1e-12 * max(1.0, dR.max()):
+    qr = _null_space(A)
+    if qr is None:
         return None
+    Y, Zr, RA = qr
     pY = Y @ -np.linalg.solve(RA.T, h)
     Wr = Zr.T @ W @ Zr
     e, V = np.linalg.eigh(0.5 * (Wr + Wr.T))
@@ -286,15 +296,12 @@ def _active_newton(W, g, h, A, R, r, work):
     work = np.asarray(work, dtype=int)
     q, N = A.shape
     for _ in range(ACTIVE_ROUNDS):
-        M = np.vstack([A, R[work]])
-        k = M.shape[0]
-        if k >= N:
+        if q + work.size >= N:
             return None
-        Q, RM = np.linalg.qr(M.T, mode="complete")
-        Y, Zb, RM = Q[:, :k], Q[:, k:], RM[:k, :k]
-        d = np.abs(np.diag(RM))
-        if d.min() <= 1e-12 * max(1.0, d.max()):
+        qr = _null_space(np.vstack([A, R[work]]))
+        if qr is None:
             return None
+        Y, Zb, RM = qr
         Wr = Zb.T @ W @ Zb
         e, V = np.linalg.eigh(0.5 * (Wr + Wr.T))
         top = max(float(np.abs(e).max()), 1e-300)
