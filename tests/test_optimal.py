@@ -560,9 +560,9 @@ def test_the_qp_step_is_newtons_where_the_model_bends_down_across_the_binding_ro
     steps from a KKT residual of 9e-4 to 1e-8). qp_step then takes the Newton step of the binding
     rows (sqp._active_newton): on 20 such programs of known solution the step and the multipliers
     are the known ones, to 1e-9 of the step; with that turned off they are not (off by more than 1%
-    of the step). (A program this bent has other local solutions; qp_step finds the one whose
-    binding rows the step with the magnitudes found, which was so on 30 of 30 programs at bends
-    of 3 to 20 and on 8 of 10 at a bend of 50.)"""
+    of the step). (A program this bent has other local solutions; qp_step finds the known one when
+    its binding rows are near those of the step with the magnitudes: so on 30 of 30 programs at
+    bends of 3 to 20, and on 9 of 10 at a bend of 50.)"""
     from acroplan.core import sqp
 
     for seed in range(20):
@@ -577,7 +577,7 @@ def test_the_qp_step_is_newtons_where_the_model_bends_down_across_the_binding_ro
 
 
 def test_the_sqp_converges_quadratically_onto_a_bound_where_the_curvature_is_negative(monkeypatch):
-    """The SQP on min 0.5 z^T Q z + c^T z with Q indefinite (eigenvalues -1.4, 2.4, 2), s.t.
+    """The SQP on min 0.5 z^T Q z + c^T z with Q indefinite (eigenvalues -1.30, 2.30, 2), s.t.
     z_2 = 0.1 z_0^2 and z_0 <= 1, exact Hessians, from (0.8, 3, 0.064): the optimum is on the bound,
     (1, 0.5, 0.1) (Q's block off the bound, 2, is positive). With the Newton step of the binding rows
     it takes at most 3 iterations, to a KKT residual of 1e-15; with the eigenvalues by their
