@@ -199,7 +199,7 @@ def qp_step(W, g, h, A, R, r, hint=None):
     pY = Y @ -np.linalg.solve(RA.T, h)
     Wr = Zr.T @ W @ Zr
     e, V = np.linalg.eigh(0.5 * (Wr + Wr.T))
-    flipped = bool(e[0] < 0.0)  # the model was changed: its step is not the program's (ACTIVE_NEWTON)
+    e_model = e  # as the model has them: when negative, its step is not the program's (ACTIVE_NEWTON)
     e = np.maximum(np.abs(e), 1e-6 * max(float(np.abs(e).max()), 1e-300))
     gr = Zr.T @ (g + W @ pY)
     ystar = -(V @ ((V.T @ gr) / e))
@@ -257,11 +257,11 @@ def qp_step(W, g, h, A, R, r, hint=None):
         bind = act[mu[act] > 0.0]  # the rows that bind (within the tolerance above, some need not)
         M = np.vstack([A, R[bind]])
         p = p + np.linalg.lstsq(M, np.concatenate([-h - A @ p, -r[bind] - R[bind] @ p]), rcond=1e-12)[0]
-    if flipped and ACTIVE_NEWTON:
+    if e_model[0] < 0.0 and ACTIVE_NEWTON:
         start = np.flatnonzero(mu > 0.0)
-        at = np.flatnonzero(np.abs(r) <= 1e-7)  # the rows at their bound now (as _Point.active)
-        exact = _active_newton(W, g, h, A, R, r, np.union1d(np.union1d(start, at), hint if hint is not None and
-                                                            len(hint) else np.zeros(0, dtype=int)))
+        at = np.flatnonzero(np.abs(r) <= 1e-7)  # the rows at their bound now (within 1e-7 either side)
+        work = np.union1d(np.union1d(start, at), hint if hint is not None and len(hint) else np.zeros(0, dtype=int))
+        exact = _active_newton(R, r, work, pY, Zr, V, e_model, V.T @ gr)
         if exact is not None:
             p, mu = exact
     lam = -np.linalg.solve(RA, Y.T @ (W @ p + g + R.T @ mu))
@@ -277,39 +277,62 @@ def qp_step(W, g, h, A, R, r, hint=None):
 #: off the binding joint-range rows); with it, 16 steps from the ladder's padded curvature, 3 from
 #: fresh constraint Hessians, and that optimum's endpoint evaluations 265 -> 225. The twisting dives'
 #: counts move by a few percent either way, the falling cat's least integral of tau^2 (whose SQP
-#: creeps on the torque cost's Gauss-Newton model either way) 522 -> 605 (``benchmarks/RESULTS.md``,
-#: 2026-12-06, seventh session).
+#: creeps on the torque cost's Gauss-Newton model either way) 522 -> 605 with the step found by
+#: QR factorisations of size N, 639 with the Schur complement (:func:`_active_newton`), which costs
+#: the dives 0.03-0.09 s where those took 0.18-0.54 s (``benchmarks/RESULTS.md``, 2026-12-06,
+#: seventh session).
 ACTIVE_NEWTON = True
 #: Rounds of :func:`_active_newton`'s working set.
 ACTIVE_ROUNDS = 8
 
 
-def _active_newton(W, g, h, A, R, r, work):
-    """The Newton step of the quadratic program with the model :math:`W` as it is, by a few rounds
-    of a primal active-set method from the working set ``work`` (rows taken as equations,
-    :math:`W p + A^\\top\\lambda + R_w^\\top\\mu_w = -g`, :math:`A p = -h`, :math:`R_w p = -r_w`):
-    a row whose multiplier is negative leaves the set, a row the step breaks joins it (the only move
-    where the model is not positive definite on the set's null space: its step is a saddle's), at
-    most :data:`ACTIVE_ROUNDS` times. ``(p, mu)`` when a round's step keeps every row with
-    multipliers not negative and :math:`W` is positive definite on the null space of its equations
-    (so that ``p`` is a local solution of the program); ``None`` when no round gets there."""
+def _active_newton(R, r, work, pY, Zr, V, e, Vg):
+    """The Newton step of the quadratic program with the model as it is, by a few rounds of a primal
+    active-set method from the working set ``work`` (rows taken as equations, :math:`R_w p = -r_w`,
+    beside :math:`A p = -h`): a row whose multiplier is negative leaves the set, a row the step
+    breaks joins it (the only move where the model is not positive definite on the set's null
+    space: its step is a saddle's), at most :data:`ACTIVE_ROUNDS` times. ``(p, mu)`` when a round's
+    step keeps every row with multipliers not negative and the model is positive definite on the
+    null space of its equations (so that ``p`` is a local solution of the program); ``None`` when
+    no round gets there, or when the model is singular on the equations' null space.
+
+    It works in :func:`qp_step`'s coordinates: :math:`p = p_Y + Z y`, the model's reduced Hessian
+    :math:`W_r = Z^\\top W Z = V \\mathrm{diag}(e) V^\\top` with its own eigenvalues ``e`` (some
+    negative), ``Vg`` :math:`= V^\\top Z^\\top (g + W p_Y)`. With :math:`B = R_w Z V`, the working
+    set's equations are :math:`B V^\\top y = -t`, :math:`t = r_w + R_w p_Y`, and the step and the
+    multipliers follow from the Schur complement :math:`S = B\\,\\mathrm{diag}(e)^{-1} B^\\top`
+    (k x k): :math:`S\\mu = t - B\\,\\mathrm{diag}(e)^{-1} V^\\top g_r`, :math:`y = -V
+    \\mathrm{diag}(e)^{-1}(V^\\top g_r + B^\\top\\mu)`. The model is positive definite on the
+    set's null space exactly when the KKT matrix :math:`[W_r, R_r^\\top; R_r, 0]` has k negative
+    eigenvalues, and by Haynsworth's inertia additivity it has as many as :math:`W_r` (the
+    negative ``e``) plus the positive eigenvalues of :math:`S`: no factorisation of size N."""
+    top = float(np.abs(e).max(initial=0.0))
+    if not np.abs(e).min(initial=np.inf) > 1e-10 * top:
+        return None
+    negative = int(np.count_nonzero(e < 0.0))
     work = np.asarray(work, dtype=int)
-    q, N = A.shape
+    ZV = Zr @ V
     for _ in range(ACTIVE_ROUNDS):
-        if q + work.size >= N:
+        k = work.size
+        if k >= e.size:
             return None
-        qr = _null_space(np.vstack([A, R[work]]))
-        if qr is None:
+        B = R[work] @ ZV  # (k, N - q)
+        norms = np.linalg.norm(B, axis=1)  # each row scaled to unit length on the null space
+        if k and not norms.min() > 0.0:
             return None
-        Y, Zb, RM = qr
-        Wr = Zb.T @ W @ Zb
-        e, V = np.linalg.eigh(0.5 * (Wr + Wr.T))
-        top = max(float(np.abs(e).max()), 1e-300)
-        convex = bool(e[0] > 1e-10 * top)
-        if not convex and not np.abs(e).min() > 1e-10 * top:
+        B = B / norms[:, None]
+        Be = B / e
+        S = Be @ B.T
+        es = np.linalg.eigvalsh(0.5 * (S + S.T)) if k else np.zeros(0)
+        # an eigenvalue of S (of the rows scaled to unit length) near zero: the KKT matrix is nearly
+        # singular, the model nearly flat on the set's null space, and its Newton step long and
+        # unreliable (the step with the magnitudes is kept)
+        if k and not np.abs(es).min() > 1e-8 * max(float(np.abs(es).max()), 1e-300):
             return None
-        pY = Y @ -np.linalg.solve(RM.T, np.concatenate([h, r[work]]))
-        p = pY - Zb @ (V @ ((V.T @ (Zb.T @ (g + W @ pY))) / e))
+        convex = negative + int(np.count_nonzero(es > 0.0)) == k
+        mu_w = np.linalg.solve(S, (r[work] + R[work] @ pY) / norms - Be @ Vg) if k else np.zeros(0)
+        p = pY - ZV @ ((Vg + B.T @ mu_w) / e)
+        mu_w = mu_w / norms if k else mu_w  # the rows' own multipliers
         over = r + R @ p
         over[work] = 0.0
         broken = np.flatnonzero(over > 1e-12 * (1.0 + np.abs(r)))
@@ -318,8 +341,7 @@ def _active_newton(W, g, h, A, R, r, work):
                 return None
             work = np.union1d(work, broken[np.argsort(-over[broken], kind="stable")[:QP_ROWS]])
             continue
-        mu_w = -np.linalg.solve(RM, Y.T @ (W @ p + g))[q:]
-        if work.size and mu_w.min() < -1e-10 * max(1.0, float(np.abs(mu_w).max())):
+        if k and mu_w.min() < -1e-10 * max(1.0, float(np.abs(mu_w).max())):
             work = np.delete(work, int(np.argmin(mu_w)))
             continue
         if broken.size:
