@@ -27,14 +27,13 @@ Stages, the first success wins (:func:`~acroplan.core.strategies.run_stages`):
    :math:`\\alpha + \\beta + 1` coefficients: 10 under spline conditions), each of the three best
    loop guesses is refined (at most :data:`REFINE_BUDGET` evaluations) and, when it meets the
    target to 1e-8 rad, polished by deformation; then the three best loops of each larger size the
-   same way (more freedom to keep the joint ranges);
+   same way (more freedom to keep the joint ranges); only then is the best loop that missed
+   polished from its guess (that polish often ends in the constrained solve, seconds where a
+   refined loop takes milliseconds);
 4. generic path deformation from the minimum-norm input (perturbed starts) at that size, then the
-   loops that missed polished from their guesses (a polish often ends in the constrained solve,
-   seconds where a refined loop takes milliseconds: on the second interval of the bundled
-   forward twisting dive, whose loops all miss by 0.24 rad within the joint ranges, the best
-   loop's polish stalled after 100 evaluations, 0.9 s, before the generic deformation succeeded
-   in 0.5 s; with the deformation first, that interval's feasible plan takes 63 evaluations
-   instead of 163, the same plan);
+   other loops that missed polished from their guesses (on the second interval of the bundled
+   forward twisting dive, whose loops all miss by 0.24 rad within the joint ranges, the four
+   polishes stalled, 1.0 s, before the generic deformation succeeded in 0.2 s);
 5. each other size: the best loop guess, then generic deformation.
 
 Every stage's deformation has a budget of :data:`AUTO_BUDGET` endpoint evaluations; a result that
@@ -136,13 +135,13 @@ def _stages(interval: Interval, *, generic: bool) -> IntervalOutcome:
         single = [lambda k=k: attempt(first, k, polish_failures=False) for k in range(4)]
         return run_stages(single[:1] + loops + single[1:] if _one_loop_can(g) else loops + single)
     # every loop's refinement first (repeated loops before or after one loop, as one loop can or
-    # not); a loop that missed is polished from its guess only after the generic deformation (that
-    # polish often ends in the constrained solve: seconds, where a refined loop takes milliseconds)
+    # not); a loop that missed is polished from its guess only after (that polish often ends in
+    # the constrained solve: seconds, where a refined loop takes milliseconds)
     single = [lambda k=k: attempt(first, k, polish_failures=False) for k in range(4)]
     stages = single + loops if _one_loop_can(g) else loops + single
     # the loops in the larger bases (more freedom to keep the joint ranges) before any polish
     stages += [lambda n=n, k=k: attempt(n, k, polish_failures=False) for n in sizes if n > first for k in range(3)]
-    stages += [lambda: deform_attempt(interval, first, budget=AUTO_BUDGET), lambda: attempt(first, 0)]
+    stages += [lambda: attempt(first, 0), lambda: deform_attempt(interval, first, budget=AUTO_BUDGET)]
     stages += [lambda k=k: attempt(first, k) for k in range(1, 4)]
     for n in sizes:
         if n != first:
