@@ -54,7 +54,9 @@ def main() -> None:
     args = ap.parse_args()
     prob = examples.load("forward-double-twist")
     body, kw = prob.system, prob.plan_kwargs()
+    print("# planning the forward dive once (its torque optimum: seconds, the first time with compiling)", flush=True)
     res = acroplan.plan(body, **kw)
+    print(f"# planned: {res.status}; timing each part {args.repeat} times", flush=True)
     seg = res.segments[1]
     basis, c = seg.basis, seg.basis_coefficients
     x0, T = np.asarray(seg.start, dtype=float), seg.t1 - seg.t0
