@@ -138,6 +138,35 @@ def test_panels_and_determinism():
     assert np.array_equal(y1, y2) and np.array_equal(J1, J2)
 
 
+#: a motion eight times the zoo's, whose panels go below the first four levels (to 1/32)
+LARGE = "4 links L!=0 n=10, 4x"
+
+
+@pytest.mark.parametrize("name", list(CASES) + [LARGE])
+def test_the_first_levels_at_once_keep_the_panels_of_the_bisection(name, monkeypatch):
+    """The layout's first levels evaluated in one call (collocation_parts.FIRST_LEVELS) keep the
+    panels that bisection level by level keeps (FIRST_LEVELS = 1: the two halves, then their
+    children as needed), with the same node data and endpoint to the last bit: a panel's numbers
+    depend on the panel alone."""
+    from acroplan.families.spatial import collocation_parts as cp
+
+    body, x0, T, c = random_case(2, 4, True, 10, scale=8.0) if name == LARGE else CASES[name]()
+    basis = Legendre(c.shape[1])
+    runs = []
+    for levels in (1, 4):
+        monkeypatch.setattr(cp, "FIRST_LEVELS", levels)
+        st, wd, d = cp._layout(collocation._Segment(body, basis, x0, T, c))
+        runs.append((st, wd, d, *collocation.endpoint(body, basis, x0, T, c)))
+    (st1, wd1, d1, y1, J1), (st4, wd4, d4, y4, J4) = runs
+    if name.startswith("cat"):  # panels of several levels
+        assert np.unique(wd1).size >= 2
+    if name == LARGE:  # and bisection on from the fourth
+        assert wd1.min() == 1 / 32
+    assert np.array_equal(st1, st4) and np.array_equal(wd1, wd4)
+    assert all(np.array_equal(d1[k], d4[k]) for k in d1)
+    assert np.array_equal(y1, y4) and np.array_equal(J1, J4)
+
+
 def test_threads_give_the_same_numbers():
     body, x0, T, c = CASES["4 links L!=0 n=10"]()
     basis = Legendre(10)

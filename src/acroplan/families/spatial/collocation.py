@@ -239,12 +239,13 @@ class _Segment:
         self.N = NODES
         self.g, self.b, self.a, self.Vi = _gauss(NODES)
 
-    def data(self, starts, widths):
+    def data(self, starts, widths, tables=None):
         """Node data of panels ``[starts[k], starts[k] + widths[k]]``: a dict of arrays whose first
-        two axes are (panel, node)."""
+        two axes are (panel, node). ``tables``: the basis and its integrals at the nodes, (P N, n)
+        each, when known (else :func:`_basis_at`)."""
         P, N, m, T = len(starts), self.N, self.m, self.T
         sig = (starts[:, None] + widths[:, None] * self.g[None, :]).ravel()
-        Bm, Bi = _basis_at(self.basis, N, starts, widths)
+        Bm, Bi = _basis_at(self.basis, N, starts, widths) if tables is None else tables
         u = self.c @ Bm.T
         s = self.x0[4:, None] + T * (self.c @ Bi.T)
         out = evaluate_map(self.body, self.fn, np.concatenate([s, u]))
