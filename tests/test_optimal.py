@@ -608,3 +608,48 @@ def test_the_sqp_converges_quadratically_onto_a_bound_where_the_curvature_is_neg
         if flag:
             assert info["kkt"] <= 1e-15 and np.abs(z - [1.0, 0.5, 0.1]).max() <= 1e-14
     assert its[True] <= 3 and its[False] >= 6, its
+
+
+class _Rows:
+    """A point of the SQP with one equation and inequality rows (sqp._Point's fields)."""
+
+    def __init__(self, z, h, A, r, R):
+        self.z, self.h, self.A, self.r, self.R = (np.asarray(v, dtype=float) for v in (z, h, A, r, R))
+
+
+def test_the_second_order_correction_holds_the_working_rows_at_their_bound(monkeypatch):
+    """The correction from a trial point back onto A d = -h (A = (1, 1), h = 0.1) with the row
+    z_0 <= 0 at its bound: as an inequality alone the shortest step leaves it inwards, (-0.05,
+    -0.05); held as the quadratic program's working row it is (0, -0.1), the row exactly at its
+    bound; a row at its bound outside the working set stays an inequality."""
+    from acroplan.core import sqp
+
+    xt = _Rows([0.0, 1.0, 2.0], [0.1], [[1.0, 1.0, 0.0]], [0.0, 0.0], [[1.0, 0.0, 0.0], [0.0, 0.0, -1.0]])
+    monkeypatch.setattr(sqp, "WORKING_SOC", True)
+    held = sqp._corrected(xt, np.array([0]))
+    np.testing.assert_allclose(held - xt.z, [0.0, -0.1, 0.0], rtol=0, atol=1e-15)
+    free = sqp._corrected(xt, None)
+    np.testing.assert_allclose(free - xt.z, [-0.05, -0.05, 0.0], rtol=0, atol=1e-15)
+    monkeypatch.setattr(sqp, "WORKING_SOC", False)
+    np.testing.assert_allclose(sqp._corrected(xt, np.array([0])), free, rtol=0, atol=0)
+
+
+def test_the_endpoints_polish_holds_the_active_rows_at_their_bound(monkeypatch):
+    """Newton's steps onto h(z) = z_2 - (z_0^2 + z_1^2)/2 = 0 from (1, 0.5, 0.5) with z_0 <= 1 at its
+    bound: held, z_0 stays 1 and the endpoint is met (to 1e-14); plain, the minimum-norm steps move
+    z_0 inwards, by some 0.05."""
+    from acroplan.core import sqp
+
+    class Toy:
+        def h(self, z):
+            return np.array([z[2] - 0.5 * (z[0] ** 2 + z[1] ** 2)]), np.array([[-z[0], -z[1], 1.0]]), None, None
+
+    def ineq(z):
+        return np.array([z[0] - 1.0, -z[1] - 5.0]), np.array([[1.0, 0.0, 0.0], [0.0, -1.0, 0.0]])
+
+    z0 = np.array([1.0, 0.5, 0.5])
+    monkeypatch.setattr(sqp, "WORKING_SOC", True)
+    z = sqp.polish_endpoint(Toy(), z0, 1e-12, ineq)
+    assert abs(Toy().h(z)[0][0]) <= 1e-14 and abs(z[0] - 1.0) <= 1e-15, z
+    plain = sqp.polish_endpoint(Toy(), z0, 1e-12)
+    assert abs(Toy().h(plain)[0][0]) <= 1e-14 and plain[0] < 1.0 - 0.04, plain

@@ -197,21 +197,48 @@ def test_energy_optimal_cat_keeps_its_joint_ranges_by_the_sqps_inequalities():
     assert o["cost"] <= 1.01 * CASADI_CAT_ENERGY, (o["cost"], CASADI_CAT_ENERGY)
 
 
-def test_torque_optimal_cat_reports_its_refined_optimum_on_the_denser_grid():
-    """The falling cat's least integral of tau^2 within its joint ranges (at rest at both ends): the
-    refinement of the ladder's last size to the KKT target broke a joint range between the 64 grid
-    points, and the ladder's own point, at a relative KKT residual of 0.48, was reported; now the
-    refined point is solved again with the ranges on 256 points and reported (measured: KKT 6.4e-5,
-    the SQP's 40 iterations spent there; said as not converged), within the ranges on a dense
-    check, below CasADi's cost."""
+def test_torque_optimal_cat_reports_its_refined_optimum_within_the_ranges():
+    """The falling cat's least integral of tau^2 within its joint ranges (at rest at both ends). The
+    refinement of the ladder's last size to the KKT target once broke a joint range between the 64
+    grid points and the ladder's own point, at a relative KKT residual of 0.48, was reported; then
+    the refined point was solved again with the ranges on 256 points (KKT 6.4e-5, the SQP's 40
+    iterations spent there, said as not converged). Since the second-order correction and the
+    endpoint's polish hold the active rows at their bound (sqp.WORKING_SOC) the refinement
+    converges, on the 64 points here (measured: KKT 2.1e-9, cost 0.48301; where the last bits
+    differ, as with two BLAS threads, on 256 points: KKT 4.5e-10, cost 0.49528: a nonconvex
+    program's two local optima). Whichever grid it ends on, the optimum is within the ranges on a
+    dense check and below CasADi's cost; the re-solve on 256 points is tested on the joint optimum
+    (tests/test_optimal_joint.py)."""
     body, kw = falling_cat_turn()
     r = acroplan.plan(body, objective="torque", **kw)
     _independent_checks(body, kw, r)
     o = r.segments[0].optimality
-    assert o["limit_grid"] == 256 and o["kkt"] <= 1e-3, o
+    assert o["limit_grid"] in (64, 256) and o["kkt"] <= 1e-3, o
     assert o["kkt_converged"] == (o["kkt"] <= 1e-8)
     _within_ranges(body, r)
     assert o["cost"] <= CASADI_CAT_TORQUE, (o["cost"], CASADI_CAT_TORQUE)
+
+
+def test_the_energy_optimal_cat_holds_its_active_ranges_through_the_corrections(monkeypatch):
+    """The falling cat's least integral of u^2 (free end rates): with the second-order correction
+    holding the quadratic program's active joint-range rows at their bound (sqp.WORKING_SOC), the
+    ladder's stages stop zig-zagging off and back onto the bound (at 10 coefficients 34 iterations
+    became 17): 161 endpoint evaluations for the plan's optimum, against 215-225 without (measured
+    on six instances whose duration differs by 0 to 1e-10 s), the same optimum to 1e-9."""
+    from acroplan.core import sqp
+
+    body, kw = falling_cat_turn()
+    kw = {k: v for k, v in kw.items() if k not in ("start_rate", "end_rate")}
+    out = {}
+    for flag in (True, False):
+        monkeypatch.setattr(sqp, "WORKING_SOC", flag)
+        r = acroplan.plan(body, objective="energy", verify=False, **kw)
+        assert r.success
+        out[flag] = r.segments[0].optimality
+    assert out[True]["kkt"] <= 1e-8 and out[False]["kkt"] <= 1e-8
+    assert abs(out[True]["cost"] - out[False]["cost"]) <= 1e-9 * out[False]["cost"]
+    assert out[True]["evaluations"] <= 180 and out[False]["evaluations"] >= 200, (
+        out[True]["evaluations"], out[False]["evaluations"])
 
 
 def test_a_size_with_no_step_within_the_limits_fails_before_the_curvature(monkeypatch):

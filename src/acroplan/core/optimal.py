@@ -77,7 +77,9 @@ Solvers
   scipy's SLSQP, where the falling cat's energy optimum took 160 s; ``benchmarks/RESULTS.md`` has
   the figure now.) A size whose linearised limits no step can keep (a start far outside them)
   fails, and the next size is tried. The second-order correction of a trial step keeps the limits
-  near their bound (:func:`acroplan.core.sqp._corrected`).
+  near their bound and holds the quadratic program's active rows at it
+  (:func:`acroplan.core.sqp._corrected`), as the endpoint's final polish holds the active rows
+  (:func:`acroplan.core.sqp.polish_endpoint`).
 
 First-order optimality is reported as the relative KKT residual
 

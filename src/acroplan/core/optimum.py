@@ -363,7 +363,8 @@ class OptimalRun:
                           ineq=prob.ineq if self.inequalities else None)
             self.its += info["its"]
             self.why = info["why"]
-            self.z = polish_endpoint(prob, z, self.tol) if polish or self.inequalities else z
+            self.z = (polish_endpoint(prob, z, self.tol, prob.ineq if self.inequalities else None)
+                      if polish or self.inequalities else z)
         except OutOfEvaluations:
             self.z, self.failed = z, f"the evaluation budget ({prob.max_evaluations}) was spent"
         except backend.IntegrationError as e:
@@ -387,7 +388,7 @@ class OptimalRun:
             z, info = sqp(prob, self.z, Hz, tol=self.tol, kkt_tol=kkt_tol, ineq=prob.ineq if self.inequalities else None)
             self.its += info["its"]
             self.why = info["why"]
-            self.z = polish_endpoint(prob, z, self.tol)
+            self.z = polish_endpoint(prob, z, self.tol, prob.ineq if self.inequalities else None)
         except (OutOfEvaluations, backend.IntegrationError):
             pass
         return self

@@ -9,7 +9,9 @@ the inequalities ``r(z) -> (r, Jacobian)`` when it has any; the module docstring
 modelled curvature, the :math:`\\ell_1` merit function, second-order corrections, the step cap).
 :func:`kkt_multipliers` gives the least-squares multipliers and the relative KKT residual the
 strategies report. The second-order correction of a trial step goes back onto the equations
-without leaving the inequalities near their bound (:func:`_corrected`).
+without leaving the inequalities near their bound, and holds the quadratic program's active rows
+at their bound (:func:`_corrected`); so does the final polish of the endpoint
+(:func:`polish_endpoint`) with the rows active at its start.
 
 The step with inequalities (:func:`qp_step`) solves the quadratic program
 
@@ -385,9 +387,11 @@ class _Point:
 #: The second-order correction keeps the inequality rows whose slack at the trial point is below
 #: this, relative (:func:`_corrected`).
 SOC_NEAR = 1e-2
+#: The second-order correction holds the quadratic program's active rows at their bound (:func:`_corrected`).
+WORKING_SOC = True
 
 
-def _corrected(xt):
+def _corrected(xt, work=None):
     """The second-order correction from the trial point ``xt``: the shortest step back onto the
     linearised equations, :math:`A d = -h`, that keeps the linearised inequalities near their bound,
     :math:`R_i d \\le -r_i` for the rows with :math:`r_i > -` :data:`SOC_NEAR` :math:`(1 + |r_i|)`
@@ -396,21 +400,41 @@ def _corrected(xt):
     rate limits it had just been kept on, by some 1e-3: on the bundled double full-out's joint
     torque optimum, whose penalty is some 1e4, every correction then raised the merit function
     by tens, and the SQP crawled at steps of 1% until its 150 iterations were spent, at a KKT
-    residual of 1.3e-2 (``benchmarks/RESULTS.md``, 2026-12-06)."""
+    residual of 1.3e-2 (``benchmarks/RESULTS.md``, 2026-12-06).
+
+    ``work``: the rows the quadratic program held at their bound (its positive multipliers), held
+    there by the correction too, as equations :math:`R_i d = -r_i` (the correction of an
+    active-set SQP is taken with its working set: Nocedal and Wright, *Numerical Optimization*,
+    2006, section 18.3); as inequalities alone they let the shortest step leave them inwards, and
+    the next step came back: on the falling cat's least :math:`\\int u^2` at 10 coefficients every
+    other iterate left its 3-4 active joint-range rows by 1e-6 to 6e-4, where the KKT residual (of
+    the rows within 1e-7 of their bound) read 0.36, the one between 0.02, and the stage took 34
+    iterations (``benchmarks/RESULTS.md``, 2026-12-06, eighth session). When no step holds them
+    (dependent rows), the correction without them."""
     plain = xt.z - xt.A.T @ solve_small(xt.A @ xt.A.T, xt.h)
     if xt.r is None:
         return plain
     near = xt.r > -SOC_NEAR * (1.0 + np.abs(xt.r))
     if not near.any():
         return plain
+    if WORKING_SOC and work is not None and work.size:
+        held = np.zeros(near.size, dtype=bool)
+        held[work] = True
+        held &= near
+        if held.any():
+            rest = near & ~held
+            d, ok = least_norm_step(np.vstack([xt.A, xt.R[held]]), np.concatenate([-xt.h, -xt.r[held]]),
+                                    xt.R[rest], -xt.r[rest])
+            if ok and np.allclose(xt.R[held] @ d, -xt.r[held], rtol=0.0, atol=1e-9 * (1.0 + np.abs(xt.r[held]).max())):
+                return xt.z + d
     d, ok = least_norm_step(xt.A, -xt.h, xt.R[near], -xt.r[near])
     return xt.z + d if ok else plain
 
 
-def _line_search(prob, x, p, rho, slope, alpha, ineq):
+def _line_search(prob, x, p, rho, slope, alpha, ineq, work=None):
     """Backtracking on the merit function from ``x`` along ``p``, with a second-order correction back
-    onto the equations at every trial (the Maratos effect). Returns ``(point, alpha, trial)`` or
-    ``None``."""
+    onto the equations at every trial (the Maratos effect; ``work`` the quadratic program's active
+    rows, :func:`_corrected`). Returns ``(point, alpha, trial)`` or ``None``."""
     merit0 = x.merit(rho)
     for trial in range(14):
         try:
@@ -421,7 +445,7 @@ def _line_search(prob, x, p, rho, slope, alpha, ineq):
         if xt.merit(rho) <= merit0 + 1e-4 * alpha * slope:
             return xt, alpha, trial
         try:
-            xc = _Point(prob, _corrected(xt), ineq)
+            xc = _Point(prob, _corrected(xt, work), ineq)
             if xc.merit(rho) <= merit0 + 1e-4 * alpha * slope:
                 return xc, alpha, trial
         except (backend.IntegrationError, np.linalg.LinAlgError):
@@ -493,7 +517,7 @@ def sqp(prob, z, Hz, *, tol, kkt_tol, max_iter=40, refresh=None, max_refresh=Non
         below = -slope <= MERIT_RESOLUTION * (abs(x.f) + rho * v)
         found = _below_resolution(prob, x, p, kkt, ineq) if below else None
         if found is None:
-            found = _line_search(prob, x, p, rho, slope, min(1.0, radius / step) if step > 0 else 1.0, ineq)
+            found = _line_search(prob, x, p, rho, slope, min(1.0, radius / step) if step > 0 else 1.0, ineq, hint)
         if found is None:
             why = "no step decreased the merit function"
             break
@@ -521,19 +545,53 @@ def sqp(prob, z, Hz, *, tol, kkt_tol, max_iter=40, refresh=None, max_refresh=Non
     return x.z, dict(lam=lam, kkt=kkt, its=its, why=why, curvature=Hz2.reshape(q, N, N))
 
 
-def polish_endpoint(prob, z, tol):
-    """Minimum-norm Newton steps on the endpoint alone (as :func:`solve_with_limits`)."""
+def polish_endpoint(prob, z, tol, ineq=None):
+    """Minimum-norm Newton steps on the endpoint alone (as :func:`solve_with_limits`). ``ineq``: the
+    inequalities (as :func:`sqp`'s); the rows active at ``z`` (within 1e-7 of their bound, those of
+    the KKT residual) are then held at their bound by the same steps, :math:`[A; R_a]\\,d =
+    -(h, r_a)`, as the second-order correction holds them (:func:`_corrected`): the plain steps
+    left them inwards by as much as the endpoint moved, and the KKT residual, which counts the rows
+    within 1e-7 of their bound, then read the optimum's gradient unexplained (0.46 where the last
+    iterate had 2.6e-4: the falling cat's least :math:`\\int\\tau^2`, ``benchmarks/RESULTS.md``,
+    2026-12-06, eighth session). When the held steps do not bring the endpoint within ``tol``, the
+    plain ones from ``z``."""
     h, A, _, _ = prob.h(z)
+    if WORKING_SOC and ineq is not None and float(np.abs(h).max()) > tol * 1e-2:
+        r, R = ineq(z)
+        held = r >= -1e-7 * (1.0 + np.abs(r))
+        if held.any():
+            out = _polish(prob, z, h, A, tol, lambda zt: ineq(zt), held)
+            if out is not None:
+                return out
+    return _polish(prob, z, h, A, tol)
+
+
+def _polish(prob, z, h, A, tol, ineq=None, held=None):
+    """:func:`polish_endpoint`'s steps from ``z`` (``h``, ``A`` its endpoint residual and Jacobian),
+    the rows ``held`` of ``ineq`` held at their bound when given; ``None`` when those do not bring
+    the endpoint within ``tol``."""
+    if ineq is not None:
+        r, R = ineq(z)
+        res, J = np.concatenate([h, r[held]]), np.vstack([A, R[held]])
+    else:
+        res, J = h, A
     for _ in range(6):
         if float(np.abs(h).max()) <= tol * 1e-2:
             break
-        zt = z - np.linalg.lstsq(A, h, rcond=None)[0]
+        zt = z - np.linalg.lstsq(J, res, rcond=None)[0]
         try:
             ht, At, _, _ = prob.h(zt)
+            if ineq is not None:
+                rt, Rt = ineq(zt)
+                rest, Jt = np.concatenate([ht, rt[held]]), np.vstack([At, Rt[held]])
+            else:
+                rest, Jt = ht, At
         except backend.IntegrationError:
             break
-        if np.linalg.norm(ht) >= np.linalg.norm(h):
+        if np.linalg.norm(rest) >= np.linalg.norm(res):
             break
-        z, h, A = zt, ht, At
+        z, h, res, J = zt, ht, rest, Jt
+    if ineq is not None and float(np.abs(h).max()) > tol:
+        return None
     return z
 
