@@ -139,6 +139,43 @@ def test_the_momentum_solve_is_shared_without_changing_a_number():
     assert not np.array_equal(y2, y)
 
 
+def test_a_trial_point_evaluates_the_torque_cost_alone(monkeypatch):
+    """The line search's trial points evaluate the torque cost alone (TorqueCost.value: the torques
+    without their Jacobian) and its derivatives only once accepted (sqp.LAZY_GRADIENT): the trunk's
+    least integral of tau^2 takes the same path, to the same optimum with the same evaluations, with
+    the derivatives of the cost evaluated fewer times (the rejected trial points' no more), and
+    the cost alone equals the full evaluation's to the last bit."""
+    from acroplan.core import sqp
+    from acroplan.core.objectives import TorqueCost
+
+    body, kw = trunk_twist()
+    full, alone = TorqueCost.__call__, TorqueCost.value
+    counts = {}
+
+    def counted(self, c):
+        counts["full"] += 1
+        return full(self, c)
+
+    def counted_alone(self, c):
+        counts["alone"] += 1
+        v = alone(self, c)
+        assert v == full(self, c)[0]  # the same number (this check's own call is not counted)
+        return v
+
+    monkeypatch.setattr(TorqueCost, "__call__", counted)
+    monkeypatch.setattr(TorqueCost, "value", counted_alone)
+    out = {}
+    for flag in (False, True):
+        monkeypatch.setattr(sqp, "LAZY_GRADIENT", flag)
+        counts.update(full=0, alone=0)
+        r = acroplan.plan(body, objective="torque", verify=False, **kw)
+        out[flag] = (r.segments[0].optimality, dict(counts))
+    (o0, c0), (o1, c1) = out[False], out[True]
+    assert o0["cost"] == o1["cost"] and o0["evaluations"] == o1["evaluations"], (o0, o1)
+    assert c0["alone"] == 0 and c1["alone"] > 0
+    assert c1["full"] < c0["full"] and c1["full"] + c1["alone"] >= c0["full"], (c0, c1)
+
+
 @pytest.fixture(scope="module")
 def trunk_torque():
     body, kw = trunk_twist()

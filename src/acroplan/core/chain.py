@@ -91,6 +91,10 @@ class ChainProblem:
             H[a:b, a:b] = Hk
         return float(sum(fs)), np.concatenate(gs), H
 
+    def f_value(self, z):
+        """The cost alone (:meth:`OptimalProblem.f_value` of every interval)."""
+        return float(sum(p.f_value(zk) for p, zk in zip(self.probs, self.split(z))))
+
     def h(self, z):
         """``(h, A_z, ys, None)``: the intervals' endpoint residuals, then the continuity rows."""
         hs, As, ys = [], [], []

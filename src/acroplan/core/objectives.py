@@ -120,6 +120,10 @@ class EnergyCost:
         g = self.H @ c
         return 0.5 * float(c @ g), g, self.H
 
+    def value(self, c):
+        """The cost alone."""
+        return self(c)[0]
+
 
 def torque_values(model, system, basis, x0, T, c, s):
     """The torque model's :math:`\\tau` alone at flat ``c``, shape (p, K): its ``torques`` method when
@@ -165,6 +169,11 @@ class TorqueCost:
         r = (tau * self.sw).ravel()
         R = (jac * self.sw[None, :, None]).reshape(r.size, -1)
         return float(r @ r), 2.0 * R.T @ r, 2.0 * R.T @ R
+
+    def value(self, c):
+        """The cost alone, from the torques alone (:func:`torque_values`: no Jacobian)."""
+        r = (torque_values(self.model, self.system, self.basis, self.x0, self.T, c, self.s) * self.sw).ravel()
+        return float(r @ r)
 
 
 def cost_for(cost, system, basis, x0, T):

@@ -244,6 +244,10 @@ class OptimalProblem:
             return f, self.Z.T @ g, self._Hz
         return f, self.Z.T @ g, self.Z.T @ H @ self.Z
 
+    def f_value(self, z):
+        """The cost alone in ``z`` (no gradient, no model Hessian: a trial point's)."""
+        return self.cost.value(z if self.free else self.c(z))
+
     def endpoint(self, c):
         """``(y, A_c)``: the endpoint and its tangent Jacobian in flattened ``c`` (counted)."""
         if self.evaluations >= self.max_evaluations:
