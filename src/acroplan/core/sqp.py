@@ -578,18 +578,18 @@ def polish_endpoint(prob, z, tol, ineq=None):
         r, R = ineq(z)
         held = r >= -1e-7 * (1.0 + np.abs(r))
         if held.any():
-            out = _polish(prob, z, h, A, tol, lambda zt: ineq(zt), held)
+            out = _polish(prob, z, h, A, tol, ineq, held, (r, R))
             if out is not None:
                 return out
     return _polish(prob, z, h, A, tol)
 
 
-def _polish(prob, z, h, A, tol, ineq=None, held=None):
+def _polish(prob, z, h, A, tol, ineq=None, held=None, rows=None):
     """:func:`polish_endpoint`'s steps from ``z`` (``h``, ``A`` its endpoint residual and Jacobian),
-    the rows ``held`` of ``ineq`` held at their bound when given; ``None`` when those do not bring
-    the endpoint within ``tol``."""
+    the rows ``held`` of ``ineq`` held at their bound when given (``rows``: ``ineq(z)``); ``None``
+    when those do not bring the endpoint within ``tol``."""
     if ineq is not None:
-        r, R = ineq(z)
+        r, R = rows
         res, J = np.concatenate([h, r[held]]), np.vstack([A, R[held]])
     else:
         res, J = h, A
