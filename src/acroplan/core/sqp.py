@@ -364,10 +364,11 @@ def _violation(h, r) -> float:
 
 
 #: A trial point of the line search evaluates the cost alone, its gradient and model Hessian only
-#: once it is accepted (:meth:`_Point.accepted`): the second-order correction needs the endpoint's
-#: and the limits' Jacobians at the trial point (taken at the iterate instead, the bundled dives
-#: took 1.0 to 3 times the evaluations, to other optima), never the cost's, and a torque cost's
-#: derivatives are most of its evaluation.
+#: once it is accepted (:meth:`_Point.accepted`): a torque cost's derivatives are most of its
+#: evaluation, and the second-order correction needs the endpoint's and the limits' Jacobians at
+#: the trial point, never the cost's (with the Jacobians at the iterate instead, the textbook form,
+#: the bundled dives took 1.0 to 3 times the evaluations and ended at other optima:
+#: ``benchmarks/RESULTS.md``, 2026-12-06, eighth session).
 LAZY_GRADIENT = True
 
 

@@ -32,9 +32,10 @@ MIN_PANEL = 1e-7
 #: the largest turn of the root by the shape's motion on one panel (rad), :math:`H \\max|\\omega|`
 MAX_TURN = 3.0
 #: the layout's bisection (:func:`_layout`) evaluates its first levels, the panels of 1/2 down to
-#: :math:`2^{-\mathrm{FIRST\_LEVELS}}` of the segment, in one call of the compiled map, and keeps
-#: the same panels as level by level (a panel's node data depend on the panel alone): 30 panels
-#: where the falling cat's optimum needs 26 of them evaluated in 3.7 calls, one call instead
+#: ``2 ** -FIRST_LEVELS`` of the segment, in one call of the compiled map, and keeps the same panels
+#: as level by level (a panel's node data depend on the panel alone): 30 panels where the falling
+#: cat's optimum needed 26 of them evaluated in 3.7 calls, one call instead (the endpoint 1.2 times
+#: faster there: ``benchmarks/RESULTS.md``, 2026-12-06, eighth session)
 FIRST_LEVELS = 4
 #: Newton iterations per panel before it is split
 NEWTON_ITERATIONS = 12
