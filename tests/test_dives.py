@@ -145,6 +145,30 @@ def test_a_3d_human_brings_its_strength_as_the_capacity():
     assert bundled.load("back-full-twist").plan_kwargs()["capacity"]["torques"] == cap
 
 
+def test_a_loop_is_not_refined_in_a_larger_basis_that_did_not_help(monkeypatch):
+    """The forward dive's feasible plan (no objective): on its second interval the loops' refinements
+    missed by the same amounts at 6 and at 10 coefficients (0.0433, 0.0525-0.0526, 0.127-0.137 rad:
+    the joint ranges hold them, not the basis), so they are not tried at 14
+    (spatial.strategy.ENLARGE_GAIN): the same plan to the last bit, 55 endpoint evaluations fewer."""
+    from acroplan.families.spatial import strategy
+    from acroplan.io import examples as bundled
+
+    prob = bundled.load("forward-double-twist")
+    kw = {k: v for k, v in prob.plan_kwargs().items() if k not in ("objective", "tau_max")}
+    refine, sizes, out = strategy.refine, [], {}
+    monkeypatch.setattr(strategy, "refine", lambda *a, **k: sizes.append(a[1].n) or refine(*a, **k))
+    for gain in (math.inf, strategy.ENLARGE_GAIN):
+        monkeypatch.setattr(strategy, "ENLARGE_GAIN", gain)
+        sizes.clear()
+        r = acroplan.plan(prob.system, **dict(kw, verify=False))
+        assert r.success
+        out[gain] = (r, list(sizes))
+    (r0, s0), (r1, s1) = out[math.inf], out[strategy.ENLARGE_GAIN]
+    assert 14 in s0 and 14 not in s1 and s1 == [n for n in s0 if n != 14], (s0, s1)
+    assert all(np.array_equal(a.coefficients, b.coefficients) for a, b in zip(r0.segments, r1.segments))
+    assert sum(s.evaluations for s in r0.segments) - sum(s.evaluations for s in r1.segments) >= 40
+
+
 def test_a_plan_beyond_the_strength_is_warned_of(plans):
     """The capacity names the torque model's joints: the back full's plan within its strength
     carries no warning, and against a yardstick below its peak it is warned of, with the peak."""
