@@ -176,6 +176,25 @@ def test_a_trial_point_evaluates_the_torque_cost_alone(monkeypatch):
     assert c1["full"] < c0["full"] and c1["full"] + c1["alone"] >= c0["full"], (c0, c1)
 
 
+def test_after_a_refused_full_step_the_line_search_is_nonmonotone(monkeypatch):
+    """The trunk's least integral of tau^2: after a full step the merit function refused (and its
+    second-order correction was taken), trial points are compared with the largest merit of the
+    last four iterates (sqp.NONMONOTONE): the same optimum (to 1e-9) in fewer endpoint evaluations
+    (the optimiser's 119 against 140)."""
+    from acroplan.core import sqp
+
+    body, kw = trunk_twist()
+    out = {}
+    for m in (0, 4):
+        monkeypatch.setattr(sqp, "NONMONOTONE", m)
+        r = acroplan.plan(body, objective="torque", verify=False, **kw)
+        assert r.success
+        out[m] = r.segments[0].optimality
+    assert out[4]["kkt"] <= 1e-8 and out[0]["kkt"] <= 1e-8
+    assert abs(out[4]["cost"] - out[0]["cost"]) <= 1e-9 * out[0]["cost"]
+    assert out[4]["evaluations"] <= 0.9 * out[0]["evaluations"], (out[4]["evaluations"], out[0]["evaluations"])
+
+
 @pytest.fixture(scope="module")
 def trunk_torque():
     body, kw = trunk_twist()
@@ -261,9 +280,12 @@ def test_the_energy_optimal_cat_holds_its_active_ranges_through_the_corrections(
     holding the quadratic program's active joint-range rows at their bound (sqp.WORKING_SOC), the
     ladder's stages stop zig-zagging off and back onto the bound (at 10 coefficients 34 iterations
     became 17): 161 endpoint evaluations for the plan's optimum, against 215-225 without (measured
-    on six instances whose duration differs by 0 to 1e-10 s), the same optimum to 1e-9."""
+    on six instances whose duration differs by 0 to 1e-10 s), the same optimum to 1e-9. (Measured
+    with the monotone line search, as here: the nonmonotone acceptance after a refused full step,
+    sqp.NONMONOTONE, also shortens the zig-zag, to 163 evaluations without the held rows, 150 with.)"""
     from acroplan.core import sqp
 
+    monkeypatch.setattr(sqp, "NONMONOTONE", 0)
     body, kw = falling_cat_turn()
     kw = {k: v for k, v in kw.items() if k not in ("start_rate", "end_rate")}
     out = {}

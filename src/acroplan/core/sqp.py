@@ -48,6 +48,7 @@ converges quadratically where the Lagrangian bends down along a direction the ac
 
 from __future__ import annotations
 
+import collections
 import math
 
 import numpy as np
@@ -450,11 +451,27 @@ def _corrected(xt, work=None):
     return xt.z + d if ok else plain
 
 
-def _line_search(prob, x, p, rho, slope, alpha, ineq, work=None):
+#: Nonmonotone acceptance (Grippo, Lampariello and Lucidi, *SIAM J. Numer. Anal.* 23, 1986): a
+#: trial point is compared with the largest merit of the last this-many iterates instead of the
+#: current one's (0: the current one alone), for :data:`NONMONOTONE` iterations after a full step
+#: was refused and its second-order correction taken (the Maratos effect: the merit function
+#: refuses full SQP steps near a curved constraint manifold, and each such step then costs two
+#: evaluations; :data:`MARATOS_ONLY`). Measured (whole-plan endpoint evaluations, one BLAS thread,
+#: ``benchmarks/RESULTS.md``, 2026-12-06, eighth session): forward dive 547 -> 437, double
+#: full-out 643 -> 600, back full 316 -> 305, trunk's least integral of tau^2 104 -> 83, falling cat's
+#: least integral of u^2 149 -> 138, the same optima; the acrobot's and planar bodies' optima over
+#: 66 random segments 2234 -> 2238 in all (without the Maratos condition, 22 torque optima among
+#: them took 1187 -> 1273).
+NONMONOTONE = 4
+#: ... only after a refused full step (:data:`NONMONOTONE`); else after every step
+MARATOS_ONLY = True
+
+
+def _line_search(prob, x, p, rho, slope, alpha, ineq, work=None, ref=None, seen=None):
     """Backtracking on the merit function from ``x`` along ``p``, with a second-order correction back
     onto the equations at every trial (the Maratos effect; ``work`` the quadratic program's active
     rows, :func:`_corrected`). Returns ``(point, alpha, trial)`` or ``None``."""
-    merit0 = x.merit(rho)
+    merit0 = x.merit(rho) if ref is None else max(x.merit(rho), ref)
     for trial in range(14):
         try:
             xt = _Point(prob, x.z + alpha * p, ineq, trial=True)
@@ -462,10 +479,14 @@ def _line_search(prob, x, p, rho, slope, alpha, ineq, work=None):
             alpha *= 0.25
             continue
         if xt.merit(rho) <= merit0 + 1e-4 * alpha * slope:
+            if seen is not None:
+                seen["corrected"] = False
             return xt.accepted(prob), alpha, trial
         try:
             xc = _Point(prob, _corrected(xt, work), ineq, trial=True)
             if xc.merit(rho) <= merit0 + 1e-4 * alpha * slope:
+                if seen is not None:
+                    seen["corrected"] = trial == 0
                 return xc.accepted(prob), alpha, trial
         except (backend.IntegrationError, np.linalg.LinAlgError):
             pass
@@ -505,6 +526,8 @@ def sqp(prob, z, Hz, *, tol, kkt_tol, max_iter=40, refresh=None, max_refresh=Non
     radius = 2.0 * max(math.sqrt(max(float(z @ x.H @ z), 0.0)), 1e-3)
     its, why, refreshed, poor = 0, "", 0, 0  # poor: backtracked steps in a row
     hint = None  # the last quadratic program's active rows
+    history = collections.deque([(x.f, _violation(x.h, x.r))], maxlen=max(int(NONMONOTONE), 1))
+    since = 10 ** 9  # iterations since a full step was refused and its correction taken
     max_refresh = MAX_REFRESH if max_refresh is None else max_refresh
     while its < max_iter:
         if kkt <= kkt_tol and max(map(abs, x.h.tolist())) <= tol and (x.r is None or x.r.max(initial=-1.0) <= INEQ_TOL):
@@ -536,7 +559,12 @@ def sqp(prob, z, Hz, *, tol, kkt_tol, max_iter=40, refresh=None, max_refresh=Non
         below = -slope <= MERIT_RESOLUTION * (abs(x.f) + rho * v)
         found = _below_resolution(prob, x, p, kkt, ineq) if below else None
         if found is None:
-            found = _line_search(prob, x, p, rho, slope, min(1.0, radius / step) if step > 0 else 1.0, ineq, hint)
+            relax = NONMONOTONE and (not MARATOS_ONLY or since < NONMONOTONE)
+            ref = max((fv + rho * vv for fv, vv in history), default=None) if relax else None
+            seen = {}
+            found = _line_search(prob, x, p, rho, slope, min(1.0, radius / step) if step > 0 else 1.0, ineq, hint, ref,
+                                 seen)
+            since = 0 if seen.get("corrected") else since + 1
         if found is None:
             why = "no step decreased the merit function"
             break
@@ -558,6 +586,7 @@ def sqp(prob, z, Hz, *, tol, kkt_tol, max_iter=40, refresh=None, max_refresh=Non
             if abs(den) > 1e-8 * math.sqrt(float(y @ y) * float(s @ s)) > 0:
                 D += np.outer(y, y) / den
         x = xt
+        history.append((x.f, _violation(x.h, x.r)))
         lam, kkt = kkt_multipliers(x.g, x.A, x.active())
         if float(s @ s) <= 1e-30 * (1.0 + float(x.z @ x.z)):
             break
