@@ -460,7 +460,7 @@ def _corrected(xt, work=None):
 #: ``benchmarks/RESULTS.md``, 2026-12-06, eighth session): forward dive 547 -> 437, double
 #: full-out 643 -> 600, back full 316 -> 305, trunk's least integral of tau^2 104 -> 83, falling cat's
 #: least integral of u^2 149 -> 138, the same optima; the acrobot's and planar bodies' optima over
-#: 66 random segments 2234 -> 2238 in all (without the Maratos condition, 22 torque optima among
+#: 62 random segments 2105 -> 2112 in all (without the Maratos condition, 22 torque optima among
 #: them took 1187 -> 1273).
 NONMONOTONE = 4
 #: ... only after a refused full step (:data:`NONMONOTONE`); else after every step
