@@ -11,7 +11,9 @@ modelled curvature, the :math:`\\ell_1` merit function, second-order corrections
 strategies report. The second-order correction of a trial step goes back onto the equations
 without leaving the inequalities near their bound, and holds the quadratic program's active rows
 at their bound (:func:`_corrected`); so does the final polish of the endpoint
-(:func:`polish_endpoint`) with the rows active at its start.
+(:func:`polish_endpoint`) with the rows active at its start. For a few iterations after a full
+step the merit function refused, the line search is nonmonotone (:data:`NONMONOTONE`); its trial
+points evaluate the cost alone until accepted (:data:`LAZY_GRADIENT`).
 
 The step with inequalities (:func:`qp_step`) solves the quadratic program
 
