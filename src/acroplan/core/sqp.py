@@ -358,6 +358,12 @@ def _active_newton(R, r, work, pY, Zr, V, e, Vg):
     return None
 
 
+def _at_bound(r, tol=1e-7):
+    """The rows of :math:`r \\le 0` within ``tol`` of their bound (relative to its scale): those of the
+    KKT residual (:meth:`_Point.active`) and of the endpoint's polish (:func:`polish_endpoint`)."""
+    return r >= -tol * (1.0 + np.abs(r))
+
+
 def _violation(h, r) -> float:
     """:math:`\\|h\\|_1 + \\sum_i \\max(0, r_i)`, the constraint violation of the merit function."""
     out = sum(map(abs, h.tolist()))
@@ -403,13 +409,14 @@ class _Point:
         """The inequality rows active within ``tol`` (relative to the bound's scale), for the KKT residual."""
         if self.r is None:
             return None
-        return self.R[self.r >= -tol * (1.0 + np.abs(self.r))]
+        return self.R[_at_bound(self.r, tol)]
 
 
 #: The second-order correction keeps the inequality rows whose slack at the trial point is below
 #: this, relative (:func:`_corrected`).
 SOC_NEAR = 1e-2
-#: The second-order correction holds the quadratic program's active rows at their bound (:func:`_corrected`).
+#: The second-order correction holds the quadratic program's active rows at their bound (:func:`_corrected`),
+#: and the endpoint's polish the rows active at its start (:func:`polish_endpoint`).
 WORKING_SOC = True
 
 
@@ -469,10 +476,12 @@ NONMONOTONE = 4
 MARATOS_ONLY = True
 
 
-def _line_search(prob, x, p, rho, slope, alpha, ineq, work=None, ref=None, seen=None):
+def _line_search(prob, x, p, rho, slope, alpha, ineq, work=None, ref=None):
     """Backtracking on the merit function from ``x`` along ``p``, with a second-order correction back
     onto the equations at every trial (the Maratos effect; ``work`` the quadratic program's active
-    rows, :func:`_corrected`). Returns ``(point, alpha, trial)`` or ``None``."""
+    rows, :func:`_corrected`; ``ref`` a merit to compare with instead of ``x``'s when larger,
+    :data:`NONMONOTONE`). Returns ``(point, alpha, trial, refused)`` (``refused``: the full step
+    was refused and its correction taken) or ``None``."""
     merit0 = x.merit(rho) if ref is None else max(x.merit(rho), ref)
     for trial in range(14):
         try:
@@ -481,15 +490,11 @@ def _line_search(prob, x, p, rho, slope, alpha, ineq, work=None, ref=None, seen=
             alpha *= 0.25
             continue
         if xt.merit(rho) <= merit0 + 1e-4 * alpha * slope:
-            if seen is not None:
-                seen["corrected"] = False
-            return xt.accepted(prob), alpha, trial
+            return xt.accepted(prob), alpha, trial, False
         try:
             xc = _Point(prob, _corrected(xt, work), ineq, trial=True)
             if xc.merit(rho) <= merit0 + 1e-4 * alpha * slope:
-                if seen is not None:
-                    seen["corrected"] = trial == 0
-                return xc.accepted(prob), alpha, trial
+                return xc.accepted(prob), alpha, trial, trial == 0
         except (backend.IntegrationError, np.linalg.LinAlgError):
             pass
         alpha *= 0.5
@@ -562,15 +567,13 @@ def sqp(prob, z, Hz, *, tol, kkt_tol, max_iter=40, refresh=None, max_refresh=Non
         found = _below_resolution(prob, x, p, kkt, ineq) if below else None
         if found is None:
             relax = NONMONOTONE and (not MARATOS_ONLY or since < NONMONOTONE)
-            ref = max((fv + rho * vv for fv, vv in history), default=None) if relax else None
-            seen = {}
-            found = _line_search(prob, x, p, rho, slope, min(1.0, radius / step) if step > 0 else 1.0, ineq, hint, ref,
-                                 seen)
-            since = 0 if seen.get("corrected") else since + 1
+            ref = max(fv + rho * vv for fv, vv in history) if relax else None
+            found = _line_search(prob, x, p, rho, slope, min(1.0, radius / step) if step > 0 else 1.0, ineq, hint, ref)
+            since = 0 if found is not None and found[3] else since + 1
         if found is None:
             why = "no step decreased the merit function"
             break
-        xt, alpha, trial = found
+        xt, alpha, trial = found[:3]
         s = xt.z - x.z
         # the cap on the step (in the cost's metric) follows the steps taken
         radius = max(radius, 2.0 * alpha * step) if trial == 0 else max(alpha * step, 0.25 * radius, 1e-12)
@@ -608,7 +611,7 @@ def polish_endpoint(prob, z, tol, ineq=None):
     h, A, _, _ = prob.h(z)
     if WORKING_SOC and ineq is not None and float(np.abs(h).max()) > tol * 1e-2:
         r, R = ineq(z)
-        held = r >= -1e-7 * (1.0 + np.abs(r))
+        held = _at_bound(r)
         if held.any():
             out = _polish(prob, z, h, A, tol, ineq, held, (r, R))
             if out is not None:
@@ -620,22 +623,18 @@ def _polish(prob, z, h, A, tol, ineq=None, held=None, rows=None):
     """:func:`polish_endpoint`'s steps from ``z`` (``h``, ``A`` its endpoint residual and Jacobian),
     the rows ``held`` of ``ineq`` held at their bound when given (``rows``: ``ineq(z)``); ``None``
     when those do not bring the endpoint within ``tol``."""
-    if ineq is not None:
-        r, R = rows
-        res, J = np.concatenate([h, r[held]]), np.vstack([A, R[held]])
-    else:
-        res, J = h, A
+
+    def stacked(h, A, rows):  # the residual and Jacobian the steps solve: the endpoint's, and the held rows'
+        return (h, A) if rows is None else (np.concatenate([h, rows[0][held]]), np.vstack([A, rows[1][held]]))
+
+    res, J = stacked(h, A, rows)
     for _ in range(6):
         if float(np.abs(h).max()) <= tol * 1e-2:
             break
         zt = z - np.linalg.lstsq(J, res, rcond=None)[0]
         try:
             ht, At, _, _ = prob.h(zt)
-            if ineq is not None:
-                rt, Rt = ineq(zt)
-                rest, Jt = np.concatenate([ht, rt[held]]), np.vstack([At, Rt[held]])
-            else:
-                rest, Jt = ht, At
+            rest, Jt = stacked(ht, At, None if ineq is None else ineq(zt))
         except backend.IntegrationError:
             break
         if np.linalg.norm(rest) >= np.linalg.norm(res):
