@@ -18,6 +18,7 @@ from scipy.integrate import solve_ivp
 
 import acroplan
 from acroplan.core.objectives import gauss
+from acroplan.core.optimal import SIZES, EnergyOptimal, TorqueOptimal
 from acroplan.families.spatial import collocation
 from acroplan.families.spatial import rotations as rot
 from acroplan.families.spatial.check import pinocchio_errors, pinocchio_momentum_map
@@ -260,11 +261,10 @@ def test_torque_optimal_cat_reports_its_refined_optimum_within_the_ranges():
     the refined point was solved again with the ranges on 256 points (KKT 6.4e-5, the SQP's 40
     iterations spent there, said as not converged). Since the second-order correction and the
     endpoint's polish hold the active rows at their bound (sqp.WORKING_SOC) the refinement
-    converges, on the 64 points here (measured: KKT 2.1e-9, cost 0.48301; where the last bits
-    differ, as with two BLAS threads, on 256 points: KKT 4.5e-10, cost 0.49528: a nonconvex
-    program's two local optima). Whichever grid it ends on, the optimum is within the ranges on a
-    dense check and below CasADi's cost; the re-solve on 256 points is tested on the joint optimum
-    (tests/test_optimal_joint.py)."""
+    converges, and since the ladder steps by 4 from 14 coefficients (SpatialBody.optimal_sizes,
+    next test) on the 64 points here (measured: KKT 3.0e-10, cost 0.483011). Whichever grid it
+    ends on, the optimum is within the ranges on a dense check and below CasADi's cost; the
+    re-solve on 256 points is tested on the joint optimum (tests/test_optimal_joint.py)."""
     body, kw = falling_cat_turn()
     r = acroplan.plan(body, objective="torque", **kw)
     _independent_checks(body, kw, r)
@@ -273,6 +273,53 @@ def test_torque_optimal_cat_reports_its_refined_optimum_within_the_ranges():
     assert o["kkt_converged"] == (o["kkt"] <= 1e-8)
     _within_ranges(body, r)
     assert o["cost"] <= CASADI_CAT_TORQUE, (o["cost"], CASADI_CAT_TORQUE)
+
+
+def test_the_torque_optimal_cats_ladder_ends_at_one_optimum_whatever_the_last_bits():
+    """The falling cat's least integral of tau^2 is a nonconvex program with local optima at 0.483,
+    0.495 and 0.623 (measured). On the default ladder (6, 10, 14, 20, 26, 30) its optimum fell from
+    1.72 at 14 coefficients to 0.71 or 0.84 at 20, and which of the three the ladder ended at
+    depended on the last bits of the arithmetic: over durations differing by 1e-10 s, 0.623 (above
+    CasADi's 0.569), 0.4954-0.4957 with KKT residuals up to 1.7e-2, or 0.495. A spatial body's
+    torque ladder steps by 4 from 14 (``SpatialBody.optimal_sizes``): every one of these durations
+    ends at the lowest optimum, converged. The same with the default ladder given explicitly
+    shows the spread (the strategy's ``sizes``, when given, is the ladder)."""
+    body, kw = falling_cat_turn()
+    costs = []
+    for dt in (0.0, 1e-10, -1e-10, 2e-10):
+        times = (kw["times"][0], kw["times"][1] + dt)
+        r = acroplan.plan(body, objective="torque", verify=False, **{**kw, "times": times})
+        o = r.segments[0].optimality
+        assert [n for n, _ in o["ladder"]] == [10, 14, 18, 22, 26, 30], o["ladder"]
+        assert o["kkt"] <= 1e-8, o["kkt"]
+        costs.append(o["cost"])
+    assert max(costs) <= 0.4831 and min(costs) >= 0.4825, costs  # the lowest optimum (0.4825-0.4830)
+    spread = []
+    for dt in (0.0, 1e-10, -1e-10):
+        times = (kw["times"][0], kw["times"][1] + dt)
+        r = acroplan.plan(body, method=TorqueOptimal(sizes=SIZES), verify=False, **{**kw, "times": times})
+        o = r.segments[0].optimality
+        assert [n for n, _ in o["ladder"]] == [10, 14, 20, 26, 30]
+        spread.append(o["cost"])
+    assert max(spread) > 0.49, spread  # the default ladder does not reach the lowest optimum here
+
+
+def test_a_systems_own_ladder_is_used_only_when_the_strategy_is_given_none():
+    """``optimal_sizes`` of the system's class (by objective) is the ladder of a strategy built
+    without sizes, never of one given sizes, nor of another objective; ``max_coefficients`` extends
+    the system's own ladder."""
+    from acroplan.planning.request import ladder_sizes
+
+    body, _ = falling_cat_turn()
+    own = body.optimal_sizes["torque"]
+    assert own == (6, 10, 14, 18, 22, 26, 30)
+    assert TorqueOptimal().ladder(body) == own
+    assert TorqueOptimal(sizes=(6, 10)).ladder(body) == (6, 10)
+    assert EnergyOptimal().ladder(body) == SIZES
+    robot = acroplan.Acrobot(M1=0.8, A1=-0.5, M2=0.28, A2=-0.24, P0=1.0)
+    assert TorqueOptimal().ladder(robot) == SIZES  # a family with none: the default
+    assert ladder_sizes(42, own) == (6, 10, 14, 18, 22, 26, 30, 36, 42)
+    assert ladder_sizes(24, own) == (6, 10, 14, 18, 22, 24)
 
 
 def test_the_energy_optimal_cat_holds_its_active_ranges_through_the_corrections(monkeypatch):

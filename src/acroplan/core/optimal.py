@@ -106,7 +106,10 @@ the current size is converged and is the one reported; otherwise the next size i
 slightly above the solved change (measured on 40 random acrobot segments, and tested), so it stops
 no earlier than solving would; a model that is not convex there (a symmetric optimum) gives no
 prediction and the size is solved. Under limits every size is solved. With
-``n_coefficients`` given, that one size is used.
+``n_coefficients`` given, that one size is used. A system's class may set its own ladder for
+an objective, ``optimal_sizes = {"torque": (...)}``, used when the strategy is given no sizes (the
+spatial bodies step their least :math:`\\int\\tau^2` by 4 from 14 coefficients:
+:attr:`acroplan.families.spatial.model.SpatialBody.optimal_sizes`).
 
 Starts
 ------
@@ -290,7 +293,7 @@ class _Search:
         self.tmax = tau_vector(strategy.tau_max, model)
         lim = interval.limits
         self.limits = lim if lim is not None and lim.active else None
-        self.sizes = interval.sizes or strategy.sizes
+        self.sizes = interval.sizes or strategy.ladder(self.system)
         self.evaluations = 0
         self.reasons, self.notes = [], []
         #: why the ladder stopped at a size that failed (that size's reason), or None
@@ -603,8 +606,9 @@ class EnergyOptimal(Strategy):
     Parameters
     ----------
     sizes : sequence of int
-        The ladder of basis sizes (default :data:`SIZES`); ``n_coefficients`` in :func:`plan`
-        replaces it by one size.
+        The ladder of basis sizes (default: the system's own for the objective when its class has
+        one, ``optimal_sizes``, else :data:`SIZES`); ``n_coefficients`` in :func:`plan` replaces it
+        by one size.
     rtol : float
         The ladder stops when the optimal cost changes by less than this, relative (default
         :data:`RTOL`).
@@ -639,9 +643,12 @@ class EnergyOptimal(Strategy):
     name = "energy-optimal"
     _cost_kind = "energy"
 
-    def __init__(self, sizes: Sequence[int] = SIZES, rtol: float = RTOL, starts: Sequence[str] | None = None,
+    def __init__(self, sizes: Sequence[int] | None = None, rtol: float = RTOL, starts: Sequence[str] | None = None,
                  torque: TorqueModel | None = None, tau_max=None, kkt_tol: float = KKT_TOL,
                  feasible: Strategy | None = None):
+        #: whether the ladder was given (else the system's own for this objective, or :data:`SIZES`)
+        self.sizes_given = sizes is not None
+        sizes = SIZES if sizes is None else sizes
         try:
             self.sizes = tuple(int(n) for n in sizes)
         except (TypeError, ValueError):
@@ -694,6 +701,15 @@ class EnergyOptimal(Strategy):
         return (f"{type(self).__name__}(sizes={self.sizes}, rtol={self.rtol:g}, starts={self.starts}"
                 + (f", tau_max={self.tau_max!r}" if self.tau_max is not None else "")
                 + (f", feasible={self.feasible!r}" if self.feasible is not None else "") + ")")
+
+    def ladder(self, system) -> tuple[int, ...]:
+        """The ladder of basis sizes for ``system``: the one given, else the system's own for this
+        objective (its class's ``optimal_sizes``, by objective: module docstring, Basis size), else
+        :data:`SIZES`."""
+        if self.sizes_given:
+            return self.sizes
+        own = (getattr(system, "optimal_sizes", None) or {}).get(self._cost_kind)
+        return tuple(own) if own else self.sizes
 
     def optimize(self, interval: Interval) -> tuple[OptimalSolve, tuple]:
         """The optimum on ``interval`` with its diagnostics (what :meth:`solve` reports).

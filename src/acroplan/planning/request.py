@@ -381,12 +381,14 @@ def _check_compile_time(req: PlanRequest) -> None:
                             "compiled is then kept on disk: a second run loads it in seconds)")
 
 
-def ladder_sizes(top: int) -> tuple[int, ...]:
+def ladder_sizes(top: int, base=None) -> tuple[int, ...]:
     """The optimum's ladder of basis sizes up to ``top`` (:func:`plan`'s ``max_coefficients``):
-    :data:`acroplan.core.optimal.SIZES` up to it, then steps of 6 from 36, ending at ``top``."""
+    ``base`` (default :data:`acroplan.core.optimal.SIZES`; a system's own ladder for its objective,
+    ``optimal_sizes``) up to it, then steps of 6 from its last size, ending at ``top``."""
     from ..core.optimal import SIZES
 
-    sizes = [n for n in SIZES if n <= top] + list(range(SIZES[-1] + 6, top + 1, 6))
+    base = SIZES if base is None else tuple(base)
+    sizes = [n for n in base if n <= top] + list(range(base[-1] + 6, top + 1, 6))
     if not sizes or sizes[-1] != top:
         sizes.append(top)
     return tuple(sizes)
@@ -462,6 +464,9 @@ def _optimal_strategy(system, method, objective, tau_max, ladder=None):
                                 f"{objective!r}{' (set by tau_max)' if tau_max is not None else ''} is given too",
                                 "give objective= (and tau_max=) alone, with method naming the feasible plan to "
                                 "start from, or method= alone")
+    own = (getattr(system, "optimal_sizes", None) or {}).get(objective)
+    if ladder is not None and own:  # the system's own ladder for this objective, up to the top asked
+        ladder = ladder_sizes(ladder[-1], own)
     sized = {} if ladder is None else {"sizes": ladder}
     if isinstance(method, str) and method == "auto":
         strategy = objective_strategy(objective, tau_max=tau_max, **sized)

@@ -714,6 +714,20 @@ class SpatialBody(TreeBody, ControlAffineSystem):
     #: (bioptim's trunk with two arms: 10 evaluations, 10 s, no feasible start; issue #22).
     optimal_deform_start = False
 
+    #: The optimal strategies' ladders of basis sizes by objective, when they are given none
+    #: (:mod:`acroplan.core.optimal`, Basis size): the least integral of tau^2 steps by 4 from 14
+    #: coefficients. Its optimum moves far between sizes (the torque involves the joint
+    #: accelerations): the falling cat's fell from 1.72 at 14 coefficients to 0.71 or 0.84 at 20,
+    #: and from the smaller optimum padded, a start that far off, the ladder ended at one of three
+    #: local optima (0.483, 0.495, 0.623) as the last bits of the arithmetic fell (over eight
+    #: durations differing by 1e-10 s: 0.623 once, 0.4954-0.4957 with KKT residuals up to 1.7e-2
+    #: twice); by steps of 4 at 0.4825-0.483 eight times in eight, KKT residuals below 1e-8, in
+    #: 1.2 s against 1.4-1.8 s. The dives' optima are the same, their times within the noise. A size
+    #: costs a spatial body no compilation (its endpoint map is compiled once for every size), where
+    #: the Taylor-integrated families compile one integrator per size; they keep the default ladder
+    #: (``benchmarks/RESULTS.md``, 2026-12-06, ninth session).
+    optimal_sizes = {"torque": (6, 10, 14, 18, 22, 26, 30)}
+
     def auto_strategy(self):
         """``method="auto"``: path deformation from shape loops that meet the target
         (:class:`~acroplan.families.spatial.strategy.SpatialAuto`)."""
