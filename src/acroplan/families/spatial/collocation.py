@@ -92,7 +92,7 @@ from scipy.linalg import lapack
 
 from ...core.backend import IntegrationError, evaluate_columns
 from .collocation_parts import (_FULL, _SYM, MAX_PANELS, MAX_TURN, MIN_PANEL, NEWTON_ITERATIONS, NEWTON_TOL,  # noqa: F401
-                                NODES, SOLUTION_TAIL_TOL, TAIL_TOL, _basis_at, _blocks, _cat, _gauss,
+                                NODES, SOLUTION_TAIL_TOL, TAIL_TOL, _basis_at, _blocks, _cat, _diag, _gauss,
                                 _layout, _left, _qmul, _quad, _right, _rightq, _skew, _split,
                                 _take, _xi)
 
@@ -482,10 +482,59 @@ def _momentum(seg, starts, widths, d):
 _CONJ = np.array([1.0, -1.0, -1.0, -1.0])
 
 
+def _complex_blocks(seg, widths, Om):
+    """:math:`S` of every panel's attitude equations in the complex form of :func:`_attitude`, shape
+    (P, 2N, 2N), from :math:`\\Omega` at the nodes (P, N, 3): :math:`S = \\mathbb{1} - H (\\alpha
+    \\otimes \\mathbb{1}_2)\\, \\mathrm{diag}_j(C_j)`, :math:`C_j` the matrix of :math:`q \\mapsto \\tfrac12
+    q \\otimes (0, \\Omega_j)` (as :func:`~acroplan.families.spatial.collocation_parts._blocks` builds the
+    real one)."""
+    P, N = widths.size, seg.N
+    h = 0.5 * Om
+    C = np.empty((P, N, 2, 2), dtype=complex)  # w1 = i h_x, w2 = h_y + i h_z
+    C[..., 0, 0] = 1j * h[..., 0]
+    C[..., 1, 1] = -1j * h[..., 0]
+    C[..., 1, 0] = h[..., 1] + 1j * h[..., 2]
+    C[..., 0, 1] = -h[..., 1] + 1j * h[..., 2]
+    S = (seg.a[None, :, None, :, None] * (-widths[:, None, None, None, None] * np.swapaxes(C, 1, 2)[:, None]))
+    S = S.reshape(P, 2 * N, 2 * N)
+    S[:, _diag(2 * N), _diag(2 * N)] += 1.0
+    return S
+
+
+@functools.cache
+def _complex_unit(N):
+    """The identity quaternion at every node in the complex form of :func:`_attitude`, (2N,), read-only."""
+    e = np.zeros(2 * N, dtype=complex)
+    e[0::2] = 1.0
+    e.setflags(write=False)
+    return e
+
+
+def _chain(q0, Pk):
+    """The quaternions :math:`y_0 = q_0`, :math:`y_{k+1} = y_k \\otimes P_k` (P + 1, 4), in floats: a
+    dozen products, where numpy's calls cost more than the arithmetic."""
+    aw, ax, ay, az = q0.tolist()
+    out = [(aw, ax, ay, az)]
+    for bw, bx, by, bz in Pk.tolist():
+        aw, ax, ay, az = (aw * bw - ax * bx - ay * by - az * bz, aw * bx + ax * bw + ay * bz - az * by,
+                          aw * by - ax * bz + ay * bw + az * bx, aw * bz + ax * by - ay * bx + az * bw)
+        out.append((aw, ax, ay, az))
+    return np.array(out)
+
+
 def _attitude(seg, widths, Om):
     """The attitude on every panel at once, given :math:`\\Omega` at the nodes (P, N, 3): the linear
     collocation equations of each panel solved from the identity, the panels chained by quaternion
     products, and the panels' maps of perturbations (module docstring).
+
+    The equations are quaternion right multiplications, which are complex-linear when a quaternion
+    :math:`q = z_1 + z_2 j` (:math:`z_1 = q_0 + i q_1`, :math:`z_2 = q_2 + i q_3`) is the pair
+    :math:`(z_1, z_2)`: :math:`q \\mapsto q \\otimes (w_1 + w_2 j)` is the 2 x 2 complex matrix
+    :math:`\\begin{pmatrix} w_1 & -\\bar w_2 \\\\ w_2 & \\bar w_1 \\end{pmatrix}`, so each panel's
+    4N x 4N real system is a 2N x 2N complex one (:func:`_complex_blocks`; the real system's
+    transpose is the complex one's conjugate transpose): half the LU's work and a quarter of the
+    matrix to build (the falling cat's endpoint 1.07-1.1 times faster, ``benchmarks/RESULTS.md``,
+    2026-12-06, ninth session).
 
     Returns
     -------
@@ -494,27 +543,28 @@ def _attitude(seg, widths, Om):
     """
     P, N = widths.size, seg.N
     Fq = _right(Om)  # (P, N, 4, 4): F_j = Fq_j Y_j
-    S = _blocks(seg, widths, Fq)
-    e = np.zeros(4 * N)
-    e[0::4] = 1.0
-    # the first row of M (module docstring): its other rows follow from it (below)
-    rhs = (seg.b[:, None] * np.swapaxes(Fq, -1, -2)[:, :, :, 0]).reshape(P, 4 * N)
-    Yl = np.empty((P, 4 * N))
-    x = np.empty((P, 4 * N))
+    S = _complex_blocks(seg, widths, Om)
+    e = _complex_unit(N)
+    # the first row of M (module docstring): its other rows follow from it (below); the complex
+    # pairs of a quaternion are its components' memory, so the real arrays are views
+    rhs = (seg.b[:, None] * np.swapaxes(Fq, -1, -2)[:, :, :, 0]).reshape(P, 4 * N).view(complex)
+    Yl = np.empty((P, 2 * N), dtype=complex)
+    x = np.empty((P, 2 * N), dtype=complex)
     for k in range(P):
-        lu, piv, info = lapack.dgetrf(S[k])
+        # the LU of S^T (S[k].T is Fortran-ordered: LAPACK factors it in place, no copy): S y = e
+        # is its transposed solve, S^H x = rhs its plain one, conjugated
+        lu, piv, info = lapack.zgetrf(S[k].T, overwrite_a=1)
         if info != 0:
             raise IntegrationError("a panel's collocation equations are singular (the input is too large)")
-        Yl[k] = lapack.dgetrs(lu, piv, e)[0]
-        x[k] = lapack.dgetrs(lu, piv, rhs[k], trans=1)[0]
+        Yl[k] = lapack.zgetrs(lu, piv, e, trans=1)[0]
+        x[k] = lapack.zgetrs(lu, piv, rhs[k].conj())[0].conj()
+    Yl = Yl.view(float)
+    x = x.view(float)
     Yl = Yl.reshape(P, N, 4)
     Fl = (Fq @ Yl[..., None])[..., 0]
     Pk = widths[:, None] * (seg.b @ Fl)
     Pk[:, 0] += 1.0
-    ys = np.empty((P + 1, 4))
-    ys[0] = seg.x0[:4]
-    for k in range(P):
-        ys[k + 1] = _qmul(ys[k], Pk[k])
+    ys = _chain(seg.x0[:4], Pk)
     Y = (_left(ys[:-1])[:, None] @ Yl[..., None])[..., 0]
     # S and the F_j are made of right multiplications, so they commute with every left
     # multiplication, and so does M: its block M_i is the right multiplication by the quaternion
