@@ -321,6 +321,15 @@ class OptimalProblem:
         return out
 
 
+#: The SQP's refreshed constraint Hessians (after poor steps, :data:`acroplan.core.sqp.POOR_STEPS`)
+#: are forward differences along each input's first this many coefficients, as the joint
+#: optimum's (:data:`acroplan.core.chain.CURVATURE_LEADING`): the bundled double full-out's
+#: second interval refreshed them at 26 coefficients, 104 of its 127 evaluations there; its plan
+#: 631 -> 566 endpoint evaluations, the same optimum, the other bundled optima's counts unchanged
+#: (``benchmarks/RESULTS.md``, 2026-12-06, ninth session). ``None``: every coefficient.
+REFRESH_LEADING = 10
+
+
 class OptimalRun:
     """The optimisation at one basis size: solve from a start, refine, report."""
 
@@ -360,7 +369,7 @@ class OptimalRun:
             Hz = np.stack([prob.zhess(M) for M in self.Hc])
 
             def refresh(zn):
-                self.Hc = prob.curvature(prob.c(zn), prob.h(zn)[3])
+                self.Hc = prob.curvature(prob.c(zn), prob.h(zn)[3], REFRESH_LEADING)
                 return np.stack([prob.zhess(M) for M in self.Hc])
 
             z, info = sqp(prob, z, Hz, tol=self.tol, kkt_tol=kkt_tol, refresh=refresh,
