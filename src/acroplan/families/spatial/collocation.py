@@ -35,7 +35,8 @@ implicit Runge-Kutta method of order :math:`2N`):
            F_j = \\tfrac12\\, Y_j \\otimes (0, \\Omega(\\sigma_j, Y_j)),
 
 At :math:`L = 0`, (1) is linear in :math:`q`: every panel is solved at once from the identity (one
-dense 4N x 4N solve each) and the panels are chained by quaternion products. With :math:`L \\ne 0`
+dense 4N x 4N real system each, solved as the 2N x 2N complex system it is: :func:`_attitude`) and
+the panels are chained by quaternion products. With :math:`L \\ne 0`
 the body-frame momentum :math:`\\lambda = R(q)^\\top L` carries the nonlinearity alone,
 
 .. math::  \\lambda' = \\lambda \\times \\Omega ,\\qquad \\Omega = \\omega + W \\lambda ,
@@ -533,8 +534,8 @@ def _attitude(seg, widths, Om):
     :math:`\\begin{pmatrix} w_1 & -\\bar w_2 \\\\ w_2 & \\bar w_1 \\end{pmatrix}`, so each panel's
     4N x 4N real system is a 2N x 2N complex one (:func:`_complex_blocks`; the real system's
     transpose is the complex one's conjugate transpose): half the LU's work and a quarter of the
-    matrix to build (the falling cat's endpoint 1.07-1.1 times faster, ``benchmarks/RESULTS.md``,
-    2026-12-06, ninth session).
+    matrix to build (the falling cat's endpoint 1.2 times faster on its plan's calls,
+    ``benchmarks/RESULTS.md``, 2026-12-06, ninth session).
 
     Returns
     -------
