@@ -305,9 +305,9 @@ def test_the_torque_optimal_cats_ladder_ends_at_one_optimum_whatever_the_last_bi
 
 
 def test_a_systems_own_ladder_is_used_only_when_the_strategy_is_given_none():
-    """``optimal_sizes`` of the system's class (by objective) is the ladder of a strategy built
-    without sizes, never of one given sizes, nor of another objective; ``max_coefficients`` extends
-    the system's own ladder."""
+    """``optimal_sizes`` of the system's class (by objective, and ``"joint"`` for an interval
+    before the joint optimum) is the ladder of a strategy built without sizes, never of one given
+    sizes, nor of another objective; ``max_coefficients`` extends the system's own ladder."""
     from acroplan.planning.request import ladder_sizes
 
     body, _ = falling_cat_turn()
@@ -318,6 +318,10 @@ def test_a_systems_own_ladder_is_used_only_when_the_strategy_is_given_none():
     assert EnergyOptimal().ladder(body) == SIZES
     robot = acroplan.Acrobot(M1=0.8, A1=-0.5, M2=0.28, A2=-0.24, P0=1.0)
     assert TorqueOptimal().ladder(robot) == SIZES  # a family with none: the default
+    # an interval whose optimum starts the joint optimum (Interval.joint): the system's "joint" ladder
+    assert TorqueOptimal().ladder(body, joint=True) == EnergyOptimal().ladder(body, joint=True) == (6, 14, 30)
+    assert TorqueOptimal(sizes=(6, 10)).ladder(body, joint=True) == (6, 10)
+    assert TorqueOptimal().ladder(robot, joint=True) == SIZES
     assert ladder_sizes(42, own) == (6, 10, 14, 18, 22, 26, 30, 36, 42)
     assert ladder_sizes(24, own) == (6, 10, 14, 18, 22, 24)
 

@@ -107,9 +107,11 @@ slightly above the solved change (measured on 40 random acrobot segments, and te
 no earlier than solving would; a model that is not convex there (a symmetric optimum) gives no
 prediction and the size is solved. Under limits every size is solved. With
 ``n_coefficients`` given, that one size is used. A system's class may set its own ladder for
-an objective, ``optimal_sizes = {"torque": (...)}``, used when the strategy is given no sizes (the
-spatial bodies step their least :math:`\\int\\tau^2` by 4 from 14 coefficients:
-:attr:`acroplan.families.spatial.model.SpatialBody.optimal_sizes`).
+an objective, ``optimal_sizes = {"torque": (...)}``, and for an interval whose optimum starts the
+joint optimum of several intervals (key ``"joint"``: :attr:`Interval.joint
+<acroplan.core.strategies.Interval>`), used when the strategy is given no sizes (the spatial
+bodies step their least :math:`\\int\\tau^2` by 4 from 14 coefficients, and climb 6, 14, 30 before a
+joint optimum: :attr:`acroplan.families.spatial.model.SpatialBody.optimal_sizes`).
 
 Starts
 ------
@@ -293,7 +295,7 @@ class _Search:
         self.tmax = tau_vector(strategy.tau_max, model)
         lim = interval.limits
         self.limits = lim if lim is not None and lim.active else None
-        self.sizes = interval.sizes or strategy.ladder(self.system)
+        self.sizes = interval.sizes or strategy.ladder(self.system, joint=interval.joint)
         self.evaluations = 0
         self.reasons, self.notes = [], []
         #: why the ladder stopped at a size that failed (that size's reason), or None
@@ -702,14 +704,15 @@ class EnergyOptimal(Strategy):
                 + (f", tau_max={self.tau_max!r}" if self.tau_max is not None else "")
                 + (f", feasible={self.feasible!r}" if self.feasible is not None else "") + ")")
 
-    def ladder(self, system) -> tuple[int, ...]:
-        """The ladder of basis sizes for ``system``: the one given, else the system's own for this
-        objective (its class's ``optimal_sizes``, by objective: module docstring, Basis size), else
-        :data:`SIZES`."""
+    def ladder(self, system, joint: bool = False) -> tuple[int, ...]:
+        """The ladder of basis sizes for ``system``: the one given, else the system's own (its
+        class's ``optimal_sizes``: module docstring, Basis size) for an interval whose optimum starts
+        the joint optimum (``joint``, key ``"joint"``) or for this objective, else :data:`SIZES`."""
         if self.sizes_given:
             return self.sizes
-        own = (getattr(system, "optimal_sizes", None) or {}).get(self._cost_kind)
-        return tuple(own) if own else self.sizes
+        own = getattr(system, "optimal_sizes", None) or {}
+        mine = (own.get("joint") if joint else None) or own.get(self._cost_kind)
+        return tuple(mine) if mine else self.sizes
 
     def optimize(self, interval: Interval) -> tuple[OptimalSolve, tuple]:
         """The optimum on ``interval`` with its diagnostics (what :meth:`solve` reports).

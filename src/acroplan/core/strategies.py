@@ -65,6 +65,11 @@ class Interval:
         Required endpoint error.
     max_evaluations : int
         Endpoint-evaluation budget per basis size.
+    joint : bool
+        Whether the interval's optimum is a start of the whole plan's joint optimum
+        (:meth:`acroplan.core.optimal.EnergyOptimal.joint`, which :func:`acroplan.plan` runs after
+        the intervals when there are several and the conditions are free): an optimal strategy may
+        then climb its ladder in larger steps (:meth:`~acroplan.core.optimal.EnergyOptimal.ladder`).
     """
 
     system: ControlAffineSystem
@@ -77,6 +82,7 @@ class Interval:
     limits: Limits | None
     tol: float
     max_evaluations: int
+    joint: bool = False
 
     def sized(self, n: int) -> InputBasis:
         """The basis of the interval's family with ``n`` coefficients."""

@@ -294,11 +294,13 @@ def _plan_intervals(req: PlanRequest, X, limits, conditions, prog):
     K = t.size - 1
     segments: list[SegmentResult] = []
     prev_end_input = None
+    joint = getattr(req.strategy, "joint", None)
+    joint_follows = joint is not None and K > 1 and conditions.kind == "free"
     with prog.scope("segments", K, unit="segment") as bar:
         for k in range(K):
             interval = Interval(system=system, basis=req.basis, sizes=req.sizes, x0=X[k], x1=X[k + 1],
                                 T=float(t[k + 1] - t[k]), ends=conditions.ends(k, prev_end_input), limits=limits,
-                                tol=req.tol, max_evaluations=req.max_evaluations)
+                                tol=req.tol, max_evaluations=req.max_evaluations, joint=joint_follows)
             try:
                 out = req.strategy.solve(interval)
             except BudgetExceeded as e:
@@ -318,8 +320,7 @@ def _plan_intervals(req: PlanRequest, X, limits, conditions, prog):
             if k + 1 < K:  # the input value the next interval starts with (free conditions)
                 last = segments[-1]
                 prev_end_input = last.input([last.t1])[:, 0]
-    joint = getattr(req.strategy, "joint", None)
-    if joint is not None and K > 1 and conditions.kind == "free" and len(segments) == K:
+    if joint_follows and len(segments) == K:
         # the whole plan's optimum through the interior waypoints, from the sequential one
         intervals = [Interval(system=system, basis=req.basis, sizes=req.sizes, x0=X[k], x1=X[k + 1],
                               T=float(t[k + 1] - t[k]), ends=conditions.ends(k, None), limits=limits, tol=req.tol,
