@@ -723,16 +723,16 @@ class SpatialBody(TreeBody, ControlAffineSystem):
     #: durations differing by 1e-10 s: two ended at KKT residuals of 1.8e-3 and 1.7e-2; with
     #: the attitude's complex systems, equal to 1.7e-15, the default duration at 0.623, above
     #: CasADi's 0.569); by steps of 4 at 0.4825-0.4830 eight times in eight, KKT residuals below
-    #: 1e-8, in 1.2 s against 1.4-1.8 s. The dives' optima are the same, their times within the noise. A size
-    #: costs a spatial body no compilation (its endpoint map is compiled once for every size), where
-    #: the Taylor-integrated families compile one integrator per size; they keep the default ladder
-    #: (``benchmarks/RESULTS.md``, 2026-12-06, ninth session).
-    #: An interval whose optimum starts the joint optimum of several intervals (key ``"joint"``,
-    #: either objective) climbs 6, 14, 30: its sizes are the joint optimum's warm start, which
-    #: re-optimises every interval at its ladder's last size. On the bundled dives the optima were
-    #: the same to 1e-6 with 6, 14, 30, with 6, 30, 6, 18, 30 and 6, 12, 20, 30 as with the default
-    #: ladder, in fewer endpoint evaluations (back full 336 -> 268, double full-out 583 -> 447,
-    #: forward 729 -> 716) (``benchmarks/RESULTS.md``, 2026-12-06, ninth session).
+    #: 1e-8, in 1.2 s against 1.4-1.8 s; the dives' optima the same, their times within the noise.
+    #: A size costs a spatial body no compilation (its endpoint map is compiled once for every
+    #: size), where the Taylor-integrated families compile one integrator per size; they keep the
+    #: default ladder. An interval whose optimum starts the joint optimum of several intervals (key
+    #: ``"joint"``, either objective) climbs 6, 14, 30: its sizes are the joint optimum's warm start,
+    #: which re-optimises every interval at its ladder's last size. On the bundled dives the optima
+    #: were the same to 1e-6 with 6, 14, 30, with 6, 30, with 6, 18, 30 and with 6, 12, 20, 30 as
+    #: with the default ladder, in fewer endpoint evaluations (back full 336 -> 268, double
+    #: full-out 566 -> 447, forward 729 -> 716) (``benchmarks/RESULTS.md``, 2026-12-06, ninth
+    #: session).
     optimal_sizes = {"torque": (6, 10, 14, 18, 22, 26, 30), "joint": (6, 14, 30)}
 
     def auto_strategy(self):
