@@ -700,7 +700,9 @@ class EnergyOptimal(Strategy):
         return check(system) if callable(check) else None
 
     def __repr__(self):
-        return (f"{type(self).__name__}(sizes={self.sizes}, rtol={self.rtol:g}, starts={self.starts}"
+        # sizes=None: the system's own ladder or SIZES (ladder)
+        return (f"{type(self).__name__}(sizes={self.sizes if self.sizes_given else None}, rtol={self.rtol:g}, "
+                f"starts={self.starts}"
                 + (f", tau_max={self.tau_max!r}" if self.tau_max is not None else "")
                 + (f", feasible={self.feasible!r}" if self.feasible is not None else "") + ")")
 
