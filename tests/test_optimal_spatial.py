@@ -282,8 +282,9 @@ def test_the_torque_optimal_cats_ladder_ends_at_one_optimum_whatever_the_last_bi
     depended on the last bits of the arithmetic: over durations differing by 1e-10 s, 0.623 (above
     CasADi's 0.569), 0.4954-0.4957 with KKT residuals up to 1.7e-2, or 0.495. A spatial body's
     torque ladder steps by 4 from 14 (``SpatialBody.optimal_sizes``): every one of these durations
-    ends at the lowest optimum, converged. The same with the default ladder given explicitly
-    shows the spread (the strategy's ``sizes``, when given, is the ladder)."""
+    ends at the lowest optimum, converged (``benchmarks/optimum_spread.py`` shows both ladders'
+    spreads; the default ladder's is not asserted here: which basins it reaches is the last bits'
+    choice)."""
     body, kw = falling_cat_turn()
     costs = []
     for dt in (0.0, 1e-10, -1e-10, 2e-10):
@@ -294,14 +295,6 @@ def test_the_torque_optimal_cats_ladder_ends_at_one_optimum_whatever_the_last_bi
         assert o["kkt"] <= 1e-8, o["kkt"]
         costs.append(o["cost"])
     assert max(costs) <= 0.4831 and min(costs) >= 0.4825, costs  # the lowest optimum (0.4825-0.4830)
-    spread = []
-    for dt in (0.0, 1e-10, -1e-10):
-        times = (kw["times"][0], kw["times"][1] + dt)
-        r = acroplan.plan(body, method=TorqueOptimal(sizes=SIZES), verify=False, **{**kw, "times": times})
-        o = r.segments[0].optimality
-        assert [n for n, _ in o["ladder"]] == [10, 14, 20, 26, 30]
-        spread.append(o["cost"])
-    assert max(spread) > 0.49, spread  # the default ladder does not reach the lowest optimum here
 
 
 def test_a_systems_own_ladder_is_used_only_when_the_strategy_is_given_none():
