@@ -207,9 +207,9 @@ def joint_optimum(runs, starts, *, tol: float, kkt_tol: float = KKT_TOL, max_ite
     try:
         f0 = chain.f(z0)[0] if reference_cost is None else float(reference_cost)
         Hz = chain.curvature(z0) if curvature is None else np.asarray(curvature, dtype=float)
-        z, info = sqp(chain, z0, Hz, tol=tol, kkt_tol=kkt_tol, max_iter=max_iter, refresh=chain.curvature,
-                      ineq=chain.ineq if chain.inequalities else None)
-        z = polish_endpoint(chain, z, tol, chain.ineq if chain.inequalities else None)
+        ineq = chain.ineq if chain.inequalities else None
+        z, info = sqp(chain, z0, Hz, tol=tol, kkt_tol=kkt_tol, max_iter=max_iter, refresh=chain.curvature, ineq=ineq)
+        z = polish_endpoint(chain, z, tol, ineq)
         f, g, _ = chain.f(z)
         h, A, ys, _ = chain.h(z)
     except (OutOfEvaluations, backend.IntegrationError) as e:

@@ -168,7 +168,7 @@ from .system import ControlAffineSystem, torque_model_of
 
 __all__ = ["EnergyOptimal", "TorqueOptimal", "OptimalSolve", "optimize_segment", "energy", "TorqueModel",
            "OBJECTIVES", "objective_strategy", "FAMILY_STARTS", "register_starts", "family_starts", "SIZES",
-           "MAX_LADDER_SIZE", "RTOL",
+           "MAX_LADDER_SIZE", "RTOL", "own_ladder",
            "KKT_TOL", "STAGE_KKT_TOL", "FIRST_KKT_TOL", "DEFORM_BUDGET", "DEFORM_TOL", "DISTINCT", "PROMISING",
            "FAMILY_PROMISING", "MAX_REFRESH", "TORQUE_QUADRATURE", "TORQUE_LIMIT_GRID", "TORQUE_MARGIN", "tau_vector"]
 
@@ -600,6 +600,15 @@ class _Search:
                                    converged_in_basis=converged, start=start_label, **grids), self.feasible_pieces
 
 
+def own_ladder(system, objective: str, joint: bool = False) -> tuple[int, ...] | None:
+    """The system's own ladder of basis sizes (its class's ``optimal_sizes``: module docstring,
+    Basis size) for an interval whose optimum starts the joint optimum (``joint``, key
+    ``"joint"``) or for ``objective`` (``"energy"``, ``"torque"``); ``None`` when it has none."""
+    own = getattr(system, "optimal_sizes", None) or {}
+    mine = (own.get("joint") if joint else None) or own.get(objective)
+    return tuple(mine) if mine else None
+
+
 class EnergyOptimal(Strategy):
     """The minimum-energy plan of each waypoint interval: :math:`\\min\\int_0^T\\|u\\|^2 dt` over
     the input coefficients, the endpoint as equality constraints, the rate and joint limits as
@@ -707,14 +716,11 @@ class EnergyOptimal(Strategy):
                 + (f", feasible={self.feasible!r}" if self.feasible is not None else "") + ")")
 
     def ladder(self, system, joint: bool = False) -> tuple[int, ...]:
-        """The ladder of basis sizes for ``system``: the one given, else the system's own (its
-        class's ``optimal_sizes``: module docstring, Basis size) for an interval whose optimum starts
-        the joint optimum (``joint``, key ``"joint"``) or for this objective, else :data:`SIZES`."""
+        """The ladder of basis sizes for ``system``: the one given, else the system's own
+        (:func:`own_ladder`), else :data:`SIZES`."""
         if self.sizes_given:
             return self.sizes
-        own = getattr(system, "optimal_sizes", None) or {}
-        mine = (own.get("joint") if joint else None) or own.get(self._cost_kind)
-        return tuple(mine) if mine else self.sizes
+        return own_ladder(system, self._cost_kind, joint) or self.sizes
 
     def optimize(self, interval: Interval) -> tuple[OptimalSolve, tuple]:
         """The optimum on ``interval`` with its diagnostics (what :meth:`solve` reports).

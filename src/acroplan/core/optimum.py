@@ -352,6 +352,12 @@ class OptimalRun:
         #: are taken on their grids alone: :data:`acroplan.core.optimal.LADDER_ON_GRID`)
         self.checked = True
 
+    @property
+    def ineq(self):
+        """The problem's inequalities (:meth:`OptimalProblem.ineq`) as :func:`~acroplan.core.sqp.sqp`
+        takes them: ``None`` when it has none."""
+        return self.prob.ineq if self.inequalities else None
+
     def solve(self, c0, *, curvature=None, kkt_tol=KKT_TOL, polish=True):
         prob = self.prob
         z = prob.z(c0)
@@ -373,11 +379,10 @@ class OptimalRun:
                 return np.stack([prob.zhess(M) for M in self.Hc])
 
             z, info = sqp(prob, z, Hz, tol=self.tol, kkt_tol=kkt_tol, refresh=refresh,
-                          ineq=prob.ineq if self.inequalities else None)
+                          ineq=self.ineq)
             self.its += info["its"]
             self.why = info["why"]
-            self.z = (polish_endpoint(prob, z, self.tol, prob.ineq if self.inequalities else None)
-                      if polish or self.inequalities else z)
+            self.z = polish_endpoint(prob, z, self.tol, self.ineq) if polish or self.inequalities else z
         except OutOfEvaluations:
             self.z, self.failed = z, f"the evaluation budget ({prob.max_evaluations}) was spent"
         except backend.IntegrationError as e:
@@ -398,10 +403,10 @@ class OptimalRun:
         prob = self.prob
         try:
             Hz = np.stack([prob.zhess(M) for M in self.Hc])
-            z, info = sqp(prob, self.z, Hz, tol=self.tol, kkt_tol=kkt_tol, ineq=prob.ineq if self.inequalities else None)
+            z, info = sqp(prob, self.z, Hz, tol=self.tol, kkt_tol=kkt_tol, ineq=self.ineq)
             self.its += info["its"]
             self.why = info["why"]
-            self.z = polish_endpoint(prob, z, self.tol, prob.ineq if self.inequalities else None)
+            self.z = polish_endpoint(prob, z, self.tol, self.ineq)
         except (OutOfEvaluations, backend.IntegrationError):
             pass
         return self

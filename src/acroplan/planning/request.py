@@ -18,7 +18,7 @@ from ..core.errors import InvalidInputError
 from ..core.family import family_of
 from ..core.keywords import PLAN_KEYWORDS
 from ..core.limits import Limits
-from ..core.optimal import MAX_LADDER_SIZE, OBJECTIVES, EnergyOptimal, objective_strategy, tau_vector
+from ..core.optimal import MAX_LADDER_SIZE, OBJECTIVES, EnergyOptimal, objective_strategy, own_ladder, tau_vector
 from ..core.strategies import STRATEGIES, Strategy, resolve_strategy
 from ..core.system import ControlAffineSystem, torque_model_of
 from ..core.verify import resolve_verify
@@ -464,7 +464,7 @@ def _optimal_strategy(system, method, objective, tau_max, ladder=None):
                                 f"{objective!r}{' (set by tau_max)' if tau_max is not None else ''} is given too",
                                 "give objective= (and tau_max=) alone, with method naming the feasible plan to "
                                 "start from, or method= alone")
-    own = (getattr(system, "optimal_sizes", None) or {}).get(objective)
+    own = own_ladder(system, objective)
     if ladder is not None and own:  # the system's own ladder for this objective, up to the top asked
         ladder = ladder_sizes(ladder[-1], own)
     sized = {} if ladder is None else {"sizes": ladder}
