@@ -681,3 +681,24 @@ def test_a_refresh_of_the_constraint_hessians_differences_the_leading_coefficien
     refreshes = [c for c in calls if c[0] > lead]
     assert refreshes and all(k == lead and e == m * lead for _, k, e in refreshes), calls
     assert r.segments[0].optimality["kkt"] <= 1e-8
+
+
+def test_a_stage_that_ends_off_the_endpoint_is_polished_and_the_ladder_goes_on():
+    """A ladder's stage is solved to a loose KKT residual and not polished (the next size starts
+    from it), but one whose endpoint ended outside the tolerance is: judged as it was, it stopped
+    the ladder. The acrobot zoo's second segment of seed 31, least integral of tau^2: the SQP at 20
+    coefficients spent its 40 iterations and ended with the endpoint 5.6e-7 off (KKT residual
+    1.3e-3), so the ladder stopped at 14 coefficients (2450.09); polished, the stage meets the
+    target and the ladder climbs to 30 coefficients, 1429.83 (each size below the one before)."""
+    rng = np.random.default_rng(31)
+    p = [random_segment(rng) for _ in range(2)][1]
+    r = acroplan.plan(p.robot, objective="torque", **p.plan_kwargs())
+    assert r.success, r.message
+    seg = r.segments[0]
+    o = seg.optimality
+    sizes, costs = zip(*o["ladder"])
+    assert sizes == (6, 10, 14, 20, 26, 30), o["ladder"]
+    assert all(b < a for a, b in zip(costs, costs[1:])), costs
+    # the stop at 14 coefficients cost 2450.09; the first stage's optimum, unchanged, 10466.8
+    assert o["cost"] < 0.6 * 2450.0 and costs[0] == pytest.approx(10466.78, rel=1e-5), o["cost"]
+    assert seg.final_error <= 1e-10 and o["kkt"] <= 1e-6

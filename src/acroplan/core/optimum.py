@@ -382,7 +382,13 @@ class OptimalRun:
                           ineq=self.ineq)
             self.its += info["its"]
             self.why = info["why"]
-            self.z = polish_endpoint(prob, z, self.tol, self.ineq) if polish or self.inequalities else z
+            # a stage's optimum (``polish=False``: the next size starts from it) is polished too when
+            # its endpoint ended outside the tolerance: judged as it was, it stopped the ladder (12
+            # random segments of the spatial zoo: four ladders stopped at 10 or 20 coefficients by
+            # an endpoint 1.02e-10 off, benchmarks/RESULTS.md, 2026-12-06, tenth session)
+            if polish or self.inequalities or prob.system.error(prob.h(z)[2], prob.x1) > self.tol:
+                z = polish_endpoint(prob, z, self.tol, self.ineq)
+            self.z = z
         except OutOfEvaluations:
             self.z, self.failed = z, f"the evaluation budget ({prob.max_evaluations}) was spent"
         except backend.IntegrationError as e:

@@ -715,7 +715,14 @@ class SpatialBody(TreeBody, ControlAffineSystem):
     optimal_deform_start = False
 
     #: The optimal strategies' ladders of basis sizes by objective, when they are given none
-    #: (:mod:`acroplan.core.optimal`, Basis size): the least integral of tau^2 steps by 4 from 14
+    #: (:mod:`acroplan.core.optimal`, Basis size). The least integral of u^2 climbs 6, 14, 30: on
+    #: the falling cat (joint ranges binding), the trunk and 12 random 3-5 link segments of the zoo
+    #: no ladder stopped before 30 (the optimum still changing by 1e-4), and 6, 14, 30 reached the
+    #: same optima in fewer endpoint evaluations (cat with free end rates 150 -> 94, at rest 103
+    #: -> 82, trunk 147 -> 126, the random segments 1008 -> 907, the twisting somersault 534 both),
+    #: lower ones on four random segments where a stage of the finer ladder ended just outside the
+    #: endpoint tolerance and stopped it (``benchmarks/RESULTS.md``, 2026-12-06, tenth session).
+    #: The least integral of tau^2 steps by 4 from 14
     #: coefficients. Its optimum moves far between sizes (the torque involves the joint
     #: accelerations): the falling cat's fell from 1.72 at 14 coefficients to 0.71 or 0.84 at 20,
     #: and from the smaller optimum padded, a start that far off, the ladder ended at one of three
@@ -733,7 +740,7 @@ class SpatialBody(TreeBody, ControlAffineSystem):
     #: with the default ladder, in fewer endpoint evaluations (back full 336 -> 268, double
     #: full-out 566 -> 447, forward 729 -> 716) (``benchmarks/RESULTS.md``, 2026-12-06, ninth
     #: session).
-    optimal_sizes = {"torque": (6, 10, 14, 18, 22, 26, 30), "joint": (6, 14, 30)}
+    optimal_sizes = {"energy": (6, 14, 30), "torque": (6, 10, 14, 18, 22, 26, 30), "joint": (6, 14, 30)}
 
     def auto_strategy(self):
         """``method="auto"``: path deformation from shape loops that meet the target
