@@ -96,6 +96,10 @@ class OptimalSolve:
     start: str = "given"
     limit_grid: int = 64
     torque_grid: int = 0
+    #: the endpoint's Hessians in the coefficients, shape (ndx, m n, m n), that the SQP last used at
+    #: this size (forward differences, :meth:`OptimalProblem.curvature`), or ``None``: the joint
+    #: optimum of several intervals starts from them (:meth:`acroplan.core.optimal.EnergyOptimal.joint`)
+    curvature: np.ndarray | None = dataclasses.field(default=None, repr=False, compare=False)
 
     def to_dict(self, objective: str = "energy") -> dict:
         """The diagnostics as plain JSON types (non-finite numbers as ``None``): ``objective``,

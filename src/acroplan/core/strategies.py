@@ -107,6 +107,9 @@ class IntervalOutcome:
         Why it failed (empty on success).
     evaluations : int
         Endpoint evaluations spent (charged to the result when a later stage succeeds).
+    curvature : numpy.ndarray or None
+        An optimal strategy's endpoint Hessians at its optimum (:attr:`OptimalSolve.curvature
+        <acroplan.core.optimum.OptimalSolve>`), for the joint optimum that may follow; else ``None``.
     status : Status
         ``"success"``, else ``"not_converged"`` (a strategy that gives up proves nothing; what is
         proven impossible is refused before any strategy runs, by the family's ``check_segment``).
@@ -118,6 +121,7 @@ class IntervalOutcome:
     pieces: tuple[SegmentResult, ...] = ()
     reason: str = ""
     evaluations: int = 0
+    curvature: object = dataclasses.field(default=None, repr=False, compare=False)
 
     @property
     def status(self) -> Status:

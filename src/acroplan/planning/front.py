@@ -293,6 +293,7 @@ def _plan_intervals(req: PlanRequest, X, limits, conditions, prog):
     system, t = req.system, req.times
     K = t.size - 1
     segments: list[SegmentResult] = []
+    curvatures = []  # each interval's endpoint Hessians at its optimum (the joint optimum's start)
     prev_end_input = None
     joint = getattr(req.strategy, "joint", None)
     joint_follows = joint is not None and K > 1 and conditions.kind == "free"
@@ -313,6 +314,7 @@ def _plan_intervals(req: PlanRequest, X, limits, conditions, prog):
                 if (piece.index, piece.interval, piece.t0, piece.t1) != (len(segments), k, t0, t1):
                     piece = dataclasses.replace(piece, index=len(segments), interval=k, t0=t0, t1=t1)
                 segments.append(piece)
+            curvatures.append(out.curvature)
             if not out.success:
                 return tuple(segments), (f"not converged: segment {k} [{t[k]:g}, {t[k + 1]:g}] from "
                                          f"{_fmt(X[k], system)} to {_fmt(X[k + 1], system)}: {out.reason}")
@@ -327,7 +329,7 @@ def _plan_intervals(req: PlanRequest, X, limits, conditions, prog):
                               max_evaluations=req.max_evaluations) for k in range(K)]
         try:
             with progress_mod.stage(JOINT_STAGE):
-                segments, _ = joint(intervals, segments)
+                segments, _ = joint(intervals, segments, curvatures)
         except BudgetExceeded as e:
             return tuple(segments), (f"not converged: every interval was optimised, but {e} while optimising them "
                                      f"together")
