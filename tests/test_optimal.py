@@ -702,3 +702,36 @@ def test_a_stage_that_ends_off_the_endpoint_is_polished_and_the_ladder_goes_on()
     # the stop at 14 coefficients cost 2450.09; the first stage's optimum, unchanged, 10466.8
     assert o["cost"] < 0.6 * 2450.0 and costs[0] == pytest.approx(10466.78, rel=1e-5), o["cost"]
     assert seg.final_error <= 1e-10 and o["kkt"] <= 1e-6
+
+
+def test_a_first_size_above_the_leading_coefficients_differences_the_leading_ones(monkeypatch):
+    """A run's first constraint Hessians (no curvature given) are forward differences along each
+    input's first REFRESH_LEADING coefficients, as its refreshes: the falling cat's least integral
+    of u^2 at rest starts at 14 coefficients (its feasible plan's projection onto 6 is no start),
+    3 x 10 evaluations there instead of 3 x 14, and reaches the optimum the full differences
+    reach (both KKT residuals below 1e-8: the same cost to 1e-9), in fewer evaluations."""
+    from acroplan.core import optimum
+    from acroplan.families.spatial.examples import falling_cat_turn
+
+    body, problem = falling_cat_turn()
+    calls = []
+    full = optimum.OptimalProblem.curvature
+
+    def recorded(self, c, Ac, leading=None):
+        before = self.evaluations
+        out = full(self, c, Ac, leading)
+        calls.append((self.n, leading, self.evaluations - before))
+        return out
+
+    monkeypatch.setattr(optimum.OptimalProblem, "curvature", recorded)
+    r = acroplan.plan(body, objective="energy", verify=False, **problem)
+    first = calls[0]
+    assert r.success and first == (14, optimum.REFRESH_LEADING, 3 * optimum.REFRESH_LEADING), calls
+    calls.clear()
+    monkeypatch.setattr(optimum, "REFRESH_LEADING", None)
+    again = acroplan.plan(body, objective="energy", verify=False, **problem)
+    assert again.success and calls[0] == (14, None, 3 * 14), calls
+    new, old = r.segments[0].optimality, again.segments[0].optimality
+    assert new["kkt"] <= 1e-8 and old["kkt"] <= 1e-8
+    assert new["cost"] == pytest.approx(old["cost"], rel=1e-9)
+    assert new["evaluations"] < old["evaluations"], (new["evaluations"], old["evaluations"])

@@ -330,7 +330,12 @@ class OptimalProblem:
 #: optimum's (:data:`acroplan.core.chain.CURVATURE_LEADING`): the bundled double full-out's
 #: second interval refreshed them at 26 coefficients, 104 of its 127 evaluations there; its plan
 #: 631 -> 566 endpoint evaluations, the same optimum, the other bundled optima's counts unchanged
-#: (``benchmarks/RESULTS.md``, 2026-12-06, ninth session). ``None``: every coefficient.
+#: (``benchmarks/RESULTS.md``, 2026-12-06, ninth session). ``None``: every coefficient. A run's
+#: first Hessians (no curvature given: the first size a start is optimised at) are differenced the
+#: same way: the forward dive's second interval starts at 14 coefficients (none keeps its limits
+#: at 6), 56 -> 40 evaluations there, its plan 638 -> 604, the falling cat's least integral of u^2
+#: at rest (first size 14) 82 -> 75, the same optima; 62 acrobot and planar optima (whose first
+#: sizes are at most 10 but one) the same to 1e-9 (``benchmarks/RESULTS.md``, tenth session).
 REFRESH_LEADING = 10
 
 
@@ -375,7 +380,7 @@ class OptimalRun:
                 self.why = "no step keeps the linearised limits"
                 self.z = polish_endpoint(prob, z, self.tol)
                 return self
-            self.Hc = prob.curvature(prob.c(z), Ac) if curvature is None else curvature
+            self.Hc = prob.curvature(prob.c(z), Ac, REFRESH_LEADING) if curvature is None else curvature
             Hz = np.stack([prob.zhess(M) for M in self.Hc])
 
             def refresh(zn):
