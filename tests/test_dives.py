@@ -193,22 +193,11 @@ def test_intervals_before_the_joint_optimum_climb_a_short_ladder(plans, monkeypa
     assert sum(o["evaluations"] for o in opt) < sum(o["evaluations"] for o in old)
 
 
-def test_the_joint_optimum_starts_from_the_intervals_own_hessians(plans, monkeypatch):
-    """The joint optimum starts at the intervals' optima, so its first SQP takes the endpoint
-    Hessians those optima ended with (IntervalOutcome.curvature) instead of differencing the
-    endpoint Jacobian there again: on the back full no forward differences at its start (some 80
-    evaluations), the same optimum as from the differences (both converged to 1e-8: the same cost
-    to 1e-7), in fewer evaluations (measured 182 against 268). A retry on a denser grid, which
-    starts from the first optimum, differences afresh (the test of the double full-out's rounds)."""
-    from acroplan.core import chain, optimal
-    from acroplan.io import examples as bundled
+def _joint_starts(monkeypatch) -> list:
+    """What each joint optimum of the plans that follow starts from, in order: ``"given"`` Hessians
+    (a retry's), the ``"intervals"``' own, or forward ``"differences"``."""
+    from acroplan.core import chain
 
-    res = plans("back-full-twist")
-    assert res.status == "success"
-    opt = [s.optimality for s in res.segments]
-    assert all(o["joint"]["kept"] for o in opt)
-    prob = bundled.load("back-full-twist")
-    kw = dict(prob.plan_kwargs(), verify=False)
     starts = []
     original = chain.joint_optimum
 
@@ -218,6 +207,26 @@ def test_the_joint_optimum_starts_from_the_intervals_own_hessians(plans, monkeyp
         return original(*a, **k)
 
     monkeypatch.setattr(chain, "joint_optimum", recorded)
+    return starts
+
+
+def test_the_joint_optimum_starts_from_the_intervals_own_hessians(plans, monkeypatch):
+    """The joint optimum starts at the intervals' optima, so its first SQP takes the endpoint
+    Hessians those optima ended with (IntervalOutcome.curvature) instead of differencing the
+    endpoint Jacobian there again: on the back full no forward differences at its start (some 80
+    evaluations), the same optimum as from the differences (both converged to 1e-8: the same cost
+    to 1e-7), in fewer evaluations (measured 182 against 268). A retry on a denser grid, which
+    starts from the first optimum, differences afresh (the test of the double full-out's rounds)."""
+    from acroplan.core import optimal
+    from acroplan.io import examples as bundled
+
+    res = plans("back-full-twist")
+    assert res.status == "success"
+    opt = [s.optimality for s in res.segments]
+    assert all(o["joint"]["kept"] for o in opt)
+    prob = bundled.load("back-full-twist")
+    kw = dict(prob.plan_kwargs(), verify=False)
+    starts = _joint_starts(monkeypatch)
     again = acroplan.plan(prob.system, **kw)
     assert starts == ["intervals"], starts
     joint = optimal.EnergyOptimal.joint
@@ -235,18 +244,9 @@ def test_a_joint_retry_after_the_intervals_hessians_differences_afresh(monkeypat
     """The double full-out's joint optimum is solved again on denser grids (it broke a torque
     limit between the points): its first SQP starts from the intervals' Hessians, the first retry
     from forward differences at the first optimum, each later retry from the retry before's."""
-    from acroplan.core import chain
     from acroplan.io import examples as bundled
 
-    starts = []
-    original = chain.joint_optimum
-
-    def recorded(*a, **k):
-        starts.append("given" if k.get("curvature") is not None else
-                      "intervals" if k.get("interval_curvature") is not None else "differences")
-        return original(*a, **k)
-
-    monkeypatch.setattr(chain, "joint_optimum", recorded)
+    starts = _joint_starts(monkeypatch)
     prob = bundled.load("back-double-full-out")
     res = acroplan.plan(prob.system, **dict(prob.plan_kwargs(), verify=False))
     assert res.status == "success" and all(s.optimality["joint"]["kept"] for s in res.segments)

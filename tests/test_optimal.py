@@ -655,16 +655,11 @@ def test_the_endpoints_polish_holds_the_active_rows_at_their_bound(monkeypatch):
     assert abs(Toy().h(plain)[0][0]) <= 1e-14 and plain[0] < 1.0 - 0.04, plain
 
 
-def test_a_refresh_of_the_constraint_hessians_differences_the_leading_coefficients(monkeypatch):
-    """The SQP's refreshed constraint Hessians (after POOR_STEPS poor steps) are forward
-    differences along each input's first REFRESH_LEADING coefficients: m * 10 endpoint evaluations
-    at 30 coefficients, not m * 30 (the falling cat's least integral of tau^2, refreshed here after
-    every poor step), and its optimum is reached as before (a converged KKT residual)."""
-    from acroplan.core import optimum, sqp
-    from acroplan.families.spatial.examples import falling_cat_turn
+def _curvature_calls(monkeypatch) -> list:
+    """``(size, leading, evaluations)`` of each forward-difference constraint Hessian
+    (``OptimalProblem.curvature``) of the plans that follow, in order."""
+    from acroplan.core import optimum
 
-    body, problem = falling_cat_turn()
-    monkeypatch.setattr(sqp, "POOR_STEPS", 1)
     calls = []
     full = optimum.OptimalProblem.curvature
 
@@ -675,6 +670,20 @@ def test_a_refresh_of_the_constraint_hessians_differences_the_leading_coefficien
         return out
 
     monkeypatch.setattr(optimum.OptimalProblem, "curvature", recorded)
+    return calls
+
+
+def test_a_refresh_of_the_constraint_hessians_differences_the_leading_coefficients(monkeypatch):
+    """The SQP's refreshed constraint Hessians (after POOR_STEPS poor steps) are forward
+    differences along each input's first REFRESH_LEADING coefficients: m * 10 endpoint evaluations
+    at 30 coefficients, not m * 30 (the falling cat's least integral of tau^2, refreshed here after
+    every poor step), and its optimum is reached as before (a converged KKT residual)."""
+    from acroplan.core import optimum, sqp
+    from acroplan.families.spatial.examples import falling_cat_turn
+
+    body, problem = falling_cat_turn()
+    monkeypatch.setattr(sqp, "POOR_STEPS", 1)
+    calls = _curvature_calls(monkeypatch)
     r = acroplan.plan(body, objective="torque", verify=False, **problem)
     assert r.success, r.message
     lead, m = optimum.REFRESH_LEADING, body.n_inputs
@@ -714,16 +723,7 @@ def test_a_first_size_above_the_leading_coefficients_differences_the_leading_one
     from acroplan.families.spatial.examples import falling_cat_turn
 
     body, problem = falling_cat_turn()
-    calls = []
-    full = optimum.OptimalProblem.curvature
-
-    def recorded(self, c, Ac, leading=None):
-        before = self.evaluations
-        out = full(self, c, Ac, leading)
-        calls.append((self.n, leading, self.evaluations - before))
-        return out
-
-    monkeypatch.setattr(optimum.OptimalProblem, "curvature", recorded)
+    calls = _curvature_calls(monkeypatch)
     r = acroplan.plan(body, objective="energy", verify=False, **problem)
     first = calls[0]
     assert r.success and first == (14, optimum.REFRESH_LEADING, 3 * optimum.REFRESH_LEADING), calls
