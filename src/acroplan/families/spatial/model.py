@@ -719,9 +719,8 @@ class SpatialBody(TreeBody, ControlAffineSystem):
     #: the falling cat (joint ranges binding), the trunk and 12 random 3-5 link segments of the zoo
     #: no ladder stopped before 30 (the optimum still changing by 1e-4), and 6, 14, 30 reached the
     #: same optima in fewer endpoint evaluations (cat with free end rates 150 -> 94, at rest 103
-    #: -> 82, trunk 147 -> 126, the random segments 1008 -> 907, the twisting somersault 534 both),
-    #: lower ones on four random segments where a stage of the finer ladder ended just outside the
-    #: endpoint tolerance and stopped it (``benchmarks/RESULTS.md``, 2026-12-06, tenth session).
+    #: -> 82, trunk 147 -> 126, the random segments 1073 -> 907, the twisting somersault 534 both;
+    #: ``benchmarks/RESULTS.md``, 2026-12-06, tenth session).
     #: The least integral of tau^2 steps by 4 from 14
     #: coefficients. Its optimum moves far between sizes (the torque involves the joint
     #: accelerations): the falling cat's fell from 1.72 at 14 coefficients to 0.71 or 0.84 at 20,
