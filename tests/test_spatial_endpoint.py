@@ -364,6 +364,8 @@ def test_the_complex_attitude_equations_are_the_real_ones():
     1e-14 (stage values, the panels' maps of perturbations)."""
     from scipy.linalg import lapack
 
+    from acroplan.families.spatial import collocation_parts as parts
+
     body, x0, T, c = CASES["cat n=6"]()
     seg = collocation._Segment(body, Legendre(c.shape[1]), x0, T, c)
     rng = np.random.default_rng(5)
@@ -376,7 +378,7 @@ def test_the_complex_attitude_equations_are_the_real_ones():
     real[:, 0::2, 1::2] = -Sc.imag
     real[:, 1::2, 0::2] = Sc.imag
     real[:, 1::2, 1::2] = Sc.real
-    S = collocation._blocks(seg, widths, collocation._right(Om))
+    S = parts._blocks(seg, widths, collocation._right(Om))
     assert np.abs(real - S).max() <= 1e-15 * np.abs(S).max()
     ys, Y, Phi, Z, _ = collocation._attitude(seg, widths, Om)
     # the same panels by the real LU: stage values and the panels' maps of perturbations

@@ -176,8 +176,8 @@ class PlanRequest:
             X, shorthand, u_max, state_bounds, input_bounds = _from_degrees(system, X, shorthand, u_max, state_bounds,
                                                                             input_bounds)
         asked = objective is not None or tau_max is not None
-        ladder = _ladder(max_coefficients, asked, n_coefficients, method, t)
-        strategy, objective, torque_limits = _optimal_strategy(system, method, objective, tau_max, ladder)
+        top = _ladder_top(max_coefficients, asked, n_coefficients, method, t)
+        strategy, objective, torque_limits = _optimal_strategy(system, method, objective, tau_max, top)
         if conditions is None:  # optimal plans leave the end inputs free: pinned, the optimum is not attained
             conditions = "free" if asked else "spline"
         check_conditions(conditions, system)
@@ -400,10 +400,10 @@ def _is_optimal(method) -> bool:
             or isinstance(method, EnergyOptimal) or (isinstance(method, type) and issubclass(method, EnergyOptimal)))
 
 
-def _ladder(max_coefficients, asked: bool, n_coefficients, method, times) -> tuple[int, ...] | None:
-    """The ladder of ``max_coefficients`` (validated against the waypoint ``times``: the power-basis
-    export divides by :math:`T^{n-1}`, which must stay within 1e-300 and 1e300), ``None`` when it is
-    not given."""
+def _ladder_top(max_coefficients, asked: bool, n_coefficients, method, times) -> int | None:
+    """``max_coefficients``, the top of the optimum's ladder (validated against the waypoint ``times``:
+    the power-basis export divides by :math:`T^{n-1}`, which must stay within 1e-300 and 1e300),
+    ``None`` when it is not given."""
     if max_coefficients is None:
         return None
     top = _whole("max_coefficients", max_coefficients, 48, MAX_LADDER_COEFFICIENTS)
@@ -429,12 +429,13 @@ def _ladder(max_coefficients, asked: bool, n_coefficients, method, times) -> tup
         raise InvalidInputError("max_coefficients", f"is {top}, and a segment of {durations[k]:g} s would take "
                                 f"T**{top - 1} out of the arithmetic's range (the power-basis export)",
                                 f"give at most {most}, or rescale the times")
-    return ladder_sizes(top)
+    return top
 
 
-def _optimal_strategy(system, method, objective, tau_max, ladder=None):
+def _optimal_strategy(system, method, objective, tau_max, top=None):
     """``(strategy, objective, torque_limits)`` for ``method``, ``objective`` and ``tau_max``
-    (validated: :func:`plan`'s Parameters), on the basis sizes ``ladder`` when given (:func:`_ladder`)."""
+    (validated: :func:`plan`'s Parameters), its ladder ending at ``top`` when given (:func:`_ladder_top`:
+    the system's own ladder for the objective, else the default, by :func:`ladder_sizes`)."""
     if objective is not None and (not isinstance(objective, str) or objective not in OBJECTIVES):
         raise InvalidInputError("objective", f"must be None, \"energy\" or \"torque\", got {_short(objective)}",
                                 "give \"energy\" (least integral of |u|^2), \"torque\" (least integral of "
@@ -464,10 +465,7 @@ def _optimal_strategy(system, method, objective, tau_max, ladder=None):
                                 f"{objective!r}{' (set by tau_max)' if tau_max is not None else ''} is given too",
                                 "give objective= (and tau_max=) alone, with method naming the feasible plan to "
                                 "start from, or method= alone")
-    own = own_ladder(system, objective)
-    if ladder is not None and own:  # the system's own ladder for this objective, up to the top asked
-        ladder = ladder_sizes(ladder[-1], own)
-    sized = {} if ladder is None else {"sizes": ladder}
+    sized = {} if top is None else {"sizes": ladder_sizes(top, own_ladder(system, objective))}
     if isinstance(method, str) and method == "auto":
         strategy = objective_strategy(objective, tau_max=tau_max, **sized)
     else:  # the optimum starts from the plan of the method asked for

@@ -93,8 +93,8 @@ from scipy.linalg import lapack
 
 from ...core.backend import IntegrationError, evaluate_columns
 from .collocation_parts import (_FULL, _SYM, MAX_PANELS, MAX_TURN, MIN_PANEL, NEWTON_ITERATIONS, NEWTON_TOL,  # noqa: F401
-                                NODES, SOLUTION_TAIL_TOL, TAIL_TOL, _basis_at, _blocks, _cat, _diag, _gauss,
-                                _layout, _left, _qmul, _quad, _right, _rightq, _skew, _split,
+                                NODES, SOLUTION_TAIL_TOL, TAIL_TOL, _basis_at, _cat, _diag, _gauss,
+                                _layout, _left, _quad, _right, _rightq, _skew, _split,
                                 _take, _xi)
 
 __all__ = ["endpoint", "sample", "compile_map", "evaluate_map", "NODES", "TAIL_TOL", "MAX_PANELS"]
