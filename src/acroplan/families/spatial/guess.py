@@ -39,6 +39,14 @@ The guess
    canonical orthonormal pair of it: :func:`_decomposable`).
 4. Variants: the loop on the other side (:math:`a \\to -a`, :math:`b \\to -b`, the same area), and
    loops offset along each joint whose turn vector makes the turn best.
+5. **Ranking**: every variant at every pair of amplitudes (:data:`AMPLITUDES`; 810 candidates for
+   four joints) is integrated by the fast Runge-Kutta scheme (:func:`fast_attitudes`), and ranked
+   by its attitude error (the joint and rate limits kept first, the smaller loop first among equal
+   errors to 0.01 rad). The candidates are screened first with :data:`SCREEN_STEPS` steps, and the
+   :data:`SCREENED` best of that ranking are integrated again with :data:`FAST_STEPS` and ranked on
+   those: the same guesses, in the same order, as ranking every candidate with :data:`FAST_STEPS`
+   on 179 of 180 random chains (``benchmarks/RESULTS.md``, 2026-12-07), for half the points of the
+   compiled map, which was a quarter of a random body's plan.
 
 Path deformation (:func:`acroplan.core.strategies.deform_attempt`) then polishes a guess to the
 target; the guess only has to be non-singular and close.
@@ -62,7 +70,7 @@ from ..tree.loops import projector as _projector
 from . import rotations as rot
 
 __all__ = ["Connection", "curvature", "fast_attitudes", "LoopGuess", "loop_guesses", "refine", "AMPLITUDES",
-           "FAST_STEPS", "CORRECTOR_STALL"]
+           "FAST_STEPS", "SCREEN_STEPS", "SCREENED", "CORRECTOR_STALL"]
 
 
 class Connection:
@@ -324,6 +332,11 @@ def _decomposable(Bv, m: int):
 AMPLITUDES = (0.15, 0.3, 0.5, 0.75, 1.0, 1.3, 1.6, 2.0, 2.5)
 #: Runge-Kutta steps of the fast integration
 FAST_STEPS = 48
+#: Runge-Kutta steps of the screening of the loop candidates (a divisor of :data:`FAST_STEPS`: the
+#: same grid's every other point; module docstring, step 5)
+SCREEN_STEPS = 24
+#: Candidates the screening keeps for :data:`FAST_STEPS`
+SCREENED = 24
 #: :func:`refine` corrects its trial steps after a step that left more than this fraction of the error
 CORRECTOR_STALL = 0.5
 
@@ -399,15 +412,32 @@ def loop_guesses(body, basis, x0, x1, T: float, ends: dict | None = None, limits
     S = SHg[:, None, :] + wg[None, None, :] * (Av[:, :, None] + xg[None, None, :] * Bv[:, :, None])
     dS = dSHg[:, None, :] + dwg[None, None, :] * (Av[:, :, None] + xg[None, None, :] * Bv[:, :, None]) \
         + 2.0 * wg[None, None, :] * Bv[:, :, None]
-    qe = fast_attitudes(body, x0[:4], T, S, dS)
-    rel = rot.qmul(rot.qconj(x1[:4] / np.linalg.norm(x1[:4])), qe)  # (4, K), unit
-    with np.errstate(invalid="ignore"):
-        err = 2.0 * np.arctan2(np.linalg.norm(rel[1:], axis=0), np.abs(rel[0]))
-    err = np.where(np.isfinite(err), err, np.inf)
     ok = np.all(S.min(axis=2) >= lo[:, None], axis=0) & np.all(S.max(axis=2) <= hi[:, None], axis=0) \
         & np.all(np.abs(dS).max(axis=2) <= 0.99 * U[:, None] * T, axis=0)
     size = np.sqrt(np.sum(Av**2, axis=0) + np.sum(Bv**2, axis=0))
-    order = np.lexsort((size, np.round(err, 2), ~ok))  # compliant first, then the error, then the size
+
+    def errors(qe):  # the attitude error (rad) of end attitudes (4, K); NaN (a wild candidate): inf
+        rel = rot.qmul(rot.qconj(x1[:4] / np.linalg.norm(x1[:4])), qe)  # (4, K), unit
+        with np.errstate(invalid="ignore"):
+            e = 2.0 * np.arctan2(np.linalg.norm(rel[1:], axis=0), np.abs(rel[0]))
+        return np.where(np.isfinite(e), e, np.inf)
+
+    def ranked(e, among):  # compliant first, then the error, then the size
+        return among[np.lexsort((size[among], np.round(e[among], 2), ~ok[among]))]
+
+    every = np.arange(S.shape[1])
+    if S.shape[1] > SCREENED:
+        # the screening (module docstring): every candidate by SCREEN_STEPS steps, the best
+        # SCREENED of that ranking again by FAST_STEPS, and ranked on those
+        stride = N // SCREEN_STEPS
+        coarse = errors(fast_attitudes(body, x0[:4], T, S[:, :, ::stride], dS[:, :, ::stride]))
+        among = ranked(coarse, every)[:SCREENED]
+        err = np.full(every.size, np.inf)
+        err[among] = errors(fast_attitudes(body, x0[:4], T, S[:, among], dS[:, among]))
+    else:
+        among = every
+        err = errors(fast_attitudes(body, x0[:4], T, S, dS))
+    order = ranked(err, among)
     out, seen = [], []
     for k in order:
         a, b = cand[k]
