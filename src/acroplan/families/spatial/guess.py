@@ -407,11 +407,10 @@ def loop_guesses(body, basis, x0, x1, T: float, ends: dict | None = None, limits
     # every direction at every pair of amplitudes (a's, b's)
     Av = (Ad[:, None, None, :] * amps[None, :, None, None] + 0.0 * amps[None, None, :, None]).reshape(-1, m).T
     Bv = (Bd[:, None, None, :] * amps[None, None, :, None] + 0.0 * amps[None, :, None, None]).reshape(-1, m).T
-    cand = [(Av[:, k], Bv[:, k]) for k in range(Av.shape[1])]
     xg = 2 * grid - 1
-    S = SHg[:, None, :] + wg[None, None, :] * (Av[:, :, None] + xg[None, None, :] * Bv[:, :, None])
-    dS = dSHg[:, None, :] + dwg[None, None, :] * (Av[:, :, None] + xg[None, None, :] * Bv[:, :, None]) \
-        + 2.0 * wg[None, None, :] * Bv[:, :, None]
+    Y = Av[:, :, None] + xg[None, None, :] * Bv[:, :, None]  # a + (2 sigma - 1) b on the grid, (m, K, 2N + 1)
+    S = SHg[:, None, :] + wg[None, None, :] * Y
+    dS = dSHg[:, None, :] + dwg[None, None, :] * Y + 2.0 * wg[None, None, :] * Bv[:, :, None]
     ok = np.all(S.min(axis=2) >= lo[:, None], axis=0) & np.all(S.max(axis=2) <= hi[:, None], axis=0) \
         & np.all(np.abs(dS).max(axis=2) <= 0.99 * U[:, None] * T, axis=0)
     size = np.sqrt(np.sum(Av**2, axis=0) + np.sum(Bv**2, axis=0))
@@ -440,7 +439,7 @@ def loop_guesses(body, basis, x0, x1, T: float, ends: dict | None = None, limits
     order = ranked(err, among)
     out, seen = [], []
     for k in order:
-        a, b = cand[k]
+        a, b = Av[:, k], Bv[:, k]
         if any(np.allclose(a, a2) and np.allclose(b, b2) for a2, b2 in seen):
             continue
         seen.append((a, b))
@@ -473,25 +472,24 @@ def _refinement_subspace(m: int, n: int, alpha: int, beta: int, T: float, P, wG,
 def _loop_directions(conn, mid, delta, W2, m: int) -> list[tuple[np.ndarray, np.ndarray]]:
     """Loop directions ``(a, b)`` about the mid-time shape ``mid`` (m,) for the turn ``delta`` (3,):
     the curvature's least-squares bivector (both senses; :func:`_decomposable`), and a loop offset
-    along each joint, each
-    sense, whose ``b`` makes the turn best."""
-    F = curvature(conn, mid[:, None])[:, :, 0] * W2  # (3, P)
-    a, b, _ = _decomposable(np.linalg.lstsq(F, delta, rcond=1e-10)[0], m)
+    along each joint, each sense, whose ``b`` makes the turn best."""
+    # the curvature at the mid-time shape and half a radian off it along each joint, each sense:
+    # one call of the compiled map for all 1 + 2 m shapes
+    offsets = [np.zeros(m)] + [sgn * np.eye(m)[k] for k in range(m) for sgn in (1.0, -1.0)]
+    Fall = curvature(conn, np.stack([mid + 0.5 * o for o in offsets], axis=1)) * W2  # (3, P, 1 + 2 m)
+    a, b, _ = _decomposable(np.linalg.lstsq(Fall[:, :, 0], delta, rcond=1e-10)[0], m)
     dirs = [(a, b), (-a, -b)]
     pairs = [(i, j) for i in range(m) for j in range(i + 1, m)]
-    for k in range(m):
-        for sgn in (1.0, -1.0):
-            a = np.zeros(m)
-            a[k] = sgn
-            Fk = curvature(conn, (mid + 0.5 * a)[:, None])[:, :, 0] * W2
-            M = np.zeros((3, m))  # turn of a ^ b as a linear map of b
-            for p, (i, j) in enumerate(pairs):
-                M[:, j] += Fk[:, p] * a[i]
-                M[:, i] -= Fk[:, p] * a[j]
-            bv = np.linalg.lstsq(M, delta, rcond=1e-10)[0]
-            nb = np.linalg.norm(bv)
-            if nb > 0:
-                dirs += [(a, bv / nb)]
+    for at, a in enumerate(offsets[1:], start=1):
+        Fk = Fall[:, :, at]
+        M = np.zeros((3, m))  # turn of a ^ b as a linear map of b
+        for p, (i, j) in enumerate(pairs):
+            M[:, j] += Fk[:, p] * a[i]
+            M[:, i] -= Fk[:, p] * a[j]
+        bv = np.linalg.lstsq(M, delta, rcond=1e-10)[0]
+        nb = np.linalg.norm(bv)
+        if nb > 0:
+            dirs += [(a, bv / nb)]
     return dirs
 
 
