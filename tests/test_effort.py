@@ -689,12 +689,14 @@ def test_the_positive_work_of_split_panels():
 
 
 def test_the_spatial_effort_summary_in_one_call_a_segment(monkeypatch):
-    """The falling cat's effort summary calls its torque model once a segment (the grid): every
+    """The falling cat's effort summary calls its torque model once a joint motion (the grid): every
     panel's interpolant resolves its torques and powers (PanelInterpolants), and the later rounds
-    read them. With the interpolants off (INTERPOLANT_TAIL = -inf) the model is called four times a
-    segment (the grid, two rounds of the roots with the peaks' two zooms, the split panels): the same
-    work, peaks and integrals to 1e-13 (measured 1.2e-15); and there the roots' brackets of 1e-7 of a
-    segment (ROOT_RTOL) give the same numbers as brackets of 1e-14 s to 1e-13."""
+    read them. Its two segments are two loops of one joint motion at L = 0 (effort_summary works out
+    their effort once: test_repeated_joint_motions_are_summed_from_one_summary). With the
+    interpolants off (INTERPOLANT_TAIL = -inf) the model is called four times a motion (the grid,
+    two rounds of the roots with the peaks' two zooms, the split panels): the same work, peaks and
+    integrals to 1e-13 (measured 1.2e-15); and there the roots' brackets of 1e-7 of a segment
+    (ROOT_RTOL) give the same numbers as brackets of 1e-14 s to 1e-13."""
     from acroplan.core import effort as E
     from acroplan.core import result as R
     from acroplan.families.spatial.examples import falling_cat_turn
@@ -710,17 +712,53 @@ def test_the_spatial_effort_summary_in_one_call_a_segment(monkeypatch):
 
     monkeypatch.setattr(R.PlanResult, "_segment_torques", counted)
     fast = E.effort_summary(r)
-    assert len(calls) == len(r.segments)
+    assert len(r.segments) == 2 and len(calls) == 1
     calls.clear()
     monkeypatch.setattr(E, "INTERPOLANT_TAIL", -math.inf)
     model = E.effort_summary(r)
-    assert len(calls) == 4 * len(r.segments)
+    assert len(calls) == 4
     monkeypatch.setattr(E, "ROOT_RTOL", 1e-14 / max(s.t1 - s.t0 for s in r.segments))
     tight = E.effort_summary(r)
     for name, e in fast.items():
         for field in ("positive_work", "peak_torque", "peak_power", "torque_squared", "net_work"):
             assert getattr(e, field) == pytest.approx(getattr(model[name], field), rel=1e-13, abs=1e-15)
             assert getattr(model[name], field) == pytest.approx(getattr(tight[name], field), rel=1e-13, abs=1e-15)
+
+
+def test_repeated_joint_motions_are_summed_from_one_summary(monkeypatch):
+    """Segments with the same joint motion and the same start, up to what the torque model says the
+    torques do not depend on (SpatialTorque.start_key: the attitude at L = 0), have one effort,
+    worked out once and summed: the falling cat's two loops (L = 0, two attitudes) are one motion,
+    the twisting somersault's two segments (L != 0) two; the summary is the one of every segment
+    worked out on its own, to 1e-13 (the same numbers but for the segments' own times, rounded
+    from their starts), and the integrals are twice a loop's."""
+    from acroplan.core import effort as E
+    from acroplan.families.spatial.examples import falling_cat_turn, twisting_somersault
+
+    body, kw = falling_cat_turn()
+    cat = acroplan.plan(body, verify=False, **kw)
+    model = cat._torque_setup()[0]
+    a, b = cat.segments
+    assert not np.allclose(a.start[:4], b.start[:4])  # two attitudes
+    assert E._motion_key(cat, a, model) == E._motion_key(cat, b, model)
+    body, kw = twisting_somersault()
+    twist = acroplan.plan(body, verify=False, **kw)
+    m2 = twist._torque_setup()[0]
+    assert len({E._motion_key(twist, s, m2) for s in twist.segments}) == len(twist.segments) == 2
+    once = E.effort_summary(cat)
+    keys = iter(range(10))
+    monkeypatch.setattr(E, "_motion_key", lambda *args: next(keys))  # every segment on its own
+    each = E.effort_summary(cat)
+    for name, e in once.items():
+        for field in ("positive_work", "net_work", "torque_squared", "input_squared", "peak_torque",
+                      "peak_power"):
+            v, w = getattr(e, field), getattr(each[name], field)
+            assert abs(v - w) <= 1e-13 * max(abs(w), 1.0), (name, field, v, w)
+        # the integrals of the two loops: twice one loop's
+        loop = E._segment_effort(cat, a, model, cat._torque_setup()[2], *E._GAUSS32)
+        j = list(once).index(name)
+        assert e.torque_squared == pytest.approx(2 * loop["tau2"][j], rel=1e-15, abs=0)
+        assert e.peak_torque == loop["peak_tau"][j]
 
 
 def test_panel_interpolants_serve_where_they_resolve_and_call_the_model_elsewhere():

@@ -109,9 +109,17 @@ def effort_summary(result) -> dict[str, JointEffort]:
     p = len(names)
     xg, wg = _GAUSS32
     acc = {k: np.zeros(p) for k in ("peak_tau", "peak_pow", "pos", "net", "tau2", "u2")}
+    done = {}  # each joint motion's own effort, by its key (_motion_key)
     with stage("effort summary", len(result.segments), unit="segment") as st:
         for seg in result.segments:
-            _segment_effort(result, seg, model, inputs, xg, wg, acc)
+            key = _motion_key(result, seg, model)
+            own = done.get(key)
+            if own is None:
+                own = done[key] = _segment_effort(result, seg, model, inputs, xg, wg)
+            for k in ("pos", "net", "tau2", "u2"):
+                acc[k] += own[k]
+            for k in ("peak_tau", "peak_pow"):
+                np.maximum(acc[k], own[k], out=acc[k])
             st.update()
     duration = float(result.segments[-1].t1 - result.segments[0].t0)
     return {name: JointEffort(joint=name, input=result.system.input_names[inputs[j]], duration=duration,
@@ -161,8 +169,25 @@ def _barycentric():
 _NODES, _BARY = _barycentric()
 
 
-def _segment_effort(result, seg, model, inputs, xg, wg, acc) -> None:
-    """Add one segment's integrals and peaks into the accumulators ``acc`` (by joint). The torque
+def _motion_key(result, seg, model) -> tuple:
+    """What one segment's effort depends on: its basis, duration and input coefficients, and its
+    start state, or the part of it the torque model names (its ``start_key(system, x0)``, when it
+    has one: a spatial body's joint angles at zero angular momentum, where the attitude does not
+    enter). Two segments with equal keys have the same torques at the same times into them, so
+    :func:`effort_summary` works out their effort once: the repeated loops of a large turn at
+    L = 0 (:mod:`acroplan.families.spatial.strategy`) are segments of one joint motion, and the
+    falling cat's summary took as long again for its second loop."""
+    basis = result.basis_for(seg)
+    start = np.asarray(seg.start, dtype=float)
+    own = getattr(model, "start_key", None)
+    part = np.asarray(own(result.system, start) if callable(own) else start, dtype=float)
+    return (type(basis).__name__, int(basis.n), float(seg.t1 - seg.t0),
+            np.asarray(seg.basis_coefficients, dtype=float).tobytes(), part.tobytes())
+
+
+def _segment_effort(result, seg, model, inputs, xg, wg) -> dict:
+    """One segment's integrals and peaks, by joint: ``{"u2", "tau2", "net", "pos", "peak_tau",
+    "peak_pow"}``, each (p,) (the sums and maxima :func:`effort_summary` takes over the segments). The torque
     model is called on the grid (every panel's Gauss nodes and edges); the later rounds (two of the
     roots with the two zooms of the peaks, the split panels) read the panels' interpolants
     (:class:`PanelInterpolants`) and call the model, once a round, only for times in panels the
@@ -173,7 +198,7 @@ def _segment_effort(result, seg, model, inputs, xg, wg, acc) -> None:
     basis = result.basis_for(seg)
     G = gram(basis)
     c = np.asarray(seg.basis_coefficients, dtype=float)
-    acc["u2"] += T * np.array([c[i] @ G @ c[i] for i in inputs])
+    acc = {"u2": T * np.array([c[i] @ G @ c[i] for i in inputs])}
     P = int(min(4096, max(8, math.ceil(seg.max_abs_u * T))))
 
     def model_motion(tt):
@@ -193,18 +218,19 @@ def _segment_effort(result, seg, model, inputs, xg, wg, acc) -> None:
     # the later rounds read the panels' interpolants where they are resolved, the model elsewhere
     motion = PanelInterpolants(edges, np.concatenate([tau_q, pow_q]), model_motion, p)
     panel_w = h * wg
-    acc["tau2"] += np.einsum("jpk,k->j", tau_q**2, panel_w)
+    acc["tau2"] = np.einsum("jpk,k->j", tau_q**2, panel_w)
     panel_pow = np.einsum("jpk,k->jp", pow_q, panel_w)  # (p, P): the power's integral per panel
-    acc["net"] += panel_pow.sum(axis=1)
+    acc["net"] = panel_pow.sum(axis=1)
     # the roots of the powers and the zooms of the peaks in lockstep: one call a round for both
     rows, panels, lo, hi = _brackets(grid, pow_g, P)
     found, (top, _) = _lockstep(motion, [(_root_rounds(rows, lo, hi, ROOT_RTOL * T), lambda tp: tp[1]),
                                          (_peak_rounds(grid, np.vstack([tau_g, pow_g])), np.vstack)])
     at = np.array([n for n, _ in found], dtype=int)
+    acc["pos"] = np.zeros(p)
     _positive_work(motion, edges, rows[at], panels[at], np.array([r for _, r in found], dtype=float), panel_pow,
                    xg, wg, acc["pos"])
-    acc["peak_tau"] = np.maximum(acc["peak_tau"], top[:p])
-    acc["peak_pow"] = np.maximum(acc["peak_pow"], top[p:])
+    acc["peak_tau"], acc["peak_pow"] = top[:p], top[p:]
+    return acc
 
 
 #: A panel's interpolant stands for the torque model (:class:`PanelInterpolants`) when the last three

@@ -313,6 +313,14 @@ class SpatialTorque(TreeTorque):
         dtheta = np.einsum("ijk,kjc->kic", Lq, DX[:, :4])
         return (X[:4],) + joints + (dtheta,)
 
+    def start_key(self, system, x0) -> np.ndarray:
+        """The part of a segment's start state ``x0`` its torques depend on, besides its joint
+        motion (:func:`acroplan.core.effort.effort_summary` works out the effort of segments with
+        the same joint motion and key once): the joint angles at L = 0, where the attitude does not
+        enter (:meth:`motion`), else the whole state."""
+        x0 = np.asarray(x0, dtype=float).reshape(-1)
+        return x0 if np.any(system.angular_momentum) else x0[4:]
+
     def evaluate(self, system, basis, x0, T, c, s, *, derivatives: bool = False) -> SpatialInverseDynamics:
         """:func:`inverse_dynamics` along the segment (its ``partials`` in the coefficients, shape
         (m, K, m n), with ``derivatives``)."""
