@@ -292,6 +292,47 @@ def _motion(seg, t):
     return seg.start[1] + T * (leg.integ(lbnd=0)(s)), leg(s), leg.deriv()(s) / T
 
 
+
+def test_the_positive_work_of_split_panels_from_their_interpolants():
+    """The same split panels with the motion given as the panels' interpolants (PanelInterpolants,
+    from the values at each panel's 32 Gauss nodes): the pieces up to each root are the
+    interpolants' Legendre series integrated (PanelInterpolants.integrals), with no call of the
+    model; the closed form to 1e-14 again. On a panel that is not resolved the model is called for
+    its pieces, and the value is the same."""
+    from acroplan.core.effort import _GAUSS32, PanelInterpolants, _positive_work
+
+    xg, wg = _GAUSS32
+    P = 8
+    edges = np.linspace(0.0, 1.0, P + 1)
+    h = 1.0 / P
+    f = lambda t: np.sin(20.0 * t) + 0.3  # noqa: E731
+    F = lambda t: -np.cos(20.0 * t) / 20.0 + 0.3 * t  # noqa: E731
+    a0, a1 = np.arcsin(-0.3), np.pi - np.arcsin(-0.3)
+    roots = np.sort([(a0 + 2 * np.pi * k) / 20 for k in range(1, 4)] + [(a1 + 2 * np.pi * k) / 20 for k in range(4)])
+    roots = roots[(roots > 0) & (roots < 1)]
+    panels = np.minimum((roots * P).astype(int), P - 1)
+    nodes = edges[:-1, None] + h * xg[None, :]  # (P, 32)
+    panel_pow = (f(nodes) @ wg * h)[None, :]
+    calls = []
+
+    def model(t):
+        calls.append(np.size(t))
+        return np.cos(t)[None, :], f(t)[None, :]
+
+    values = np.stack([np.cos(nodes), f(nodes)])  # (2, P, 32): a torque row, then the power's
+    cuts = np.concatenate([[0.0], roots, [1.0]])
+    exact = sum(max(F(b) - F(a), 0.0) for a, b in zip(cuts[:-1], cuts[1:]))
+    for unresolved in (None, panels[0]):
+        motion = PanelInterpolants(edges, values, model, 1)
+        assert motion.resolved.all()
+        if unresolved is not None:
+            motion.resolved[unresolved] = False
+        calls.clear()
+        pos = np.zeros(1)
+        _positive_work(motion, edges, np.zeros(roots.size, dtype=int), panels, roots, panel_pow, xg, wg, pos)
+        assert abs(pos[0] - exact) < 1e-14
+        assert calls == ([] if unresolved is None else [32 * int(np.sum(panels == unresolved))])
+
 def test_effort_summary_against_brute_force(body, two_segment_plan):
     r = two_segment_plan
     es = effort_summary(r)

@@ -267,13 +267,27 @@ class PanelInterpolants:
     def __init__(self, edges, values, model, p: int):
         self.edges, self.model, self.p = np.asarray(edges, dtype=float), model, int(p)
         self.values = np.asarray(values, dtype=float)
-        coef = self.values @ _TO_LEGENDRE.T  # (r, P, 32)
+        #: each row's Legendre coefficients on each panel (r, P, 32), the panel mapped to [-1, 1]
+        self.coef = coef = self.values @ _TO_LEGENDRE.T
         scale = np.abs(self.values).max(axis=(1, 2))
         tail = np.abs(coef[:, :, -3:]).max(axis=2)  # (r, P)
         #: the panels whose interpolants serve (every row's tail within INTERPOLANT_TAIL of its scale)
         self.resolved = (tail <= INTERPOLANT_TAIL * scale[:, None]).all(axis=0)
         #: calls of the model since construction
         self.calls = 0
+
+    def integrals(self, rows, panels, a, b) -> np.ndarray:
+        """:math:`\\int_{a_i}^{b_i}` of row ``rows[i]`` of the values (the torques' rows first, then
+        the powers') over a piece ``[a[i], b[i]]`` of panel ``panels[i]``: its interpolant's Legendre
+        series integrated term by term (``numpy.polynomial.legendre.legint``) and evaluated at the
+        piece's ends by Clenshaw's recurrence, exact for the polynomial (as the panel's Gauss rule
+        on the piece is); NaN on a panel that is not resolved (:attr:`resolved`: the model's
+        values are needed there)."""
+        e = self.edges
+        lo, width = e[panels], e[panels + 1] - e[panels]
+        A = np.polynomial.legendre.legint(self.coef[rows, panels].T, lbnd=-1.0, axis=0)  # (33, pieces)
+        ends = [np.polynomial.legendre.legval(2.0 * (x - lo) / width - 1.0, A, tensor=False) for x in (a, b)]
+        return np.where(self.resolved[panels], 0.5 * width * (ends[1] - ends[0]), np.nan)
 
     def __call__(self, tt):
         t = np.atleast_1d(np.asarray(tt, dtype=float))
@@ -552,8 +566,9 @@ def _positive_work(motion, edges, J, K, R, panel_pow, xg, wg, pos) -> None:
     """Add each joint's positive work on one segment to ``pos``: a panel where the power keeps its
     sign gives max(its integral, 0); a panel where it changes sign is split at its roots (joint
     ``J[i]``'s power in panel ``K[i]`` at time ``R[i]``), each piece up to the last root integrated
-    by the panel's rule (one call for all), the piece after it as the panel's integral less the
-    others."""
+    exactly from the panel's interpolant where it is resolved (:meth:`PanelInterpolants.integrals`),
+    elsewhere by the panel's rule on the model's values (one call for all), the piece after it as
+    the panel's integral less the others."""
     p, P = panel_pow.shape
     split = np.zeros((p, P), dtype=bool)
     split[J, K] = True
@@ -565,11 +580,18 @@ def _positive_work(motion, edges, J, K, R, panel_pow, xg, wg, pos) -> None:
     group = J * P + K
     first = np.concatenate([[True], group[1:] != group[:-1]])
     last = np.concatenate([group[1:] != group[:-1], [True]])
-    # the pieces from the previous root of the panel (or its left edge) to each root
+    # the pieces from the previous root of the panel (or its left edge) to each root: integrated
+    # from the panel's interpolant where it is resolved (PanelInterpolants.integrals), else by the
+    # panel's rule on the model's values (one call for all of those)
     starts = np.where(first, edges[K], np.roll(R, 1))
     lens = R - starts
-    vals = motion((starts[:, None] + np.maximum(lens, 0.0)[:, None] * xg[None, :]).ravel())[1]  # (p, roots * 32)
-    v = np.where(lens > 0, vals[J[:, None], np.arange(J.size * 32).reshape(-1, 32)] @ wg * lens, 0.0)
+    v = motion.integrals(motion.p + J, K, starts, R) if hasattr(motion, "integrals") else np.full(J.size, np.nan)
+    rest = np.flatnonzero(np.isnan(v))
+    if rest.size:
+        pts = (starts[rest, None] + np.maximum(lens[rest], 0.0)[:, None] * xg[None, :]).ravel()
+        vals = motion(pts)[1]  # (p, pieces * 32)
+        v[rest] = vals[J[rest, None], np.arange(rest.size * 32).reshape(-1, 32)] @ wg * lens[rest]
+    v = np.where(lens > 0, v, 0.0)
     np.add.at(pos, J, np.maximum(v, 0.0))
     # and the piece after each panel's last root: the panel's integral less its pieces before
     before = np.add.reduceat(v, np.flatnonzero(first))
