@@ -475,7 +475,11 @@ def _loop_directions(conn, mid, delta, W2, m: int) -> list[tuple[np.ndarray, np.
     along each joint, each sense, whose ``b`` makes the turn best."""
     # the curvature at the mid-time shape and half a radian off it along each joint, each sense:
     # one call of the compiled map for all 1 + 2 m shapes
-    offsets = [np.zeros(m)] + [sgn * np.eye(m)[k] for k in range(m) for sgn in (1.0, -1.0)]
+    offsets = [np.zeros(m)]
+    for k in range(m):
+        for sgn in (1.0, -1.0):
+            offsets.append(np.zeros(m))
+            offsets[-1][k] = sgn
     Fall = curvature(conn, np.stack([mid + 0.5 * o for o in offsets], axis=1)) * W2  # (3, P, 1 + 2 m)
     a, b, _ = _decomposable(np.linalg.lstsq(Fall[:, :, 0], delta, rcond=1e-10)[0], m)
     dirs = [(a, b), (-a, -b)]
