@@ -517,6 +517,32 @@ def test_the_qp_step_with_more_active_rows_than_join_at_a_time(monkeypatch):
     assert seen[0] == sqp.QP_ROWS and max(seen) < in_play / 2, (seen, in_play)
 
 
+
+def test_the_qp_step_by_cholesky_is_the_eigenvalues_step(monkeypatch):
+    """qp_step factors a well-conditioned reduced Hessian by Cholesky (sqp.CHOLESKY_QP), whose
+    least-distance coordinates are the eigenvalues' up to a rotation: on the known program (the
+    model's eigenvalues 0.5-5) the step and the multipliers are the eigenvalue route's to 1e-11 and
+    the known ones; a reduced Hessian whose condition passes the floor's margin
+    (CHOLESKY_RCOND), or that is indefinite, is left to the eigenvalues."""
+    from acroplan.core import sqp
+
+    W, g, h, A, R, r, p_star, lam_star, mu_star, _ = _known_qp(5, 20, 2, 3000, np.arange(6) * 500, mu_scale=0.01)
+    taken = []
+    inner = sqp._well_conditioned_cholesky
+    monkeypatch.setattr(sqp, "_well_conditioned_cholesky", lambda Wr: taken.append(inner(Wr)) or taken[-1])
+    by_cholesky = sqp.qp_step(W, g, h, A, R, r)
+    assert taken and taken[-1] is not None
+    monkeypatch.setattr(sqp, "CHOLESKY_QP", False)
+    by_eigenvalues = sqp.qp_step(W, g, h, A, R, r)
+    for a, b in zip(by_cholesky, by_eigenvalues):
+        np.testing.assert_allclose(a, b, rtol=0, atol=1e-11 * max(np.abs(b).max(), 1.0))
+    _the_known_step(by_cholesky, p_star, lam_star, mu_star, R, r, scale=1e-10)
+    rng = np.random.default_rng(3)
+    Q = np.linalg.qr(rng.normal(size=(30, 30)))[0]
+    for e in (np.geomspace(1e-7, 1.0, 30), np.linspace(-1.0, 2.0, 30)):  # ill-conditioned, indefinite
+        assert sqp._well_conditioned_cholesky(Q @ np.diag(e) @ Q.T) is None
+    assert sqp._well_conditioned_cholesky(Q @ np.diag(np.linspace(0.5, 5.0, 30)) @ Q.T) is not None
+
 def test_the_qp_step_keeps_every_row_to_rounding_in_its_own_units():
     """40 random quadratic programs of known solution, rows in units from 1e-3 to 1e3: the step keeps
     every row to 1e-12 of its own magnitude, R_i p + r_i <= 1e-12 (1 + |r_i|). A tolerance of 1e-9

@@ -25,7 +25,10 @@ the equations are eliminated (:math:`p = Y p_Y + Z y`, :math:`A^\\top = [Y\\ Z] 
 positive definite by the magnitudes of its eigenvalues (at least 1e-6 of the largest), and with
 :math:`y = y^* + V \\mathrm{diag}(e)^{-1/2} w` (:math:`y^*` the unconstrained minimiser) the program is
 the least-distance program :math:`\\min \\|w\\|` s.t. :math:`E w \\le f`, solved by non-negative least
-squares (:func:`acroplan.core.linalg.least_norm_step`). The inequalities' multipliers are those of
+squares (:func:`acroplan.core.linalg.least_norm_step`). When the reduced Hessian is positive
+definite and well-conditioned (no eigenvalue near the floor: :func:`_well_conditioned_cholesky`),
+its Cholesky factor :math:`L` serves instead, :math:`y = y^* + L^{-\\top} w`: the same program with
+:math:`w` rotated, for a tenth of the cost. The inequalities' multipliers are those of
 that program, :math:`w + E^\\top\\mu = 0`, :math:`\\mu \\ge 0` (non-negative least squares on the rows
 active at :math:`w`); the equations' by least squares from :math:`Wp + g + A^\\top\\lambda + R^\\top\\mu = 0`.
 Rows far from their bound (the free step :math:`w = 0` uses less than three quarters of their slack)
@@ -54,6 +57,7 @@ import collections
 import math
 
 import numpy as np
+from scipy.linalg import lapack
 
 from . import backend
 from .linalg import least_norm_step, norm
@@ -203,16 +207,25 @@ def qp_step(W, g, h, A, R, r, hint=None):
     Y, Zr, RA = qr
     pY = Y @ -np.linalg.solve(RA.T, h)
     Wr = Zr.T @ W @ Zr
-    e, V = np.linalg.eigh(0.5 * (Wr + Wr.T))
-    e_model = e  # as the model has them: when negative, its step is not the program's (ACTIVE_NEWTON)
-    e = np.maximum(np.abs(e), 1e-6 * max(float(np.abs(e).max()), 1e-300))
+    Wr = 0.5 * (Wr + Wr.T)
     gr = Zr.T @ (g + W @ pY)
-    ystar = -(V @ ((V.T @ gr) / e))
+    L = _well_conditioned_cholesky(Wr) if CHOLESKY_QP else None
+    if L is not None:
+        # the same program in the same coordinates up to a rotation (w = L^T (y - y*)), the
+        # eigenvalues' floor not reached (module docstring)
+        e_model = None
+        ystar = -lapack.dpotrs(L, gr, lower=1)[0]
+        T = lapack.dtrtrs(L, Zr.T, lower=1)[0].T  # Zr L^-T: w to the step
+    else:
+        e, V = np.linalg.eigh(Wr)
+        e_model = e  # as the model has them: when negative, its step is not the program's (ACTIVE_NEWTON)
+        e = np.maximum(np.abs(e), 1e-6 * max(float(np.abs(e).max()), 1e-300))
+        ystar = -(V @ ((V.T @ gr) / e))
+        # the rows E = R Zr V e^(-1/2) of the inequalities in the scaled coordinates w are formed for
+        # the rows in play only; the others are checked through matrix-vector products (the joint
+        # optimum's limit grids give thousands of rows, of which a few dozen are near their bounds)
+        T = Zr @ (V / np.sqrt(e)[None, :])  # (N, N - q): w to the step
     p_free = pY + Zr @ ystar
-    # the rows E = R Zr V e^(-1/2) of the inequalities in the scaled coordinates w are formed for
-    # the rows in play only; the others are checked through matrix-vector products (the joint
-    # optimum's limit grids give thousands of rows, of which a few dozen are near their bounds)
-    T = Zr @ (V / np.sqrt(e)[None, :])  # (N, N - q): w to the step
     f = -r - R @ p_free
     # in play: the rows the free step breaks or uses three quarters of the slack of, each in its own
     # units (rows of angles, rates and torques differ by orders), at most QP_ROWS of them, the
@@ -222,11 +235,11 @@ def qp_step(W, g, h, A, R, r, hint=None):
     if hint is not None and len(hint):
         hint = np.asarray(hint, dtype=int)
         rows = np.union1d(rows, hint[(hint >= 0) & (hint < R.shape[0])])
-    w = np.zeros(e.size)
+    w = np.zeros(T.shape[1])
     E = R[rows] @ T
     for _ in range(QP_ROUNDS):
         if rows.size:
-            w, ok = least_norm_step(np.zeros((0, e.size)), np.zeros(0), E, f[rows])
+            w, ok = least_norm_step(np.zeros((0, w.size)), np.zeros(0), E, f[rows])
             if not ok:
                 return None
         over = R @ (T @ w) - f
@@ -242,7 +255,7 @@ def qp_step(W, g, h, A, R, r, hint=None):
         E = R[rows] @ T
     else:
         return None
-    y = ystar + V @ (w / np.sqrt(e))
+    y = ystar + (lapack.dtrtrs(L, w, lower=1, trans=1)[0] if L is not None else V @ (w / np.sqrt(e)))
     p = pY + Zr @ y
     mu = np.zeros(R.shape[0])
     # active at w: within 1e-9 of the bound in w, which has no units (a tolerance in the rows' own
@@ -262,7 +275,7 @@ def qp_step(W, g, h, A, R, r, hint=None):
         bind = act[mu[act] > 0.0]  # the rows that bind (within the tolerance above, some need not)
         M = np.vstack([A, R[bind]])
         p = p + np.linalg.lstsq(M, np.concatenate([-h - A @ p, -r[bind] - R[bind] @ p]), rcond=1e-12)[0]
-    if e_model[0] < 0.0 and ACTIVE_NEWTON:
+    if e_model is not None and e_model[0] < 0.0 and ACTIVE_NEWTON:
         start = np.flatnonzero(mu > 0.0)
         at = np.flatnonzero(np.abs(r) <= 1e-7)  # the rows at their bound now (within 1e-7 either side)
         work = np.union1d(np.union1d(start, at), hint if hint is not None and len(hint) else np.zeros(0, dtype=int))
@@ -271,6 +284,32 @@ def qp_step(W, g, h, A, R, r, hint=None):
             p, mu = exact
     lam = -np.linalg.solve(RA, Y.T @ (W @ p + g + R.T @ mu))
     return p, lam, mu
+
+
+#: Whether :func:`qp_step` factors a well-conditioned reduced Hessian by Cholesky instead of its
+#: eigenvalues (:func:`_well_conditioned_cholesky`).
+CHOLESKY_QP = True
+#: :func:`_well_conditioned_cholesky` takes a factor whose estimated reciprocal condition number
+#: (1-norm, LAPACK's ``dpocon``) is above this: 100 times the eigenvalues' floor (1e-6 of the
+#: largest), so that the floor, which the eigenvalue route applies, is far from reached.
+CHOLESKY_RCOND = 1e-4
+
+
+def _well_conditioned_cholesky(Wr):
+    """The lower Cholesky factor of the reduced Hessian ``Wr`` when it is positive definite and its
+    estimated reciprocal condition number is above :data:`CHOLESKY_RCOND`, else ``None``. With it
+    the least-distance program's coordinates :math:`w = L^\\top (y - y^*)` differ from the
+    eigenvalues' :math:`w = \\mathrm{diag}(e)^{1/2} V^\\top (y - y^*)` by a rotation
+    (:math:`L^\\top V \\mathrm{diag}(e)^{-1/2}` is orthogonal when no eigenvalue is floored), so
+    the program, its rows' distances and its multipliers are the same; a factorisation costs a
+    tenth of the eigenvalues (226 x 226: 0.7 ms against 6.6 ms)."""
+    L, info = lapack.dpotrf(Wr, lower=1, clean=1)
+    if info != 0:
+        return None
+    rcond, info = lapack.dpocon(L, float(np.abs(Wr).sum(axis=0).max()), uplo="L")
+    if info != 0 or not rcond > CHOLESKY_RCOND:
+        return None
+    return L
 
 
 #: Whether :func:`qp_step` takes the Newton step of the binding rows (:func:`_active_newton`) when
