@@ -7,7 +7,8 @@ drift of 0.3-2 rad/s at the start, in a random direction); single segments whose
 reachable by construction (random_segment: the end of a simulated random
 smooth joint motion, from a random attitude), conditions="free", no limits.
 
-Each problem is planned warm (the compiled integrators built before timing) with verify=False
+Each problem is planned warm (the compiled maps of its topology built before timing, by
+acroplan.warm_up) with verify=False
 (timed: the planner alone); every success is then re-checked by
 acroplan.families.spatial.check.pinocchio_errors (the Pinocchio-driven motion, timed separately),
 and a success whose check exceeds 1e-9 is counted as a failure and reported as a false success.
@@ -43,6 +44,9 @@ def run(problems):
     rows = []
     for p in problems:
         kw = p.plan_kwargs()
+        # the compiled maps of this body's topology built (or read from the disk cache) untimed: a
+        # tree population has many topologies, and each one's first plan in the process took 0.1-0.3 s more
+        acroplan.warm_up(p.body)
         t0 = time.perf_counter()
         r = acroplan.plan(p.body, conditions="free", verify=False, **kw)
         dt = time.perf_counter() - t0
