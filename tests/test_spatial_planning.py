@@ -76,7 +76,7 @@ def test_the_screened_ranking_gives_the_guesses_of_the_full_one(monkeypatch):
     """The loop candidates are screened with SCREEN_STEPS Runge-Kutta steps and the SCREENED best
     integrated again with FAST_STEPS (guess module docstring, step 5): on 20 random chains and
     drifts the guesses are those of ranking every candidate with FAST_STEPS, in the same order, with
-    the same predicted errors, for at most 60% of the points of the compiled map."""
+    the same predicted errors (to 1e-12 rad), for at most 60% of the points of the compiled map."""
     from acroplan.families.spatial import guess
 
     points = []
@@ -100,10 +100,13 @@ def test_the_screened_ranking_gives_the_guesses_of_the_full_one(monkeypatch):
         points.clear()
         screened = loop_guesses(seg.body, Legendre(10), seg.x0, seg.x1, seg.T)
         screened_points += sum(points)
-        assert [(g.kind, g.predicted_error, g.compliant) for g in screened] == \
-            [(g.kind, g.predicted_error, g.compliant) for g in full]
+        # the same candidates (their coefficients are built, not integrated: equal exactly); their
+        # predicted errors to 1e-12 rad, since the second pass integrates them in another batch of
+        # the compiled kernel, whose lanes may round differently on another processor
+        assert [(g.kind, g.compliant) for g in screened] == [(g.kind, g.compliant) for g in full]
         for a, b in zip(screened, full):
             assert np.array_equal(a.coefficients, b.coefficients)
+            assert abs(a.predicted_error - b.predicted_error) <= 1e-12
     assert screened_points <= 0.6 * full_points
 
 
