@@ -219,20 +219,28 @@ def fast_attitudes(body, q0, T: float, S, dS) -> np.ndarray:
     -------
     numpy.ndarray, shape (4, K)
     """
-    from .collocation import CHUNK, compile_map, evaluate_map
+    from .collocation import CHUNK, compile_map
 
     S = np.asarray(S, dtype=float)
     dS = np.asarray(dS, dtype=float)
     m, K, M = S.shape
     fn = compile_map(body, light=True)
-    P = K * M
-    out = evaluate_map(body, fn, np.concatenate([S.reshape(m, P), dS.reshape(m, P)]))
     Lv = T * np.asarray(body.angular_momentum, dtype=float)
     drift = bool(np.linalg.norm(Lv) > 0)
     # per grid point: the shape's rate -I^-1 A s' (3) and, with drift, I^-1's upper triangle (6);
-    # (M, per, K), so that the points of a call are one contiguous block
-    parts = [-out[6:9].reshape(3, K, M)] + ([out[:6].reshape(6, K, M)] if drift else [])
-    G = np.ascontiguousarray(np.concatenate(parts).transpose(2, 0, 1))
+    # (M, per, K), so that the points of a kernel call are one contiguous block. The map is
+    # evaluated a few grid points a call (every motion's column at each), and each call's outputs
+    # go straight to their rows of G: no array of every output at every point
+    G = np.empty((M, 9 if drift else 3, K))
+    X = np.concatenate([S, dS]).transpose(2, 0, 1)  # (M, 2m, K)
+    at = max(1, CHUNK // K)
+    for j in range(0, M, at):
+        e = min(M, j + at)
+        out = backend.evaluate_columns(fn, np.ascontiguousarray(X[j:e].transpose(1, 0, 2)).reshape(2 * m, -1),
+                                       body._param_tuple, CHUNK).reshape(fn.nouts, e - j, K)
+        np.negative(out[6:9].transpose(1, 0, 2), out=G[j:e, :3])
+        if drift:
+            G[j:e, 3:] = out[:6].transpose(1, 0, 2)
     N = (M - 1) // 2
     h = 1.0 / N
     params = (h, float(Lv[0]), float(Lv[1]), float(Lv[2])) if drift else (h,)
@@ -408,12 +416,22 @@ def loop_guesses(body, basis, x0, x1, T: float, ends: dict | None = None, limits
     Av = (Ad[:, None, None, :] * amps[None, :, None, None] + 0.0 * amps[None, None, :, None]).reshape(-1, m).T
     Bv = (Bd[:, None, None, :] * amps[None, None, :, None] + 0.0 * amps[None, :, None, None]).reshape(-1, m).T
     xg = 2 * grid - 1
-    Y = Av[:, :, None] + xg[None, None, :] * Bv[:, :, None]  # a + (2 sigma - 1) b on the grid, (m, K, 2N + 1)
-    S = SHg[:, None, :] + wg[None, None, :] * Y
-    dS = dSHg[:, None, :] + dwg[None, None, :] * Y + 2.0 * wg[None, None, :] * Bv[:, :, None]
-    ok = np.all(S.min(axis=2) >= lo[:, None], axis=0) & np.all(S.max(axis=2) <= hi[:, None], axis=0) \
-        & np.all(np.abs(dS).max(axis=2) <= 0.99 * U[:, None] * T, axis=0)
     size = np.sqrt(np.sum(Av**2, axis=0) + np.sum(Bv**2, axis=0))
+
+    def shapes(which, at):  # the candidates ``which`` on the grid's points ``at``: S, dS (m, K, points)
+        Y = Av[:, which, None] + xg[None, None, at] * Bv[:, which, None]  # a + (2 sigma - 1) b
+        return (SHg[:, None, at] + wg[None, None, at] * Y,
+                dSHg[:, None, at] + dwg[None, None, at] * Y + 2.0 * wg[None, None, at] * Bv[:, which, None])
+
+    every = np.arange(Av.shape[1])
+    full = slice(None)
+    S = dS = None
+    if np.all(np.isinf(lo)) and np.all(np.isinf(hi)) and np.all(np.isinf(U)):
+        ok = np.ones(every.size, dtype=bool)  # no range or rate to keep: every candidate keeps them
+    else:
+        S, dS = shapes(every, full)
+        ok = np.all(S.min(axis=2) >= lo[:, None], axis=0) & np.all(S.max(axis=2) <= hi[:, None], axis=0) \
+            & np.all(np.abs(dS).max(axis=2) <= 0.99 * U[:, None] * T, axis=0)
 
     def errors(qe):  # the attitude error (rad) of end attitudes (4, K); NaN (a wild candidate): inf
         rel = rot.qmul(rot.qconj(x1[:4] / np.linalg.norm(x1[:4])), qe)  # (4, K), unit
@@ -424,23 +442,28 @@ def loop_guesses(body, basis, x0, x1, T: float, ends: dict | None = None, limits
     def ranked(e, among):  # compliant first, then the error, then the size
         return among[np.lexsort((size[among], np.round(e[among], 2), ~ok[among]))]
 
-    every = np.arange(S.shape[1])
-    if S.shape[1] > SCREENED:
+    def attitudes(which, at):  # the fast integration of the candidates ``which`` on the points ``at``
+        if S is None:  # made for these points alone (the same numbers as the full arrays' entries)
+            return fast_attitudes(body, x0[:4], T, *shapes(which, at))
+        if which is not every:
+            return fast_attitudes(body, x0[:4], T, S[:, which][:, :, at], dS[:, which][:, :, at])
+        return fast_attitudes(body, x0[:4], T, S[:, :, at], dS[:, :, at])
+
+    if every.size > SCREENED:
         # the screening (module docstring): every candidate by SCREEN_STEPS steps, the best
         # SCREENED of that ranking again by FAST_STEPS, and ranked on those
-        stride = N // SCREEN_STEPS
-        coarse = errors(fast_attitudes(body, x0[:4], T, S[:, :, ::stride], dS[:, :, ::stride]))
+        coarse = errors(attitudes(every, slice(None, None, N // SCREEN_STEPS)))
         among = ranked(coarse, every)[:SCREENED]
         err = np.full(every.size, np.inf)
-        err[among] = errors(fast_attitudes(body, x0[:4], T, S[:, among], dS[:, among]))
+        err[among] = errors(attitudes(among, full))
     else:
         among = every
-        err = errors(fast_attitudes(body, x0[:4], T, S, dS))
+        err = errors(attitudes(every, full))
     order = ranked(err, among)
     out, seen = [], []
     for k in order:
         a, b = Av[:, k], Bv[:, k]
-        if any(np.allclose(a, a2) and np.allclose(b, b2) for a2, b2 in seen):
+        if any(_close(a, a2) and _close(b, b2) for a2, b2 in seen):
             continue
         seen.append((a, b))
         c = c_base + (Ksub[:, :2 * m] @ np.concatenate([a, b])).reshape(m, n)
@@ -450,23 +473,42 @@ def loop_guesses(body, basis, x0, x1, T: float, ends: dict | None = None, limits
     return out + [base]
 
 
+def _close(x, y) -> bool:
+    """``numpy.allclose(x, y)`` (its default tolerances) for finite vectors, without its overhead."""
+    return bool(np.all(np.abs(x - y) <= 1e-8 + 1e-5 * np.abs(y)))
+
+
 def _refinement_subspace(m: int, n: int, alpha: int, beta: int, T: float, P, wG, dwG) -> np.ndarray:
     """The loop refinement's subspace in the coefficients, shape (m n, (degree + 1) m): the joint
     offsets :math:`w(x)(v_0 + x v_1 + P_2(x) v_2 + P_3(x) v_3)` (as many Legendre terms as fit in
     the basis beside the end conditions), ``c = c_base + K (v_0, v_1, ...)``; :math:`v_0 = a`,
     :math:`v_1 = b` of a loop."""
-    xG = 2 * _SG - 1
     degree = min(3, n - 1 - (alpha + beta))
-    Pl = [np.polynomial.legendre.legval(xG, np.eye(degree + 1)[k]) for k in range(degree + 1)]
-    dPl = [2.0 * np.polynomial.legendre.legval(xG, np.polynomial.legendre.legder(np.eye(degree + 1)[k]))
-           for k in range(degree + 1)]
+    Pl, dPl = _legendre_at_nodes(degree)
     K = np.zeros((m * n, (degree + 1) * m))
     for k in range(degree + 1):
+        # joint i's offset P_k has the coefficients of row i of (d / T) P^T, d that offset's rates at
+        # the nodes (row i, zero elsewhere): every joint's row in one product of the same shape
+        # (the same numbers as m products of one nonzero row each)
+        d = np.tile(dwG * Pl[k] + wG * dPl[k], (m, 1))
+        R = (d / T) @ P.T  # (m, n)
         for i in range(m):
-            d = np.zeros((m, _SG.size))
-            d[i] = dwG * Pl[k] + wG * dPl[k]
-            K[:, k * m + i] = ((d / T) @ P.T).ravel()
+            K[i * n:(i + 1) * n, k * m + i] = R[i]
     return K
+
+
+@functools.cache
+def _legendre_at_nodes(degree: int):
+    """:math:`P_k(2\\sigma - 1)` and its derivative in :math:`\\sigma` at the 64 Gauss nodes, ``k = 0 ..
+    degree``, each shape (degree + 1, 64), read-only."""
+    xG = 2 * _SG - 1
+    eye = np.eye(degree + 1)
+    Pl = np.array([np.polynomial.legendre.legval(xG, eye[k]) for k in range(degree + 1)])
+    dPl = np.array([2.0 * np.polynomial.legendre.legval(xG, np.polynomial.legendre.legder(eye[k]))
+                    for k in range(degree + 1)])
+    Pl.setflags(write=False)
+    dPl.setflags(write=False)
+    return Pl, dPl
 
 
 def _loop_directions(conn, mid, delta, W2, m: int) -> list[tuple[np.ndarray, np.ndarray]]:
