@@ -88,7 +88,7 @@ class _Counter:
 
 def solve_segment(system: ControlAffineSystem, basis: InputBasis, x0, x1, T: float, *,
                   B=None, d=None, tol: float = 1e-10, max_evaluations: int = 2000,
-                  min_step: float = 1e-5, starts: int = 4, initial=None) -> SegmentSolve:
+                  min_step: float = 1e-5, starts: int = 4, initial=None, initial_endpoint=None) -> SegmentSolve:
     """Steer ``x0`` to ``x1`` in time ``T`` by path deformation.
 
     Parameters
@@ -112,6 +112,11 @@ def solve_segment(system: ControlAffineSystem, basis: InputBasis, x0, x1, T: flo
     initial : array_like, shape (m, basis.n), optional
         A starting input to use instead of the minimum-norm one (it is projected onto
         :math:`Bc = d`).
+    initial_endpoint : tuple of numpy.ndarray, optional
+        The endpoint map and its Jacobian (:func:`acroplan.core.backend.endpoint`) at ``initial``
+        exactly, when the caller has them (a refinement's last evaluation): the Newton polish from
+        ``initial`` starts from them instead of evaluating there again. ``initial`` must then meet
+        :math:`Bc = d` (to rounding), as a refinement within the conditions does.
 
     Returns
     -------
@@ -130,7 +135,7 @@ def solve_segment(system: ControlAffineSystem, basis: InputBasis, x0, x1, T: flo
     if initial is not None:
         # an initial input that (nearly) meets the target, as the flat-output guess does, needs
         # only Newton corrections: no path, no restarts
-        first, polished = _polish(p, z_base, tol, max_evaluations)
+        first, polished = _polish(p, z_base, tol, max_evaluations, initial_endpoint)
         if polished is not None:
             return polished
     if p.Z is None:
@@ -173,10 +178,13 @@ class _Setup:
 
     def evaluate(self, z):
         self.counter.evaluations += 1
+        return self.reduced(*backend.endpoint(self.system, self.basis, self.x0, self.T, self.coefficients(z).ravel()))
+
+    def reduced(self, y, J):
+        """``(y, A)``: the endpoint ``y`` and its Jacobian ``J`` in the coefficients made one in ``z``
+        (tangent rows)."""
         if self.free:
-            y, J = backend.endpoint(self.system, self.basis, self.x0, self.T, z)
             return y, self.system.tangent_jacobian(y, J)
-        y, J = backend.endpoint(self.system, self.basis, self.x0, self.T, self.c_p + self.Z @ z)
         return y, self.system.tangent_jacobian(y, J) @ self.Z
 
     def coefficients(self, z):
@@ -196,12 +204,16 @@ class _Setup:
         return None
 
 
-def _polish(p: _Setup, z_base, tol, max_evaluations):
-    """Newton corrections from a good initial input: ``(first evaluation, the solve or None)``."""
-    try:
-        y, A = p.evaluate(z_base)
-    except backend.IntegrationError:
-        return None, None
+def _polish(p: _Setup, z_base, tol, max_evaluations, known=None):
+    """Newton corrections from a good initial input: ``(first evaluation, the solve or None)``;
+    ``known``: the endpoint and its Jacobian there, when given (no evaluation)."""
+    if known is not None:
+        y, A = p.reduced(*known)
+    else:
+        try:
+            y, A = p.evaluate(z_base)
+        except backend.IntegrationError:
+            return None, None
     s0 = np.linalg.svd(A, compute_uv=False)
     first = (y, A, s0)
     if not (s0[-1] > 1e-8 * s0[0] and _norm(p.diff(y, p.x1)) <= 1e-6 * p.scale):

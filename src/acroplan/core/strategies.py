@@ -214,14 +214,17 @@ def make_segment(system, basis: InputBasis, x0, x1, T: float, c, *, t0: float, f
                          basis=basis, **fields)
 
 
-def deform_attempt(interval: Interval, n: int, *, initial=None, budget: int | None = None) -> IntervalOutcome:
-    """Path deformation with ``n`` coefficients per input (from ``initial`` when given), then, when
-    the result breaks the limits, the constrained solve from it."""
+def deform_attempt(interval: Interval, n: int, *, initial=None, budget: int | None = None,
+                   initial_endpoint=None) -> IntervalOutcome:
+    """Path deformation with ``n`` coefficients per input (from ``initial`` when given; with
+    ``initial_endpoint``, the endpoint map and its Jacobian there: :func:`solve_segment`), then,
+    when the result breaks the limits, the constrained solve from it."""
     system, x0, x1, T, limits = interval.system, interval.x0, interval.x1, interval.T, interval.limits
     bn = interval.sized(n)
     B, d = interval.conditions(bn)
     budget = interval.max_evaluations if budget is None else min(interval.max_evaluations, budget)
-    out = solve_segment(system, bn, x0, x1, T, B=B, d=d, tol=interval.tol, max_evaluations=budget, initial=initial)
+    out = solve_segment(system, bn, x0, x1, T, B=B, d=d, tol=interval.tol, max_evaluations=budget, initial=initial,
+                        initial_endpoint=initial_endpoint)
     info = dict(iterations=out.iterations, evaluations=out.evaluations, restarts=out.restarts,
                 sigma_min=out.sigma_min, history=out.history)
     checked = limit_check(system, bn, x0, T, out.coefficients, limits) if out.success else None

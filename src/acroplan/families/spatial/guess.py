@@ -566,14 +566,17 @@ def refine(body, basis, x0, x1, T: float, guess: LoopGuess, *, budget: int = 30,
 
     Returns
     -------
-    (coefficients, error, evaluations)
-        The best input found (shape (m, n)), its attitude error (rad), the endpoint evaluations spent.
+    (coefficients, error, evaluations, endpoint)
+        The best input found (shape (m, n)), its attitude error (rad), the endpoint evaluations
+        spent, and the endpoint map and its Jacobian at those coefficients exactly
+        (:func:`acroplan.core.backend.endpoint`; ``None`` when they were not evaluated), for the
+        polish that follows (:func:`acroplan.core.strategies.deform_attempt`).
     """
     from ...core.limits import linear_limits
     from ...core.linalg import least_norm_step, least_squares_step
 
     if guess.subspace is None:
-        return guess.coefficients, float("nan"), 0
+        return guess.coefficients, float("nan"), 0, None
     m, n = body.n_inputs, basis.n
     K, c0 = guess.subspace, guess.base.ravel()
     z = np.zeros(K.shape[1])
@@ -585,8 +588,11 @@ def refine(body, basis, x0, x1, T: float, guess: LoopGuess, *, budget: int = 30,
         A, b = linear_limits(body, basis, x0, T, limits, margin=2e-3)
         G, h = A @ K, b - A @ c0
 
+    seen = {}
+
     def evaluate(z):
         y, J = backend.endpoint(body, basis, x0, T, c0 + K @ z)
+        seen[z.tobytes()] = (y, J)
         return body.diff(y, x1)[:3], body.tangent_jacobian(y, J)[:3] @ K
 
     def step(Jz, r, z):
@@ -603,7 +609,7 @@ def refine(body, basis, x0, x1, T: float, guess: LoopGuess, *, budget: int = 30,
     try:
         r, Jz = evaluate(z)
     except backend.IntegrationError:
-        return guess.coefficients, float("inf"), 1
+        return guess.coefficients, float("inf"), 1, None
     evals += 1
     res = float(np.linalg.norm(r))
     slow, stalled = 0, False
@@ -638,4 +644,4 @@ def refine(body, basis, x0, x1, T: float, guess: LoopGuess, *, budget: int = 30,
             break
         stalled = res > CORRECTOR_STALL * before
         slow = slow + 1 if blocked and res > 0.7 * before else 0  # stalled against the limits
-    return (c0 + K @ z).reshape(m, n), res, evals
+    return (c0 + K @ z).reshape(m, n), res, evals, seen.get(z.tobytes())

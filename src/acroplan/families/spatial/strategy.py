@@ -112,19 +112,21 @@ def _stages(interval: Interval, *, generic: bool) -> IntervalOutcome:
         g = guess_list(n)
         if len(g) <= k:
             return None
+        known = None
         if (n, k) in refined:  # refined in an earlier stage: its evaluations are counted there
             c, err = refined[n, k]
             spent = 0
             if err <= 1e-8:  # and polished there already
                 return None
         else:
-            c, err, spent = refine(system, interval.sized(n), interval.x0, interval.x1, interval.T, g[k],
-                                   budget=REFINE_BUDGET, limits=interval.limits)
+            c, err, spent, known = refine(system, interval.sized(n), interval.x0, interval.x1, interval.T, g[k],
+                                          budget=REFINE_BUDGET, limits=interval.limits)
             refined[n, k] = c, err
         if not err <= 1e-8 and not polish_failures:
             return IntervalOutcome(False, (), f"the refined {g[k].describe()} missed by {err:.2g} rad", spent)
-        start = c if err <= 1e-8 else g[k].coefficients
-        out = deform_attempt(interval, n, initial=start, budget=AUTO_BUDGET)
+        # the polish starts from the refinement's last evaluation (at c exactly), not a new one
+        out = (deform_attempt(interval, n, initial=c, budget=AUTO_BUDGET, initial_endpoint=known) if err <= 1e-8
+               else deform_attempt(interval, n, initial=g[k].coefficients, budget=AUTO_BUDGET))
         if out.success:
             if spent:
                 p0 = out.pieces[0]
@@ -204,13 +206,13 @@ def _repeated_loops(interval: Interval, n: int):
         if not _one_loop_can(g):
             continue
         for guess in [x for x in g if x.kind == "loop" and x.compliant][:2]:
-            c, err, used = refine(system, basis, sub.x0, sub.x1, Tk, guess, budget=REFINE_BUDGET,
-                                  limits=interval.limits)
+            c, err, used, known = refine(system, basis, sub.x0, sub.x1, Tk, guess, budget=REFINE_BUDGET,
+                                         limits=interval.limits)
             spent += used
             if not err <= 1e-8:
                 reasons.append(f"{k} loops: the refined {guess.describe()} missed by {err:.2g} rad")
                 continue
-            out = deform_attempt(sub, n, initial=c, budget=AUTO_BUDGET)
+            out = deform_attempt(sub, n, initial=c, budget=AUTO_BUDGET, initial_endpoint=known)
             spent += out.evaluations
             if not out.success or out.pieces[0].method != "deform":
                 reasons.append(f"{k} loops: {out.reason or 'the polished loop needed the constrained solve'}")
