@@ -114,9 +114,10 @@ def solve_segment(system: ControlAffineSystem, basis: InputBasis, x0, x1, T: flo
         :math:`Bc = d`).
     initial_endpoint : tuple of numpy.ndarray, optional
         The endpoint map and its Jacobian (:func:`acroplan.core.backend.endpoint`) at ``initial``
-        exactly, when the caller has them (a refinement's last evaluation): the Newton polish from
-        ``initial`` starts from them instead of evaluating there again. ``initial`` must then meet
-        :math:`Bc = d` (to rounding), as a refinement within the conditions does.
+        exactly, when the caller has them (a refinement's last evaluation): when ``initial``
+        already meets the target (``tol / 1000``), the Newton polish ends there without evaluating
+        it again. ``initial`` must then meet :math:`Bc = d` (to rounding), as a refinement within
+        the conditions does.
 
     Returns
     -------
@@ -205,16 +206,27 @@ class _Setup:
 
 
 def _polish(p: _Setup, z_base, tol, max_evaluations, known=None):
-    """Newton corrections from a good initial input: ``(first evaluation, the solve or None)``;
-    ``known``: the endpoint and its Jacobian there, when given (no evaluation)."""
+    """Newton corrections from a good initial input: ``(first evaluation, the solve or None)``.
+
+    ``known``: the endpoint and its Jacobian at the initial input, when given. They are the first
+    evaluation when the input already meets the target to the last correction's own tolerance
+    (``tol / 1000``, :func:`_correct`) and the Jacobian is non-singular, so that the polish ends
+    there with no correction. Otherwise the input is evaluated at ``z_base`` as without them, so
+    that what follows is the same to the last bit (``z_base`` stands for the input to rounding,
+    and the corrections' path is sensitive to the last bits: benchmarks/RESULTS.md, 2026-12-07,
+    twelfth session)."""
+    s0 = None
     if known is not None:
         y, A = p.reduced(*known)
-    else:
+        s0 = np.linalg.svd(A, compute_uv=False)
+        if not (s0[-1] > 1e-8 * s0[0] and _norm(p.diff(y, p.x1)) <= tol * 1e-3):
+            s0 = None
+    if s0 is None:
         try:
             y, A = p.evaluate(z_base)
         except backend.IntegrationError:
             return None, None
-    s0 = np.linalg.svd(A, compute_uv=False)
+        s0 = np.linalg.svd(A, compute_uv=False)
     first = (y, A, s0)
     if not (s0[-1] > 1e-8 * s0[0] and _norm(p.diff(y, p.x1)) <= 1e-6 * p.scale):
         return first, None
