@@ -29,13 +29,16 @@ Stages, the first success wins (:func:`~acroplan.core.strategies.run_stages`):
    target to 1e-8 rad, polished by deformation; then the three best loops of each larger size the
    same way (more freedom to keep the joint ranges), a loop no further once a larger size missed by
    at least :data:`ENLARGE_GAIN` of its miss at the first size (the joint ranges, not the basis,
-   hold it there); only then is the best loop that missed
-   polished from its guess (that polish often ends in the constrained solve, seconds where a
-   refined loop takes milliseconds);
+   hold it there);
 4. generic path deformation from the minimum-norm input (perturbed starts) at that size, then the
-   other loops that missed polished from their guesses (on the second interval of the bundled
+   loops that missed polished from their guesses (that polish often ends in the constrained
+   solve, seconds where a refined loop takes milliseconds). On the second interval of the bundled
    forward twisting dive, whose loops all miss by 0.24 rad within the joint ranges, the four
-   polishes stalled, 1.0 s, before the generic deformation succeeded in 0.2 s);
+   polishes stalled, 1.0 s, before the generic deformation succeeded in 0.2 s; after the best
+   loop's polish alone was moved behind the generic deformation too, that dive's optimal plan
+   takes 100 endpoint evaluations fewer (525 -> 425), the same plan to the last bit, and 180
+   random chains and 180 trees the same plans in the same evaluations
+   (``benchmarks/RESULTS.md``, 2026-12-07, twelfth session);
 5. each other size: the best loop guess, then generic deformation.
 
 Every stage's deformation has a budget of :data:`AUTO_BUDGET` endpoint evaluations; a result that
@@ -163,7 +166,7 @@ def _stages(interval: Interval, *, generic: bool) -> IntervalOutcome:
         return attempt(n, k, polish_failures=False)
 
     stages += [lambda n=n, k=k: enlarged(n, k) for n in larger for k in range(3)]
-    stages += [lambda: attempt(first, 0), lambda: deform_attempt(interval, first, budget=AUTO_BUDGET)]
+    stages += [lambda: deform_attempt(interval, first, budget=AUTO_BUDGET), lambda: attempt(first, 0)]
     stages += [lambda k=k: attempt(first, k) for k in range(1, 4)]
     for n in sizes:
         if n != first:
