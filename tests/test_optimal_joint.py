@@ -402,9 +402,11 @@ def test_torque_excess_times_are_the_worst_point_of_each_stretch_above_the_rows(
     """OptimalProblem.torque_excess_times: on the dense check's points, one time per stretch where
     |tau| is above the rows' bound (the limit less its margin), at the stretch's largest excess, or,
     for the stretch holding the joint's peak, the peak refined between the points (here at the
-    analytic maximum); add_torque_times puts them on the grid (two more rows each), once."""
+    analytic maximum); add_torque_times puts them on the grid with a time a quarter of the first
+    grid's spacing on either side of each (optimum.EXCHANGE_SPREAD; two more rows each), once."""
     from acroplan.core.basis import Legendre
     from acroplan.core.objectives import TORQUE_MARGIN, torque_check_grid
+    from acroplan.core import optimum
     from acroplan.core.optimum import OptimalProblem
     from test_optimal import FlywheelTorque, OptimalTestFlywheel
 
@@ -436,9 +438,15 @@ def test_torque_excess_times_are_the_worst_point_of_each_stretch_above_the_rows(
         while run[-1] < s.size - 1 and over[run[-1] + 1]:
             run = np.r_[run, run[-1] + 1]
         assert abs(tau[k]) == np.abs(tau[run]).max()
-    rows = prob.ineq(prob.z(c.ravel()))[0].size
-    assert prob.add_torque_times(times) == times.size and prob.add_torque_times(times) == 0
-    assert prob.ineq(prob.z(c.ravel()))[0].size == rows + 2 * times.size
+    rows, before = prob.ineq(prob.z(c.ravel()))[0].size, prob.grid.copy()
+    h = optimum.EXCHANGE_SPREAD / (before.size - 1)
+    assert h == 0.25 / (before.size - 1)
+    wanted = np.concatenate([times, times - h, times + h])
+    added = prob.add_torque_times(times)
+    assert added == np.setdiff1d(wanted, before).size == 3 * times.size  # none on the grid already
+    assert np.all(np.isin(wanted, prob.grid)) and np.all(np.isin(before, prob.grid))
+    assert prob.add_torque_times(times) == 0
+    assert prob.ineq(prob.z(c.ravel()))[0].size == rows + 2 * added
 
 
 class _BumpTorque:

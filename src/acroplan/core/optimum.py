@@ -33,6 +33,12 @@ STAGE_KKT_TOL = 1e-3
 #: Relative KKT residual at the first size, where the starts are compared (an optimum not fully
 #: converged there can only make the ladder's first change look larger, never stop it early).
 FIRST_KKT_TOL = 1e-3
+#: An exchange round (:meth:`OptimalProblem.add_torque_times`) imposes the torque limits at each
+#: time of a largest excess and this fraction of the grid's spacing there on either side of it:
+#: with the time alone, the next optimum's peak moved beside it and broke the limit again (the
+#: double full-out's joint optimum took three rounds, the last one allowed; benchmarks/RESULTS.md,
+#: 2026-12-07, twelfth session).
+EXCHANGE_SPREAD = 0.25
 
 
 @dataclasses.dataclass(frozen=True)
@@ -157,13 +163,20 @@ class OptimalProblem:
         # between the points, the torque limits or the others)
         points = max(TORQUE_LIMIT_GRID, int(limit_grid) + 1) if torque_grid is None else max(int(torque_grid), 2)
         self.grid = None if tau_max is None else np.linspace(0.0, 1.0, points)
+        self.grid_points = points  # the torque grid's first size (uniform), before exchange rounds
 
     def add_torque_times(self, s) -> int:
         """Impose the torque limits at the normalised times ``s`` too (an exchange round: where a
-        result broke them between the grid's points); returns how many times were new."""
+        result broke them between the grid's points), and at :data:`EXCHANGE_SPREAD` of the
+        first grid's spacing on either side of each (the same times again add nothing); returns
+        how many times were new."""
         if self.grid is None:
             return 0
-        grid = np.union1d(self.grid, np.clip(np.asarray(s, dtype=float).ravel(), 0.0, 1.0))
+        s = np.clip(np.asarray(s, dtype=float).ravel(), 0.0, 1.0)
+        if EXCHANGE_SPREAD and s.size and self.grid.size > 1:
+            h = EXCHANGE_SPREAD / (self.grid_points - 1)
+            s = np.clip(np.concatenate([s, s - h, s + h]), 0.0, 1.0)
+        grid = np.union1d(self.grid, s)
         added = grid.size - self.grid.size
         self.grid = grid
         return int(added)
