@@ -70,7 +70,8 @@ Solvers
   start); the reported optimum, when it breaks a limit between the grid's 64 points, is solved
   again from it with the limits it broke (the rate and joint limits, or the torque limits, or both)
   on :data:`DENSE_LIMIT_GRID` points (:meth:`_Search.denser`), then, while it still breaks a torque
-  limit, with the times of the largest excesses added to the torque limits' grid
+  limit, with the times of the largest excesses, and a time on either side of each
+  (:data:`~acroplan.core.optimum.EXCHANGE_SPREAD`), added to the torque limits' grid
   (:data:`EXCHANGE_ROUNDS`); and so is the first size's optimum, where the starts are compared,
   and the intervals' joint optimum (:data:`JOINT_LIMIT_GRIDS`, the first grid with
   :data:`JOINT_LIMIT_ENDS` Chebyshev points at the ends too). (Before issue #22 the limits went to
@@ -910,8 +911,10 @@ JOINT_LIMIT_GRIDS = (64, 256)
 JOINT_LIMIT_ENDS = 64
 #: Exchange rounds of the joint optimum after its densest grid (:meth:`EnergyOptimal.joint`): the
 #: times where its torques broke a limit between the grid's points are added to the torque limits'
-#: grid and the SQP goes on. The double full-out's least integral of u^2 within the strength broke
-#: one by 0.2 N m between 257 points; one round brings it within (benchmarks/RESULTS.md).
+#: grid, with a time on either side of each (:data:`acroplan.core.optimum.EXCHANGE_SPREAD`), and the
+#: SQP goes on. The double full-out's least integral of u^2 within the strength broke one by 0.2 N m
+#: between 257 points; one round brought it within then, three later (each optimum's peak moved
+#: beside the time added), two with the neighbours (benchmarks/RESULTS.md, twelfth session).
 EXCHANGE_ROUNDS = 3
 #: Whether the ladder's sizes are compared with their limits met on their grids alone
 #: (:meth:`_Search.ladder`): each size is a warm start of the next, and only the reported one is
