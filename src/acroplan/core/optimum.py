@@ -34,7 +34,7 @@ STAGE_KKT_TOL = 1e-3
 #: converged there can only make the ladder's first change look larger, never stop it early).
 FIRST_KKT_TOL = 1e-3
 #: An exchange round (:meth:`OptimalProblem.add_torque_times`) imposes the torque limits at each
-#: time of a largest excess and this fraction of the grid's spacing there on either side of it:
+#: time of a largest excess and this fraction of the first torque grid's spacing on either side of it:
 #: with the time alone, the next optimum's peak moved beside it and broke the limit again (the
 #: double full-out's joint optimum took three rounds, the last one allowed; benchmarks/RESULTS.md,
 #: 2026-12-07, twelfth session).

@@ -127,7 +127,8 @@ def _stages(interval: Interval, *, generic: bool) -> IntervalOutcome:
             refined[n, k] = c, err
         if not err <= 1e-8 and not polish_failures:
             return IntervalOutcome(False, (), f"the refined {g[k].describe()} missed by {err:.2g} rad", spent)
-        # the polish starts from the refinement's last evaluation (at c exactly), not a new one
+        # the polish ends on the refinement's last evaluation (at c exactly) when it needs no
+        # correction, instead of evaluating c again (solve_segment's initial_endpoint)
         out = (deform_attempt(interval, n, initial=c, budget=AUTO_BUDGET, initial_endpoint=known) if err <= 1e-8
                else deform_attempt(interval, n, initial=g[k].coefficients, budget=AUTO_BUDGET))
         if out.success:
