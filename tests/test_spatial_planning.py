@@ -341,3 +341,23 @@ if __name__ == "__main__":  # pragma: no cover
     import sys
 
     _figures(sys.argv[1] if len(sys.argv) > 1 else "docs/images")
+
+
+def test_the_polish_of_a_refined_loop_ends_on_the_refinements_last_evaluation(monkeypatch):
+    """A loop refined to the target is polished by path deformation, whose first step evaluated the
+    same input again (to rounding). refine returns its last evaluation (the endpoint map and its
+    Jacobian at its coefficients exactly), and solve_segment's initial_endpoint ends the polish
+    on it when no correction is needed: the same plan to the last bit, evaluations fewer (here
+    two, one per interval)."""
+    from acroplan.families.spatial import strategy
+    from acroplan.families.spatial.examples import twisting_somersault
+
+    body, kw = twisting_somersault()
+    reused = acroplan.plan(body, verify=False, **kw)
+    real = strategy.refine
+    monkeypatch.setattr(strategy, "refine", lambda *a, **k: real(*a, **k)[:3] + (None,))
+    again = acroplan.plan(body, verify=False, **kw)
+    assert reused.success and again.success and len(reused.segments) == len(again.segments) == 2
+    for a, b in zip(reused.segments, again.segments):
+        assert np.array_equal(a.coefficients, b.coefficients)
+    assert again.evaluations - reused.evaluations == 2
