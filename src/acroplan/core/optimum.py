@@ -249,6 +249,11 @@ class OptimalProblem:
     def zhess(self, H):
         return H if self.free else self.Z.T @ H @ self.Z
 
+    def zhessians(self, Hs) -> np.ndarray:
+        """Hessians ``Hs`` in ``c`` (one per constraint, each (m n, m n)) in ``z``, stacked: shape
+        (len(Hs), N_z, N_z) (:meth:`zhess` of each)."""
+        return np.stack([self.zhess(M) for M in Hs])
+
     # functions
     def f(self, z):
         """Cost, gradient and model Hessian in ``z``."""
@@ -394,11 +399,11 @@ class OptimalRun:
                 self.z = polish_endpoint(prob, z, self.tol)
                 return self
             self.Hc = prob.curvature(prob.c(z), Ac, REFRESH_LEADING) if curvature is None else curvature
-            Hz = np.stack([prob.zhess(M) for M in self.Hc])
+            Hz = prob.zhessians(self.Hc)
 
             def refresh(zn):
                 self.Hc = prob.curvature(prob.c(zn), prob.h(zn)[3], REFRESH_LEADING)
-                return np.stack([prob.zhess(M) for M in self.Hc])
+                return prob.zhessians(self.Hc)
 
             z, info = sqp(prob, z, Hz, tol=self.tol, kkt_tol=kkt_tol, refresh=refresh,
                           ineq=self.ineq)
@@ -430,7 +435,7 @@ class OptimalRun:
             return self
         prob = self.prob
         try:
-            Hz = np.stack([prob.zhess(M) for M in self.Hc])
+            Hz = prob.zhessians(self.Hc)
             z, info = sqp(prob, self.z, Hz, tol=self.tol, kkt_tol=kkt_tol, ineq=self.ineq)
             self.its += info["its"]
             self.why = info["why"]
@@ -455,7 +460,7 @@ class OptimalRun:
         lam, _ = kkt_multipliers(g, A)
         W = H.copy()
         if curvature is not None:
-            W += np.tensordot(lam, np.stack([prob.zhess(M) for M in curvature]), axes=1)
+            W += np.tensordot(lam, prob.zhessians(curvature), axes=1)
         out = kkt_step(W, g, h, A, H, convex_only=True)
         if out is None or f <= 0:
             return math.inf
