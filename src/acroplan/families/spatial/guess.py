@@ -219,7 +219,7 @@ def fast_attitudes(body, q0, T: float, S, dS) -> np.ndarray:
     -------
     numpy.ndarray, shape (4, K)
     """
-    from .collocation import CHUNK, compile_map
+    from .collocation import CHUNK, compile_map, evaluate_map
 
     S = np.asarray(S, dtype=float)
     dS = np.asarray(dS, dtype=float)
@@ -236,8 +236,7 @@ def fast_attitudes(body, q0, T: float, S, dS) -> np.ndarray:
     at = max(1, CHUNK // K)
     for j in range(0, M, at):
         e = min(M, j + at)
-        out = backend.evaluate_columns(fn, np.ascontiguousarray(X[j:e].transpose(1, 0, 2)).reshape(2 * m, -1),
-                                       body._param_tuple, CHUNK).reshape(fn.nouts, e - j, K)
+        out = evaluate_map(body, fn, X[j:e].transpose(1, 0, 2).reshape(2 * m, -1)).reshape(fn.nouts, e - j, K)
         np.negative(out[6:9].transpose(1, 0, 2), out=G[j:e, :3])
         if drift:
             G[j:e, 3:] = out[:6].transpose(1, 0, 2)
