@@ -517,7 +517,6 @@ def test_the_qp_step_with_more_active_rows_than_join_at_a_time(monkeypatch):
     assert seen[0] == sqp.QP_ROWS and max(seen) < in_play / 2, (seen, in_play)
 
 
-
 def test_the_qp_step_by_cholesky_is_the_eigenvalues_step(monkeypatch):
     """qp_step factors a well-conditioned reduced Hessian by Cholesky (sqp.CHOLESKY_QP), whose
     least-distance coordinates are the eigenvalues' up to a rotation: on the known program (the
@@ -542,6 +541,7 @@ def test_the_qp_step_by_cholesky_is_the_eigenvalues_step(monkeypatch):
     for e in (np.geomspace(1e-7, 1.0, 30), np.linspace(-1.0, 2.0, 30)):  # ill-conditioned, indefinite
         assert sqp._well_conditioned_cholesky(Q @ np.diag(e) @ Q.T) is None
     assert sqp._well_conditioned_cholesky(Q @ np.diag(np.linspace(0.5, 5.0, 30)) @ Q.T) is not None
+
 
 def test_the_qp_step_keeps_every_row_to_rounding_in_its_own_units():
     """40 random quadratic programs of known solution, rows in units from 1e-3 to 1e3: the step keeps

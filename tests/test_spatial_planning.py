@@ -337,12 +337,6 @@ def _kane_scher_numbers(res):  # pragma: no cover
           f"{np.degrees(psi[-1] - psi[0]):.1f} deg; twist joint within [{min(twist):.1f}, {max(twist):.1f}] deg")
 
 
-if __name__ == "__main__":  # pragma: no cover
-    import sys
-
-    _figures(sys.argv[1] if len(sys.argv) > 1 else "docs/images")
-
-
 def test_the_polish_of_a_refined_loop_ends_on_the_refinements_last_evaluation(monkeypatch):
     """A loop refined to the target is polished by path deformation, whose first step evaluated the
     same input again (to rounding). refine returns its last evaluation (the endpoint map and its
@@ -361,3 +355,10 @@ def test_the_polish_of_a_refined_loop_ends_on_the_refinements_last_evaluation(mo
     for a, b in zip(reused.segments, again.segments):
         assert np.array_equal(a.coefficients, b.coefficients)
     assert again.evaluations - reused.evaluations == 2
+
+
+if __name__ == "__main__":  # pragma: no cover
+    import sys
+
+    _figures(sys.argv[1] if len(sys.argv) > 1 else "docs/images")
+
