@@ -15,7 +15,7 @@ from ...core.validate import BODY_VALUES, MAX_ANGLE, MAX_BODY, check_keys, choic
 from ..acrobot.problem import read_limits as acrobot_limits
 from ..planar.model import PlanarBody
 from ..tree.problem import apply_limits
-from .family import HUMAN_KEYS  # the keys, named by the family's descriptor
+from .family import HUMAN_KEYS, reads  # the keys and the test, named by the family's descriptor
 from .deleva import from_height_mass
 from .limits import POSITIONS, human_limits, position
 from .yeadon_body import MAX_MEASUREMENT_BYTES, SAMPLES, from_yeadon, sample_measurements
@@ -31,11 +31,6 @@ MODELS = ("2d", "3d")
 SPLITS = ("hips", "hips+shoulders")
 #: what [body] may hold beside the human keys (refused with a message naming the clash)
 OTHER_KEYS = ("urdf", "link", "angular_momentum")
-
-
-def reads(table: str, data) -> bool:
-    """A ``[body]`` with any of :data:`HUMAN_KEYS`."""
-    return table == "body" and isinstance(data, dict) and any(k in data for k in HUMAN_KEYS)
 
 
 def read(table: str, data: dict, limits: dict | None, context):
