@@ -248,6 +248,38 @@ def test_plan_the_bundled_cat_through_the_cli(tmp_path):
         assert link.lower - 1e-9 <= lo and hi <= link.upper + 1e-9
 
 
+def test_a_command_imports_scipy_without_rewriting_its_docstrings():
+    """Issue #22 (the falling cat's command line): after ``scipy_docs_as_written`` (what
+    ``acroplan.io.cli.app.run`` calls first) scipy's array-API decorator keeps each docstring as
+    written (no capabilities table appended), still records the capabilities, and nothing computed
+    changes (``nnls`` against its closed form); a second call adds no second hook; a process that
+    never calls it gets scipy's own docstrings."""
+    import subprocess
+    import sys
+
+    api = pytest.importorskip("scipy._lib._array_api")
+    if not (callable(getattr(api, "xp_capabilities", None)) and hasattr(api, "FunctionDoc")):
+        pytest.skip("this scipy has no array-API capabilities decorator (the hook does nothing)")
+    code = ("import sys\n"
+            "from acroplan.io.cli.common import scipy_docs_as_written, _ArrayApiFinder\n"
+            "scipy_docs_as_written(); scipy_docs_as_written()\n"
+            "assert sum(isinstance(f, _ArrayApiFinder) for f in sys.meta_path) == 1\n"
+            "import numpy as np, scipy.linalg, scipy._lib._array_api as api\n"
+            "from scipy.optimize import nnls\n"
+            "assert not any(isinstance(f, _ArrayApiFinder) for f in sys.meta_path)\n"
+            "assert scipy.linalg.block_diag in api.xp_capabilities_table\n"
+            "assert 'Array API Standard Support' not in scipy.linalg.block_diag.__doc__\n"
+            "assert scipy.linalg.block_diag.__doc__.startswith('Create a block diagonal')\n"
+            "x, r = nnls(np.array([[1.0, 0.0], [1.0, 0.0], [0.0, 1.0]]), np.array([2.0, 1.0, 1.0]))\n"
+            "assert np.allclose(x, [1.5, 1.0], rtol=0, atol=1e-15) and abs(r - 0.5 ** 0.5) < 1e-15\n")
+    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert res.returncode == 0, res.stderr
+    plain = ("import scipy.linalg\n"
+             "assert 'Array API Standard Support' in scipy.linalg.block_diag.__doc__\n")
+    res = subprocess.run([sys.executable, "-c", plain], capture_output=True, text=True, timeout=120)
+    assert res.returncode == 0, res.stderr
+
+
 def test_a_command_that_draws_imports_pyplot_without_its_docstring_tables():
     """Issue #22 (the falling cat's command line): ``import_pyplot`` imports matplotlib.pyplot with
     matplotlib's ``kwdoc`` (the property tables of the artists' docstrings) stubbed for the import

@@ -92,7 +92,6 @@ import threading
 from typing import Any, Hashable, Mapping
 
 import numpy as np
-import sympy as sp
 
 from ...core.errors import InvalidInputError
 from ...core.system import ControlAffineSystem
@@ -144,20 +143,29 @@ _SYM = ("xx", "xy", "xz", "yy", "yz", "zz")
 _SYM_IDX = ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))
 
 
-def generic_symbols(parents):
-    """The compiled state and parameter symbols of a topology (module docstring): states
+def generic_names(parents) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """The names of a topology's compiled states and parameters (module docstring): states
     ``qw, qx, qy, qz, s1, ...``; parameters ``Lx, Ly, Lz, Minv``, ``g<k>_x...``, ``J<k>_xx...``,
-    ``R<k>_00...`` and ``w<k>_x...`` (non-root ``k``)."""
+    ``R<k>_00...`` and ``w<k>_x...`` (non-root ``k``). Plain strings: a body's parameter names
+    (:attr:`SpatialBody.param_names`, in every result file) need no sympy."""
     n = len(parents)
-    x = tuple(sp.Symbol(s, real=True) for s in QUATERNION_NAMES) + tuple(sp.Symbol(f"s{j}", real=True)
-                                                                        for j in range(1, n))
+    states = QUATERNION_NAMES + tuple(f"s{j}" for j in range(1, n))
     names = ["Lx", "Ly", "Lz", "Minv"]
     for k in range(n):
         names += [f"g{k}_{a}" for a in "xyz"] + [f"J{k}_{e}" for e in _SYM]
     for k in range(n):
         if parents[k] != -1:
             names += [f"R{k}_{i}{j}" for i in range(3) for j in range(3)] + [f"w{k}_{a}" for a in "xyz"]
-    return x, tuple(sp.Symbol(s, real=True) for s in names)
+    return tuple(states), tuple(names)
+
+
+def generic_symbols(parents):
+    """The compiled state and parameter symbols of a topology: :func:`generic_names` as real sympy
+    symbols."""
+    import sympy as sp
+
+    states, names = generic_names(parents)
+    return tuple(sp.Symbol(s, real=True) for s in states), tuple(sp.Symbol(s, real=True) for s in names)
 
 
 def lumped_parameters(links: SpatialLinkTable, L) -> tuple[float, ...]:
@@ -212,6 +220,8 @@ _LOCK = threading.Lock()
 def _symbolic_map(parents):
     """``(x, p, I, A, R)`` in the compiled symbols, cached per topology: ``I`` a 3 x 3 sympy Matrix,
     ``A`` a list of m column Matrices, ``R`` the links' orientations in the root frame."""
+    import sympy as sp
+
     out = _MAPS.get(parents)
     if out is not None:
         return out
@@ -286,12 +296,16 @@ def _matmul(A, B):
     """``A * B`` of sympy matrices, entry by entry over the nonzero products. sympy's own product
     asks, for every entry, whether zero times it is zero (to catch infinities): an assumptions
     query over the whole expression, which for a 5-link body's inertia terms took minutes."""
+    import sympy as sp
+
     return sp.Matrix(A.rows, B.cols, lambda i, j: sp.Add(*[A[i, k] * B[k, j] for k in range(A.cols)
                                                             if A[i, k] != 0 and B[k, j] != 0]))
 
 
 def _fields(parents):
     """The fields (f, G) of (2) in the compiled symbols."""
+    import sympy as sp
+
     x, p, I, A, _ = _symbolic_map(parents)  # noqa: E741
     qw, qx, qy, qz = x[:4]
     Lv = sp.Matrix(p[:3])
@@ -327,6 +341,8 @@ def _numeric_map(parents):
     reduced expressions: for the 15-link human (``families/human/spatial_body.py``) that takes 3 s,
     where ``lambdify(..., cse=True)`` took about 5 minutes (its walk of the whole expression tree,
     then the canonical ordering of the subexpressions)."""
+    import sympy as sp
+
     fn = _NUMERIC_MAPS.get(parents)
     if fn is None:
         x, p, I, A, _ = _symbolic_map(parents)  # noqa: E741
@@ -471,7 +487,7 @@ class SpatialBody(TreeBody, ControlAffineSystem):
 
     @property
     def param_names(self):
-        return tuple(str(s) for s in generic_symbols(self.links.parents)[1])
+        return generic_names(self.links.parents)[1]
 
     @property
     def _param_tuple(self) -> tuple:

@@ -174,6 +174,10 @@ def run():
     from ...core import heyoka_import
 
     heyoka_import.WITHOUT_SYMPY = True
+    # scipy's submodules imported without re-writing their docstrings (0.2 s: common.py)
+    from .common import scipy_docs_as_written
+
+    scipy_docs_as_written()
 
     # the command line draws to files (library code never chooses a backend); matplotlib itself is
     # imported only by the commands that draw

@@ -150,6 +150,70 @@ def import_pyplot() -> None:
         artist.kwdoc = real
 
 
+class _DocAsWritten:
+    """Stands for scipy's ``FunctionDoc`` in its ``xp_capabilities`` decorator
+    (:func:`scipy_docs_as_written`): the decorator appends its note to the ``Notes`` list and writes
+    ``str(doc)`` back, minus its first line; here that is the docstring as written."""
+
+    def __init__(self, func):
+        self._doc = getattr(func, "__doc__", None) or ""
+
+    def __getitem__(self, section):
+        return []
+
+    def __str__(self):
+        return "\n" + self._doc
+
+
+class _ArrayApiLoader:
+    """The loader of ``scipy._lib._array_api``, which sets :class:`_DocAsWritten` in it once executed."""
+
+    def __init__(self, loader):
+        self._loader = loader
+
+    def create_module(self, spec):
+        return self._loader.create_module(spec)
+
+    def exec_module(self, module):
+        self._loader.exec_module(module)
+        if callable(getattr(module, "xp_capabilities", None)) and hasattr(module, "FunctionDoc"):
+            module.FunctionDoc = _DocAsWritten
+
+
+class _ArrayApiFinder:
+    """Finds ``scipy._lib._array_api`` (once) with :class:`_ArrayApiLoader`."""
+
+    NAME = "scipy._lib._array_api"
+
+    def find_spec(self, name, path=None, target=None):
+        if name != self.NAME:
+            return None
+        import importlib.util
+
+        with contextlib.suppress(ValueError):
+            sys.meta_path.remove(self)
+        spec = importlib.util.find_spec(name)
+        if spec is not None and spec.loader is not None and hasattr(spec.loader, "exec_module"):
+            spec.loader = _ArrayApiLoader(spec.loader)
+        return spec
+
+
+def scipy_docs_as_written() -> None:
+    """Let scipy's submodules import without re-writing their functions' docstrings, in a command.
+
+    scipy (1.17) parses the docstring of each function it marks with its array-API capabilities as
+    the function is defined, and writes it again with a table appended (``xp_capabilities`` in
+    ``scipy._lib._array_api``): 0.2 s of the 0.5-0.8 s that ``scipy.linalg``, ``scipy.integrate`` and
+    ``scipy.optimize`` take to import, in every command that plans. Nothing computed depends on
+    the table; no docstring is read in a command. So the command line (:func:`~acroplan.io.cli.app.run`)
+    has that module's ``FunctionDoc`` keep each docstring as written, set when the module is first
+    imported (nothing is imported here). A scipy without that decorator, or one imported already,
+    is left as it is; library code (a notebook's ``help()``) never comes here."""
+    if "scipy._lib._array_api" in sys.modules or any(isinstance(f, _ArrayApiFinder) for f in sys.meta_path):
+        return
+    sys.meta_path.insert(0, _ArrayApiFinder())
+
+
 def save(figs: dict, folder: Path, fmts) -> None:
     """Write each figure as ``folder/NAME.FORMAT`` (120 dpi) and close it; the stage "writing
     figures" (a PNG of a figure of many panels takes a quarter of a second and more)."""
