@@ -210,6 +210,24 @@ def test_the_pinocchio_check_reproduces_the_compiled_motion():
     assert np.max(np.abs(root_twist(body, x0, u) - body.angular_velocity(x0, u))) < 1e-12
 
 
+def test_the_checks_quaternion_rate_is_half_xi_times_omega_and_its_indices_are_views():
+    """The Pinocchio check's right-hand side, written out (``quaternion_rate``), is
+    :math:`\\tfrac12 \\Xi(q)\\Omega` (``rotations.xi``) to rounding, and is the quaternion product
+    :math:`\\tfrac12 q \\otimes (0, \\Omega)`; a run of consecutive positions becomes a slice, any other
+    index list stays as given."""
+    from acroplan.families.spatial.check import _as_slice, quaternion_rate
+
+    rng = np.random.default_rng(5)
+    for _ in range(20):
+        q, w = rng.normal(size=4), rng.normal(size=3)
+        got = quaternion_rate(q.tolist(), w.tolist())
+        assert np.max(np.abs(got - 0.5 * rot.xi(q) @ w)) < 1e-15 * (1 + np.abs(q).sum() * np.abs(w).sum())
+        a, b = q, np.concatenate([[0.0], w])  # the Hamilton product q (x) (0, w), written independently
+        prod = np.array([a[0] * b[0] - a[1:] @ b[1:], *(a[0] * b[1:] + b[0] * a[1:] + np.cross(a[1:], b[1:]))])
+        assert np.max(np.abs(got - 0.5 * prod)) < 1e-14
+    assert _as_slice([6, 7, 8, 9]) == slice(6, 10) and _as_slice([3, 5]) == [3, 5] and _as_slice([]) == []
+
+
 # ---------------------------------------------------------------------- URDF
 def test_urdf_round_trip_and_refusals(tmp_path):
     from acroplan.families.spatial.urdf import read_link_table, to_urdf

@@ -28,6 +28,7 @@ import functools
 
 import numpy as np
 from scipy.integrate import solve_ivp
+from scipy.linalg import lapack
 
 from ..tree.check import simulate_driven
 from ..tree.pin import require_pinocchio
@@ -68,6 +69,15 @@ def pinocchio_momentum_map(body, shape):
     return Ag[3:6, 3:6].copy(), Ag[3:6, pb.idx_v].copy()
 
 
+def _as_slice(index):
+    """``index`` (a list of positions) as a slice when it is a run of consecutive positions (a
+    slice is a view: no copy in the right-hand side), else as given."""
+    idx = list(index)
+    if idx and idx == list(range(idx[0], idx[0] + len(idx))):
+        return slice(idx[0], idx[0] + len(idx))
+    return index
+
+
 class _Twist:
     """:math:`\\Omega(q, s, u)` from Pinocchio's centroidal map (module docstring)."""
 
@@ -76,8 +86,8 @@ class _Twist:
         self.pb = pinocchio_body(body)
         self.data = self.pb.model.createData()
         self.h = np.concatenate([np.zeros(3), np.asarray(body.L, dtype=float)])
-        self.iq = self.pb.idx_q
-        self.iv = self.pb.idx_v
+        self.iq = _as_slice(self.pb.idx_q)
+        self.iv = _as_slice(self.pb.idx_v)
         self.q = np.zeros(self.pb.model.nq)
 
     def __call__(self, quat, s, u):
@@ -87,7 +97,10 @@ class _Twist:
         q[6] = quat[0] / n
         q[self.iq] = s
         Ag = self.pin.computeCentroidalMap(self.pb.model, self.data, q)
-        nu = np.linalg.solve(Ag[:, :6], self.h - Ag[:, self.iv] @ u)
+        # LAPACK's gesv, as numpy.linalg.solve, without its array wrapping (a third of this call)
+        _, _, nu, info = lapack.dgesv(Ag[:, :6], self.h - Ag[:, self.iv] @ u)
+        if info != 0:
+            raise RuntimeError(f"the centroidal map's root block is singular (gesv info {info})")
         return nu[3:6]
 
 
@@ -118,15 +131,24 @@ def simulate_with_pinocchio(body, x0, t0: float, t1: float, u_of_t, rtol: float 
         ``.t`` absolute times, ``.y`` shape (4 + m, len(t)).
     """
     twist = _Twist(body)
-    m = len(twist.iv)
+    m = body.n_inputs
     t0 = float(t0)
 
     def fun(tau, x):
         u = np.asarray(u_of_t(t0 + tau), dtype=float).reshape(m)
         w = twist(x[:4], x[4:], u)
-        return np.concatenate([0.5 * rot.xi(x[:4]) @ w, u])
+        return np.concatenate([quaternion_rate(x[:4].tolist(), w.tolist()), u])
 
     return simulate_driven(fun, x0, t0, t1, rtol=rtol, atol=atol, t_eval=t_eval)
+
+
+def quaternion_rate(q, omega) -> np.ndarray:
+    """:math:`\\dot q = \\tfrac12 q \\otimes (0, \\Omega) = \\tfrac12 \\Xi(q)\\,\\Omega` (``rotations.xi``),
+    written out: the right-hand side the check evaluates thousands of times a plan (on Python
+    floats: ``q`` and ``omega`` sequences of 4 and 3 numbers)."""
+    w, x, y, z = q
+    a, b, c = omega
+    return np.array([-x * a - y * b - z * c, w * a - z * b + y * c, z * a + w * b - x * c, -y * a + x * b + w * c]) * 0.5
 
 
 def pinocchio_segment(body, x0, T: float, basis, coefficients, *, twist=None):
@@ -157,7 +179,7 @@ def pinocchio_segment(body, x0, T: float, basis, coefficients, *, twist=None):
         V, B = basis.at(tau / T)
         u = (V @ ct)[0]
         s = s0 + T * (B @ ct)[0]
-        return 0.5 * rot.xi(q) @ twist(q, s, u)
+        return quaternion_rate(q.tolist(), twist(q, s, u).tolist())
 
     sol = solve_ivp(fun, (0.0, T), x0[:4] / np.linalg.norm(x0[:4]), method="DOP853", rtol=RTOL, atol=ATOL,
                     max_step=T / 16, t_eval=[T])
