@@ -243,3 +243,26 @@ def test_capacity_is_a_yardstick_not_a_limit():
     assert ok.warnings == () and ok.max_abs_u < 12.0
     with pytest.raises(acroplan.InvalidInputError, match=r"capacity\.rates\.v: is not an input of Acrobot"):
         acroplan.plan(robot, capacity={"rates": {"v": (1.0, "x")}}, **kw)
+
+
+@pytest.mark.parametrize("family", ["legendre", "monomial"])
+def test_the_sup_bound_bounds_the_exact_peak_and_is_attained_at_one_end(family):
+    """``InputBasis.sup_bound`` (the sum of the coefficients' magnitudes, what ``plausibility``
+    asks before any root finding) is at least the exact peak :math:`\\max_{[0,1]} |u|`
+    (``input_extremes``) for random series, and equals it when every coefficient is non-negative
+    (then :math:`u(1) = \\sum_i c_i`, every basis function being 1 at s = 1); a basis that knows no
+    bound says so (``None``)."""
+    from acroplan.core.basis import InputBasis, make_basis
+    from acroplan.core.limits import input_extremes
+
+    rng = np.random.default_rng(8)
+    for n in (1, 2, 6, 14, 30):
+        basis = make_basis(family, n)
+        for _ in range(20):
+            c = rng.normal(size=n) * rng.uniform(0.1, 10.0)
+            lo, hi = input_extremes(basis, c)
+            assert max(abs(lo), abs(hi)) <= basis.sup_bound(c) * (1 + 1e-12)
+        c = np.abs(rng.normal(size=n))
+        lo, hi = input_extremes(basis, c)
+        assert hi == pytest.approx(basis.sup_bound(c), rel=1e-12)
+    assert InputBasis.sup_bound(make_basis(family, 3), [1.0, 2.0, 3.0]) is None

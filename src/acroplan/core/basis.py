@@ -89,6 +89,18 @@ class InputBasis(abc.ABC):
         right-hand side evaluates at each of its calls (the Pinocchio check), the same numbers."""
         return self.matrix(s), self.integral(s)
 
+    def sup_bound(self, c) -> float | None:
+        """An upper bound of :math:`\\max_{s \\in [0, 1]} |\\sum_i c_i b_i(s)|` without root finding,
+        or ``None`` when the family knows none (this default). :class:`Monomial` and
+        :class:`Legendre`: :math:`\\sum_i |c_i|`, since :math:`|s^i| \\le 1` and :math:`|P_i(x)| \\le 1`
+        on their intervals.
+
+        Parameters
+        ----------
+        c : array_like, shape (n,)
+        """
+        return None
+
     def gram(self) -> np.ndarray:
         """:math:`\\int_0^1 b_i b_k\\,ds`, shape ``(n, n)`` (Gauss-Legendre, exact)."""
         x, w = np.polynomial.legendre.leggauss(self.n + 1)
@@ -176,6 +188,9 @@ class Monomial(InputBasis):
     def power_matrix(self):
         return np.eye(self.n)
 
+    def sup_bound(self, c) -> float:
+        return float(np.abs(np.asarray(c, dtype=float)).sum())  # |s^i| <= 1 on [0, 1]
+
     def expression(self, s, c):
         # Horner form: time**i gives non-finite Taylor coefficients at s = 0 (heyoka 7.13: err_nf_state).
         u = c[self.n - 1]
@@ -196,6 +211,9 @@ class Legendre(InputBasis):
 
     def power_matrix(self):
         return _legendre_power(self.n)
+
+    def sup_bound(self, c) -> float:
+        return float(np.abs(np.asarray(c, dtype=float)).sum())  # |P_i(x)| <= 1 on [-1, 1]
 
     # values, derivatives and integrals through Legendre series (three-term recurrence), never
     # through power series, which lose digits from about 10 coefficients on

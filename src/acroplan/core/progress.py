@@ -194,8 +194,13 @@ class Progress:
         #: how many times a shown line was drawn (updates and refreshes; for the record)
         self.draws = 0
         self.watch = bool(watch)
-        #: ``time.monotonic()`` of the last line drawn (of the start, before any)
-        self.last_draw = (time.monotonic() - process_age()) if since is None else float(since)
+        #: ``time.monotonic()`` of the last line drawn (before any: of the process's start when
+        #: watched, the only case that reads it before a draw; else now, without reading /proc,
+        #: which every plan's own progress would pay for)
+        if since is not None:
+            self.last_draw = float(since)
+        else:
+            self.last_draw = time.monotonic() - (process_age() if self.watch else 0.0)
         self._phase: Stage | None = None
         self._phase_name = "starting"
         if self.watch:
