@@ -65,9 +65,29 @@ def test_the_optimal_ladder_reports_its_basis_sizes():
 
 
 def test_a_one_step_stage_shows_its_time_not_a_bar_at_zero_of_one():
-    prog = Progress(enabled=False)
+    prog = Progress(enabled=False, record=True)  # (recorded: its stages are real, see the next test)
     assert P._bar_total(prog.stage("segments", 1)) is None
     assert P._bar_total(prog.stage("frames", 40)) == 40
+
+
+def test_a_progress_nothing_observes_keeps_no_stages_and_one_observed_keeps_them_all():
+    """A progress not shown, without callback, record or watch is silent: its stages are the null
+    stage (no bookkeeping in a script's plans); the same plan with a callback, or recorded, reports
+    every stage as before, and the plans are the same."""
+    silent = Progress(enabled=False)
+    assert silent.silent and silent.stage("segments", 3) is P.NULL_STAGE
+    for observed in (Progress(enabled=False, record=True), Progress(enabled=False, callback=lambda *a: None),
+                     Progress(enabled=True, file=io.StringIO())):
+        assert not observed.silent and isinstance(observed.stage("segments", 3), P.Stage)
+        observed.close()
+    problem = acroplan.examples.load("pike-dive")
+    quiet = acroplan.plan(problem.system, **problem.plan_kwargs(), verify=False, progress=False)
+    recorded = Progress(enabled=False, record=True)
+    loud = acroplan.plan(problem.system, **problem.plan_kwargs(), verify=False, progress=recorded)
+    assert quiet.success and loud.success
+    assert {stage for stage, _, _ in recorded.events} >= {"preparing the plan", "segments"}
+    for a, b in zip(quiet.segments, loud.segments, strict=True):
+        assert np.array_equal(a.basis_coefficients, b.basis_coefficients)
 
 
 def test_a_shown_line_is_redrawn_while_one_long_step_runs():

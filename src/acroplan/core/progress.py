@@ -206,12 +206,21 @@ class Progress:
         if self.watch:
             self._start_ticker()
 
+    @property
+    def silent(self) -> bool:
+        """Nothing observes this progress: not shown, no callback, no record, not watched. Its
+        stages are then :data:`NULL_STAGE` (every plan of a script or a sweep has such a progress:
+        its bookkeeping was 0.05-0.1 ms of a two-link plan's 0.5-0.8)."""
+        return not self.enabled and self.callback is None and self.events is None and not self.watch
+
     # ------------------------------------------------------------------ stages
     def stage(self, name: str, total: float | None = None, *, unit: str = "", leave: bool = True,
               show: bool = True) -> Stage:
         """Open the stage ``name`` (or return it if open): close it with :meth:`Stage.close`, or
         use :meth:`scope`. ``show=False``: counted (events, callback) but never drawn (a stage of one
         step whose inner stages say more)."""
+        if self.silent:
+            return NULL_STAGE
         with self._lock:
             st = self._open.get(name)
             if st is None or st.closed:
