@@ -34,7 +34,7 @@ import threading
 import time
 from typing import Callable, Iterator
 
-__all__ = ["Progress", "Stage", "current", "stage", "note", "close_notes", "auto", "resolve", "in_notebook", "DELAY",
+__all__ = ["Progress", "Stage", "current", "stage", "note", "close_notes", "auto", "resolve", "silent", "in_notebook", "DELAY",
            "REFRESH", "SILENCE", "INNER_STAGES", "process_age"]
 
 #: Seconds a stage runs before its line appears (quick work prints nothing).
@@ -150,6 +150,19 @@ class _Null:
 NULL_STAGE = _Null()
 
 
+class _NullScope:
+    """``with``: the null stage, nothing done at the end (a silent progress's :meth:`Progress.scope`)."""
+
+    def __enter__(self):
+        return NULL_STAGE
+
+    def __exit__(self, *exc):
+        return False
+
+
+_NULL_SCOPE = _NullScope()
+
+
 class Progress:
     """Where the stages of long work are shown (module docstring).
 
@@ -232,10 +245,16 @@ class Progress:
                 st.total = total
             return st
 
-    @contextlib.contextmanager
     def scope(self, name: str, total: float | None = None, *, unit: str = "", leave: bool = True,
-              show: bool = True) -> Iterator[Stage]:
-        """``with progress.scope("figures", 4) as st: ...``: the stage, closed at the end."""
+              show: bool = True):
+        """``with progress.scope("figures", 4) as st: ...``: the stage, closed at the end (a silent
+        progress's: the null stage, with nothing to close)."""
+        if self.silent:
+            return _NULL_SCOPE
+        return self._scope(name, total, unit=unit, leave=leave, show=show)
+
+    @contextlib.contextmanager
+    def _scope(self, name, total, *, unit, leave, show) -> Iterator[Stage]:
         st = self.stage(name, total, unit=unit, leave=leave, show=show)
         try:
             yield st
@@ -260,7 +279,9 @@ class Progress:
             self._phase_name = str(name)
 
     def close(self) -> None:
-        """Close every open stage and stop the refreshing thread."""
+        """Close every open stage and stop the refreshing thread (a silent progress has neither)."""
+        if self.silent:
+            return
         with self._lock:
             for st in list(self._open.values()):
                 st.close()
@@ -389,6 +410,19 @@ def _bar_total(st: Stage):
     return st.total if st.total is not None and st.total > 1 else None
 
 
+_SILENT: Progress | None = None
+
+
+def silent() -> Progress:
+    """The one silent progress (:attr:`Progress.silent`: nothing shown or recorded, every stage the
+    null stage), shared by every plan that nobody watches: making a progress (its lock and event)
+    for each was part of a two-link plan's bookkeeping."""
+    global _SILENT
+    if _SILENT is None:
+        _SILENT = Progress(enabled=False)
+    return _SILENT
+
+
 def current() -> Progress | None:
     """The active :class:`Progress` (``None`` outside any ``active()`` block)."""
     return _CURRENT.get()
@@ -402,9 +436,14 @@ def resolve(progress, stage: str = "segments") -> Progress:
     if isinstance(progress, Progress):
         return progress
     if progress is None:
-        return current() or Progress()
-    if progress is True or progress is False:
-        return Progress(enabled=progress)
+        active = current()
+        if active is not None:
+            return active
+        return Progress() if auto() else silent()
+    if progress is False:
+        return silent()
+    if progress is True:
+        return Progress(enabled=True)
     if callable(progress):
         fn = progress
         return Progress(enabled=False, callback=lambda name, done, total: fn(done, total) if name == stage and done
