@@ -14,7 +14,6 @@ HUMAN_KEYS = ("yeadon", "height", "mass", "sex", "split", "position", "knee_flex
               "joints", "posture")
 
 
-
 def reads(table: str, data) -> bool:
     """A ``[body]`` with any of :data:`HUMAN_KEYS` (here, not in ``problem.py``: asking must not
     import the human reader, whose planar model imports sympy, for every other family's body)."""
