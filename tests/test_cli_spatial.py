@@ -248,6 +248,15 @@ def test_plan_the_bundled_cat_through_the_cli(tmp_path):
         assert link.lower - 1e-9 <= lo and hi <= link.upper + 1e-9
 
 
+def _python_succeeds(code: str) -> None:
+    """``python -c code`` in a fresh interpreter exits 0 (its stderr the failure's message)."""
+    import subprocess
+    import sys
+
+    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert res.returncode == 0, res.stderr
+
+
 def test_the_cats_command_imports_no_sympy_once_its_maps_are_compiled(tmp_path):
     """Issue #22 (the falling cat's command line): with the cat's compiled maps in the cache (a
     first run makes them, deriving the body with sympy), planning it from its problem file imports
@@ -277,9 +286,6 @@ def test_a_command_imports_scipy_without_rewriting_its_docstrings():
     written (no capabilities table appended), still records the capabilities, and nothing computed
     changes (``nnls`` against its closed form); a second call adds no second hook; a process that
     never calls it gets scipy's own docstrings."""
-    import subprocess
-    import sys
-
     api = pytest.importorskip("scipy._lib._array_api")
     if not (callable(getattr(api, "xp_capabilities", None)) and hasattr(api, "FunctionDoc")):
         pytest.skip("this scipy has no array-API capabilities decorator (the hook does nothing)")
@@ -295,12 +301,9 @@ def test_a_command_imports_scipy_without_rewriting_its_docstrings():
             "assert scipy.linalg.block_diag.__doc__.startswith('Create a block diagonal')\n"
             "x, r = nnls(np.array([[1.0, 0.0], [1.0, 0.0], [0.0, 1.0]]), np.array([2.0, 1.0, 1.0]))\n"
             "assert np.allclose(x, [1.5, 1.0], rtol=0, atol=1e-15) and abs(r - 0.5 ** 0.5) < 1e-15\n")
-    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
-    assert res.returncode == 0, res.stderr
-    plain = ("import scipy.linalg\n"
-             "assert 'Array API Standard Support' in scipy.linalg.block_diag.__doc__\n")
-    res = subprocess.run([sys.executable, "-c", plain], capture_output=True, text=True, timeout=120)
-    assert res.returncode == 0, res.stderr
+    _python_succeeds(code)
+    _python_succeeds("import scipy.linalg\n"
+                     "assert 'Array API Standard Support' in scipy.linalg.block_diag.__doc__\n")
 
 
 def test_a_command_that_draws_imports_pyplot_without_its_docstring_tables():
@@ -308,13 +311,9 @@ def test_a_command_that_draws_imports_pyplot_without_its_docstring_tables():
     matplotlib's ``kwdoc`` (the property tables of the artists' docstrings) stubbed for the import
     alone (the tables are docstrings' text, nothing drawn reads them), restored afterwards; a second
     call does nothing."""
-    import subprocess
-    import sys
-
     code = ("import matplotlib; matplotlib.use('Agg'); import matplotlib.artist as a; real = a.kwdoc\n"
             "from acroplan.io.cli.common import import_pyplot; import_pyplot()\n"
             "import sys; assert 'matplotlib.pyplot' in sys.modules and a.kwdoc is real\n"
             "from matplotlib.lines import Line2D; assert 'Properties' not in (Line2D.set.__doc__ or '')\n"
             "import_pyplot()\n")
-    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
-    assert res.returncode == 0, res.stderr
+    _python_succeeds(code)
