@@ -11,7 +11,7 @@
   forward by 40 degrees) back to the same shape, within its joint ranges: one segment;
 * :func:`astronaut_yaw`: an astronaut (:func:`~acroplan.families.spatial.zoo.astronaut`) at zero
   momentum turns 90 degrees about the vertical (longitudinal) axis by four arm cycles (the arms
-  down at every waypoint, 2 s each);
+  down at every waypoint, 2 s each), its shoulders within a human's rate;
 * :func:`astronaut_somersault`: the same astronaut turns 90 degrees about the lateral (horizontal)
   axis by windmilling both arms, five circles of 2 s;
 * :func:`twisting_somersault`: a diver (:func:`~acroplan.families.spatial.zoo.twisting_diver`) with
@@ -30,12 +30,13 @@ import math
 
 import numpy as np
 
+from ...core.limits import Limits
 from . import rotations as rot
 from .model import SpatialBody
 from .zoo import astronaut, cat_frame, falling_cat, trunk_and_two_arms, twisting_diver
 
 __all__ = ["falling_cat_turn", "astronaut_yaw", "astronaut_somersault", "twisting_somersault", "trunk_twist",
-           "TRUNK_TWIST_END", "EXAMPLES"]
+           "TRUNK_TWIST_END", "EXAMPLES", "SHOULDER_RATE"]
 
 
 def falling_cat_turn() -> tuple[SpatialBody, dict]:
@@ -61,8 +62,18 @@ def falling_cat_turn() -> tuple[SpatialBody, dict]:
     return cat, kw
 
 
+#: the astronaut's shoulder rate limit in the yaw (rad/s): the human data's shoulder rate
+#: (``families/human/data/limits.toml``, ``[rates.shoulder]``, an estimate said so there)
+SHOULDER_RATE = 15.0
+
+
 def astronaut_yaw(cycles: int = 4) -> tuple[SpatialBody, dict]:
-    """The astronaut turns 90 degrees about its longitudinal axis at zero momentum (module docstring).
+    """The astronaut turns 90 degrees about its longitudinal axis at zero momentum (module
+    docstring), its shoulders within a human's rate (:data:`SHOULDER_RATE` on every input) and its
+    link table's abduction range. A turn at zero momentum by shape loops needs joint rates many
+    times its own: without a rate limit the same plan (peak 5.5 rad/s, 28 times the waypoints'
+    rate) was flagged implausible (:func:`acroplan.planning.plausibility`), whereas a body whose
+    rates are bounded is within what it can do.
 
     Returns
     -------
@@ -72,8 +83,19 @@ def astronaut_yaw(cycles: int = 4) -> tuple[SpatialBody, dict]:
     att = [rot.exp([0.0, 0.0, 0.5 * math.pi * k / cycles]) for k in range(cycles + 1)]
     z = [0.0] * (cycles + 1)
     kw = dict(times=[2.0 * k for k in range(cycles + 1)], conditions="free", start_rate=0.0, end_rate=0.0,
-              left_flex=z, left_abd=z, right_flex=z, right_abd=z, time_limit=300.0, **rot.attitude_states(att))
+              left_flex=z, left_abd=z, right_flex=z, right_abd=z, time_limit=300.0,
+              limits=_with_rates(body, SHOULDER_RATE), **rot.attitude_states(att))
     return body, kw
+
+
+def _with_rates(body: SpatialBody, rate: float) -> Limits:
+    """The body's own limits (its link table's joint ranges) and ``rate`` on every input: limit
+    keywords of a plan replace the body's own limits, so both are given at once."""
+    own = body.default_limits() or Limits()
+    ranges = {name: (lo, hi) for name, lo, hi in own.state_bounds}
+    rates = dict(own.input_bounds)
+    rates.update({name: min(rate, rates.get(name, rate)) for name in body.input_names})
+    return Limits(ranges, rates, u_max=own.u_max)
 
 
 def astronaut_somersault(circles: int = 5) -> tuple[SpatialBody, dict]:
