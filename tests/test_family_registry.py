@@ -1,6 +1,6 @@
 """The family registry's answers are kept until a family is registered (every plan asks for its
-system's family, and sorting the registry along the class's MRO was some 30 us of a two-link
-plan): a family registered later is found at once, in its priority's place."""
+system's family, and the registry was sorted along the class's MRO each time): a family
+registered later is found at once, in its priority's place."""
 
 from __future__ import annotations
 
