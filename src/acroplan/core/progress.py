@@ -34,8 +34,8 @@ import threading
 import time
 from typing import Callable, Iterator
 
-__all__ = ["Progress", "Stage", "current", "stage", "note", "close_notes", "auto", "resolve", "silent", "in_notebook", "DELAY",
-           "REFRESH", "SILENCE", "INNER_STAGES", "process_age"]
+__all__ = ["Progress", "Stage", "current", "stage", "note", "close_notes", "auto", "resolve", "silent", "in_notebook",
+           "DELAY", "REFRESH", "SILENCE", "INNER_STAGES", "process_age"]
 
 #: Seconds a stage runs before its line appears (quick work prints nothing).
 DELAY = 0.5

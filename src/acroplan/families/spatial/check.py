@@ -97,7 +97,8 @@ class _Twist:
         q[6] = quat[0] / n
         q[self.iq] = s
         Ag = self.pin.computeCentroidalMap(self.pb.model, self.data, q)
-        # LAPACK's gesv, as numpy.linalg.solve, without its array wrapping (a third of this call)
+        # LAPACK's gesv, as numpy.linalg.solve, without its array wrapping (7 of this call's 30 us:
+        # 16.5 against 9.3 us a solve)
         _, _, nu, info = lapack.dgesv(Ag[:, :6], self.h - Ag[:, self.iv] @ u)
         if info != 0:
             raise RuntimeError(f"the centroidal map's root block is singular (gesv info {info})")
@@ -148,7 +149,8 @@ def quaternion_rate(q, omega) -> np.ndarray:
     floats: ``q`` and ``omega`` sequences of 4 and 3 numbers)."""
     w, x, y, z = q
     a, b, c = omega
-    return np.array([-x * a - y * b - z * c, w * a - z * b + y * c, z * a + w * b - x * c, -y * a + x * b + w * c]) * 0.5
+    return np.array([-x * a - y * b - z * c, w * a - z * b + y * c, z * a + w * b - x * c,
+                     -y * a + x * b + w * c]) * 0.5
 
 
 def pinocchio_segment(body, x0, T: float, basis, coefficients, *, twist=None):
