@@ -78,11 +78,14 @@ def plan(system: ControlAffineSystem, *, times, conditions: str | None = None, m
         30, 179.87 at 48, ``benchmarks/RESULTS.md``); a smaller one stops the ladder early.
         Refused with ``n_coefficients`` (one size, no ladder).
     limits : Limits, optional
-        All bounds at once (``Limits()`` for none at all); without it and without limit keywords,
-        the system's own (:meth:`ControlAffineSystem.default_limits`: a URDF's joint ranges and
-        rates) hold. Or the keywords ``u_max`` (:math:`|u_j| \le u_{max}` for every input),
-        ``state_bounds`` (``{"phi": (lo, hi)}``), ``input_bounds`` (``{"u": 15.0}``), ``NAME_min``,
-        ``NAME_max``.
+        All bounds at once, in place of the system's own (``Limits()`` for none at all). Without
+        it, the system's own limits (:meth:`ControlAffineSystem.default_limits`: a URDF's or link
+        table's joint ranges and rates) hold, changed name by name by the keywords ``u_max``
+        (:math:`|u_j| \le u_{max}` for every input, in place of the system's rate limits),
+        ``state_bounds`` (``{"phi": (lo, hi)}``: that joint's range), ``input_bounds``
+        (``{"u": 15.0}``: that input's rate limit), ``NAME_min``, ``NAME_max`` (one end; ``None``
+        drops the system's). What the keywords do not name keeps the system's limit: a rate limit
+        alone does not drop a body's joint ranges.
     verify : bool or {"family", "ode"}
         Check the plan independently of the planner's compiled integrator, and require every
         waypoint within :data:`VERIFY_TOL` (plus what the check can resolve on long chains,

@@ -292,10 +292,9 @@ def _limits_of(system, limits, u_max, state_bounds, input_bounds, shorthand, X, 
         raise InvalidInputError("limits", "is given together with limit keywords",
                                 "give either limits=Limits(...) or the keywords")
     if limits is None:
-        given = Limits(state_bounds, input_bounds, u_max=u_max, **shorthand)
-        # the system's own limits (a URDF's joint ranges and rates) hold unless the call gives
-        # limits of its own; limits=Limits() (empty) switches them off
-        limits = given if given.active else (system.default_limits() or given)
+        # limits=Limits(...) is the whole set (Limits() switches the system's own off); the keywords
+        # change the system's own limits (a URDF's joint ranges and rates) name by name
+        limits = _merged_limits(system.default_limits(), u_max, state_bounds, input_bounds, shorthand)
     limits.check_for(system)
     states = system.state_names
     for state in limits.bounded_states:
@@ -307,6 +306,35 @@ def _limits_of(system, limits, u_max, state_bounds, input_bounds, shorthand, X, 
                                         f"the joint limits [{lo:.12g}, {hi:.12g}]",
                                         "move the waypoint inside the limits or widen them")
     return limits
+
+
+def _merged_limits(own: Limits | None, u_max, state_bounds, input_bounds, shorthand: dict) -> Limits:
+    """The system's own limits ``own`` changed by the limit keywords, name by name.
+
+    ``state_bounds={"q": (lo, hi)}`` replaces joint ``q``'s range (``None``: that end open);
+    ``q_min=`` / ``q_max=`` replace one end (``None`` drops it); ``input_bounds={"u_q": v}``
+    replaces input ``u_q``'s rate limit; ``u_max`` replaces the system's rate limits on every input
+    (a named ``input_bounds`` entry, if smaller, wins, as in :class:`Limits`). What the keywords do
+    not name keeps the system's own limit: a rate limit alone does not drop a body's joint ranges.
+    """
+    given = Limits(state_bounds, input_bounds, u_max=u_max, **shorthand)  # validated as given
+    if own is None or not own.active:
+        return given
+    ranges = {name: [lo, hi] for name, lo, hi in own.state_bounds}
+    for name, (lo, hi) in dict(state_bounds or {}).items():
+        ranges[name] = [lo, hi]
+    for key, v in shorthand.items():
+        ranges.setdefault(key[:-4], [None, None])[0 if key.endswith("_min") else 1] = v
+    for name, (lo, hi) in ranges.items():
+        if lo is not None and hi is not None and not lo < hi:  # one end the call's, the other the body's
+            field = f"{name}_min" if f"{name}_min" in shorthand else f"{name}_max"
+            raise InvalidInputError(field, f"must keep {name}_min < {name}_max, and with the system's own other "
+                                    f"end it gives {name}_min = {lo:.12g}, {name}_max = {hi:.12g}",
+                                    "give both ends, or move this one inside the system's range")
+    rates = {} if u_max is not None else dict(own.input_bounds)
+    rates.update(dict(input_bounds or {}))
+    return Limits({n: tuple(pair) for n, pair in ranges.items()}, rates,
+                  u_max=u_max if u_max is not None else own.u_max)
 
 
 def _end_rates(system, conditions: str, degrees: bool, **given) -> dict[str, np.ndarray]:

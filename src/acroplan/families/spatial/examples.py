@@ -30,7 +30,6 @@ import math
 
 import numpy as np
 
-from ...core.limits import Limits
 from . import rotations as rot
 from .model import SpatialBody
 from .zoo import astronaut, cat_frame, falling_cat, trunk_and_two_arms, twisting_diver
@@ -84,18 +83,8 @@ def astronaut_yaw(cycles: int = 4) -> tuple[SpatialBody, dict]:
     z = [0.0] * (cycles + 1)
     kw = dict(times=[2.0 * k for k in range(cycles + 1)], conditions="free", start_rate=0.0, end_rate=0.0,
               left_flex=z, left_abd=z, right_flex=z, right_abd=z, time_limit=300.0,
-              limits=_with_rates(body, SHOULDER_RATE), **rot.attitude_states(att))
+              u_max=SHOULDER_RATE, **rot.attitude_states(att))
     return body, kw
-
-
-def _with_rates(body: SpatialBody, rate: float) -> Limits:
-    """The body's own limits (its link table's joint ranges) and ``rate`` on every input: limit
-    keywords of a plan replace the body's own limits, so both are given at once."""
-    own = body.default_limits() or Limits()
-    ranges = {name: (lo, hi) for name, lo, hi in own.state_bounds}
-    rates = dict(own.input_bounds)
-    rates.update({name: min(rate, rates.get(name, rate)) for name in body.input_names})
-    return Limits(ranges, rates, u_max=own.u_max)
 
 
 def astronaut_somersault(circles: int = 5) -> tuple[SpatialBody, dict]:

@@ -112,8 +112,9 @@ class TreeBody:
         return Limits(states, inputs)
 
     def default_limits(self):
-        """The table's (or the URDF's) joint limits, honoured by :func:`acroplan.plan` unless the
-        call gives limits of its own (``limits=Limits()`` switches them off)."""
+        """The table's (or the URDF's) joint limits, honoured by :func:`acroplan.plan`: its limit
+        keywords change them name by name, ``limits=Limits(...)`` replaces them whole
+        (``limits=Limits()`` switches them off)."""
         return self.joint_limits()
 
     def joint_bounds(self, limits) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
