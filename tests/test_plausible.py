@@ -266,3 +266,23 @@ def test_the_sup_bound_bounds_the_exact_peak_and_is_attained_at_one_end(family):
         lo, hi = input_extremes(basis, c)
         assert hi == pytest.approx(basis.sup_bound(c), rel=1e-12)
     assert InputBasis.sup_bound(make_basis(family, 3), [1.0, 2.0, 3.0]) is None
+
+
+def test_the_waypoint_rate_of_few_waypoints_is_numpys_to_the_bit():
+    """Up to 32 waypoints :func:`waypoint_rate` works on Python floats; the same operations in the
+    same order give the same bits as the numpy expression, the first of equal rates, and NaN
+    (a free waypoint) as numpy gives it."""
+    robot = acroplan.examples.robot("pike-dive")
+    rng = np.random.default_rng(5)
+    for n in (2, 3, 17, 32, 33, 200):
+        for scale in (1e-3, 1.0, 1e3):
+            X = rng.normal(size=(n, 2)) * scale
+            t = np.cumsum(rng.uniform(0.01, 3.0, size=n))
+            r = np.max(np.abs(np.diff(X, axis=0)), axis=1) / np.diff(t)
+            assert waypoint_rate(robot, t, X) == (float(r[np.argmax(r)]), int(np.argmax(r)))
+    X = np.array([[0.0, 0.0], [1.0, 1.0], [3.0, 1.0]])
+    assert waypoint_rate(robot, [0.0, 1.0, 2.0], X) == (2.0, 1)  # ties and order: the larger second
+    assert waypoint_rate(robot, [0.0, 1.0, 2.0], [[0.0, 0.0], [1.0, 1.0], [2.0, 1.0]]) == (1.0, 0)  # a tie: the first
+    X[1, 0] = np.nan
+    rate, k = waypoint_rate(robot, [0.0, 1.0, 2.0], X)
+    assert np.isnan(rate) and k == 0

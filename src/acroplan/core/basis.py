@@ -20,6 +20,7 @@ from __future__ import annotations
 import abc
 import dataclasses
 import functools
+import math
 
 import numpy as np
 from numpy.polynomial import Legendre as _Leg
@@ -189,7 +190,7 @@ class Monomial(InputBasis):
         return np.eye(self.n)
 
     def sup_bound(self, c) -> float:
-        return float(np.abs(np.asarray(c, dtype=float)).sum())  # |s^i| <= 1 on [0, 1]
+        return _abs_sum(c)  # |s^i| <= 1 on [0, 1]
 
     def expression(self, s, c):
         # Horner form: time**i gives non-finite Taylor coefficients at s = 0 (heyoka 7.13: err_nf_state).
@@ -197,6 +198,12 @@ class Monomial(InputBasis):
         for i in range(self.n - 2, -1, -1):
             u = c[i] + s * u
         return u
+
+
+def _abs_sum(c) -> float:
+    """:math:`\\sum_i |c_i|`, correctly rounded (``math.fsum`` on Python floats: a fifth of numpy's
+    per-call time on a dozen coefficients, and checked after every plan)."""
+    return math.fsum(map(abs, np.asarray(c, dtype=float).tolist()))
 
 
 @dataclasses.dataclass(frozen=True)
@@ -213,7 +220,7 @@ class Legendre(InputBasis):
         return _legendre_power(self.n)
 
     def sup_bound(self, c) -> float:
-        return float(np.abs(np.asarray(c, dtype=float)).sum())  # |P_i(x)| <= 1 on [-1, 1]
+        return _abs_sum(c)  # |P_i(x)| <= 1 on [-1, 1]
 
     # values, derivatives and integrals through Legendre series (three-term recurrence), never
     # through power series, which lose digits from about 10 coefficients on

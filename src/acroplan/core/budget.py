@@ -11,7 +11,6 @@ own, and code run outside a plan has none.
 
 from __future__ import annotations
 
-import contextlib
 import contextvars
 import time
 
@@ -33,22 +32,34 @@ class BudgetExceeded(RuntimeError):
         super().__init__(f"the time budget of {limit:g} s was spent (time_limit)")
 
 
-@contextlib.contextmanager
-def budget(seconds: float | None, *, start: float | None = None):
+def budget(seconds: float | None, *, start: float | None = None) -> "_Budget":
     """Run the body with a deadline ``seconds`` from now, or from ``start`` (a reading of
     :func:`now`, taken when the work began) (``None``: no deadline of its own). Budgets nest:
     inside another budget the earlier deadline holds (the command line opens one around a plan and
-    its effort summary, and the plan opens its own)."""
-    outer = _DEADLINE.get()
-    inner = None if seconds is None else ((_clock() if start is None else float(start)) + float(seconds),
-                                          float(seconds))
-    if outer is not None and (inner is None or outer[0] < inner[0]):
-        inner = outer
-    token = _DEADLINE.set(inner)
-    try:
-        yield
-    finally:
-        _DEADLINE.reset(token)
+    its effort summary, and the plan opens its own). A context manager: ``with budget(60): ...``."""
+    return _Budget(seconds, start)
+
+
+class _Budget:
+    """:func:`budget`'s context manager (a class, not a generator: it wraps every plan, and a
+    generator's context manager costs several calls more)."""
+
+    __slots__ = ("seconds", "start", "token")
+
+    def __init__(self, seconds, start):
+        self.seconds, self.start, self.token = seconds, start, None
+
+    def __enter__(self) -> None:
+        outer = _DEADLINE.get()
+        seconds, start = self.seconds, self.start
+        inner = None if seconds is None else ((_clock() if start is None else float(start)) + float(seconds),
+                                              float(seconds))
+        if outer is not None and (inner is None or outer[0] < inner[0]):
+            inner = outer
+        self.token = _DEADLINE.set(inner)
+
+    def __exit__(self, *exc) -> None:
+        _DEADLINE.reset(self.token)
 
 
 def now() -> float:

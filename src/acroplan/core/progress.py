@@ -163,6 +163,22 @@ class _NullScope:
 _NULL_SCOPE = _NullScope()
 
 
+class _Active:
+    """:meth:`Progress.active`'s context manager (a class, not a generator: every plan opens one)."""
+
+    __slots__ = ("progress", "token")
+
+    def __init__(self, progress):
+        self.progress, self.token = progress, None
+
+    def __enter__(self):
+        self.token = _CURRENT.set(self.progress)
+        return self.progress
+
+    def __exit__(self, *exc) -> None:
+        _CURRENT.reset(self.token)
+
+
 class Progress:
     """Where the stages of long work are shown (module docstring).
 
@@ -261,14 +277,10 @@ class Progress:
         finally:
             st.close()
 
-    @contextlib.contextmanager
-    def active(self) -> Iterator["Progress"]:
-        """Make this the progress that :func:`stage` and :func:`note` report to, in this block."""
-        token = _CURRENT.set(self)
-        try:
-            yield self
-        finally:
-            _CURRENT.reset(token)
+    def active(self) -> "_Active":
+        """Make this the progress that :func:`stage` and :func:`note` report to, in this block
+        (``with progress.active(): ...``; the block's target is this progress)."""
+        return _Active(self)
 
     def phase(self, name: str) -> None:
         """Name what a watched progress's command does from now on between its stages ("writing

@@ -187,7 +187,8 @@ def plan(system: ControlAffineSystem, *, times, conditions: str | None = None, m
                                         max_evaluations=max_evaluations, time_limit=time_limit,
                                         start_rate=start_rate, end_rate=end_rate, degrees=degrees,
                                         objective=objective, tau_max=tau_max, capacity=capacity, **waypoints)
-            return solve(req, progress=prog, started=started)
+            with budget(req.time_limit, start=started):  # what solve() does, its progress already active
+                return _solve(req, prog)
     finally:
         if owned:
             prog.close()

@@ -5,6 +5,7 @@ rate against the rate its waypoints imply, its torques and power against the bod
 from __future__ import annotations
 
 import dataclasses
+import math
 
 import numpy as np
 
@@ -33,17 +34,42 @@ def waypoint_rate(system, times, waypoints) -> tuple[float, int]:
     rotation vector :meth:`~ControlAffineSystem.diff` gives), in rad/s. ``(0.0, 0)`` when the
     system has no angle state or the waypoints do not move."""
     X = np.asarray(waypoints, dtype=float)
-    T = np.diff(np.asarray(times, dtype=float))
     if system.ndx == system.n_states:
-        idx = [i for i, name in enumerate(system.state_names) if name in system.angle_states]
+        angles = system.angle_states
+        idx = [i for i, name in enumerate(system.state_names) if name in angles]
         if not idx:
             return 0.0, 0
+        if len(X) <= _FEW:
+            found = _few_rate(X.tolist(), [float(v) for v in times], idx)
+            if found is not None:
+                return found
         D = np.abs(np.diff(X[:, idx], axis=0))
     else:  # an attitude on a manifold (unit quaternion): its rotation vector and the joint angles
-        D = np.abs(np.array([system.diff(X[k], X[k + 1]) for k in range(T.size)]))
-    rate = np.max(D, axis=1) / T
+        D = np.abs(np.array([system.diff(X[k], X[k + 1]) for k in range(len(X) - 1)]))
+    rate = np.max(D, axis=1) / np.diff(np.asarray(times, dtype=float))
     k = int(np.argmax(rate))
     return float(rate[k]), k
+
+
+#: Up to this many waypoints :func:`waypoint_rate` works on Python floats: the same operations in
+#: the same order (the same bits), without numpy's per-call overhead (20 of its 25 us on a
+#: two-link plan, which checks it after every plan: ``benchmarks/plan_overhead.py``)
+_FEW = 32
+
+
+def _few_rate(rows, times, idx):
+    """:func:`waypoint_rate` of a few waypoints (lists of floats), ``None`` unless every value is
+    finite and the times increase (the numpy path then says what numpy says: NaN, inf)."""
+    if not all(math.isfinite(v) for row in rows for v in row) or \
+            not all(math.isfinite(v) for v in times) or any(b <= a for a, b in zip(times, times[1:])):
+        return None
+    best, where = -1.0, 0
+    for k in range(len(times) - 1):
+        a, b = rows[k], rows[k + 1]
+        d = max(abs(b[i] - a[i]) for i in idx) / (times[k + 1] - times[k])
+        if d > best:
+            best, where = d, k
+    return best, where
 
 
 def plausibility(result: PlanResult, *, factor: float = PLAUSIBLE_FACTOR) -> tuple[str, ...]:

@@ -75,9 +75,15 @@ def checked_vector(field, value, length=None) -> np.ndarray:
     if length is not None and a.size != length:
         raise InvalidInputError(field, f"has {a.size} value(s) but times has {length}",
                                 "give one value per waypoint time")
-    if not np.isfinite(a).all():
+    if not (all(map(math.isfinite, a.tolist())) if a.size <= _FEW else np.isfinite(a).all()):
         raise InvalidInputError(field, "contains NaN or infinite values", "give finite numbers")
     return a
+
+
+#: Up to this many values the checks of a plan's arguments work on Python floats (the same
+#: answers; numpy's per-call overhead, some microseconds a call, was most of a two-link plan's
+#: 0.1 ms of validation: ``benchmarks/plan_overhead.py --parts``)
+_FEW = 64
 
 
 def _whole(field, value, example, most: int | None = None) -> int:
@@ -227,10 +233,12 @@ def _times(times) -> np.ndarray:
     tl = t.tolist()
     if any(b <= a for a, b in zip(tl, tl[1:])):
         raise InvalidInputError("times", "must be strictly increasing", "sort the waypoints by time")
-    if np.max(np.abs(t)) > MAX_TIME:
-        raise InvalidInputError("times", f"reach {np.max(np.abs(t)):.3g}; times beyond {MAX_TIME:g} are more than "
+    reach = max(abs(tl[0]), abs(tl[-1]))  # increasing: the largest magnitude is at an end
+    if reach > MAX_TIME:
+        raise InvalidInputError("times", f"reach {reach:.3g}; times beyond {MAX_TIME:g} are more than "
                                 "the arithmetic carries", "count time from the start of the motion")
-    for k, T in enumerate(np.diff(t)):
+    for k, (a, b) in enumerate(zip(tl, tl[1:])):
+        T = b - a
         if not MIN_DURATION <= T <= MAX_DURATION:
             raise InvalidInputError("times", f"segment {k} lasts {T:.3g}; durations must lie in "
                                     f"[{MIN_DURATION:g}, {MAX_DURATION:g}] (powers of T up to the 29th enter "
@@ -245,7 +253,9 @@ def _waypoint_matrix(system, t, waypoints: dict) -> tuple[np.ndarray, np.ndarray
     if missing:
         raise InvalidInputError(missing[0], "is missing", f"give one value per waypoint for every state "
                                 f"{list(states)}")
-    X = np.stack([_waypoints(name, waypoints[name], t.size) for name in states], axis=1)
+    X = np.empty((t.size, len(states)))
+    for i, name in enumerate(states):
+        X[:, i] = _waypoints(name, waypoints[name], t.size)
     free = np.isnan(X)
     if free.any() and system.ndx != system.n_states:
         raise InvalidInputError(states[int(np.argwhere(free)[0][1])], "free waypoint states need a Euclidean "
@@ -308,6 +318,9 @@ def _limits_of(system, limits, u_max, state_bounds, input_bounds, shorthand, X, 
     return limits
 
 
+_NO_LIMITS = Limits()  # immutable: one for every plan without limits
+
+
 def _merged_limits(own: Limits | None, u_max, state_bounds, input_bounds, shorthand: dict) -> Limits:
     """The system's own limits ``own`` changed by the limit keywords, name by name.
 
@@ -317,6 +330,8 @@ def _merged_limits(own: Limits | None, u_max, state_bounds, input_bounds, shorth
     (a named ``input_bounds`` entry, if smaller, wins, as in :class:`Limits`). What the keywords do
     not name keeps the system's own limit: a rate limit alone does not drop a body's joint ranges.
     """
+    if u_max is None and not state_bounds and not input_bounds and not shorthand:
+        return own if own is not None else _NO_LIMITS
     given = Limits(state_bounds, input_bounds, u_max=u_max, **shorthand)  # validated as given
     if own is None or not own.active:
         return given

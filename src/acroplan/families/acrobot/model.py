@@ -33,7 +33,7 @@ import numpy as np
 from ...core.errors import InvalidInputError, finite_number
 from ...core.system import ControlAffineSystem, Infeasibility, sp
 from ...core.validate import MAX_MAGNITUDE
-from .reach import reachable_set
+from .reach import _reachable_set, reachable_set
 
 __all__ = ["Acrobot", "PhysicalParameters"]
 
@@ -331,7 +331,8 @@ class Acrobot(ControlAffineSystem):
         """
         theta0, phi0 = float(x0[0]), float(x0[1])
         thetaT, phiT = float(x1[0]), float(x1[1])
-        R = reachable_set(self, theta0=theta0, phi0=phi0, phiT=phiT, T=duration, limits=limits)
+        # the arguments are the planner's own, already validated: the public door's checks skipped
+        R = _reachable_set(self, theta0=theta0, phi0=phi0, phiT=phiT, T=float(duration), limits=limits)
         lim = "" if limits is None or not limits.active else f" under {limits.describe()}"
         if not R.success:
             return Infeasibility(f"no joint motion is possible{lim}: {R.message}", "phi", None)
