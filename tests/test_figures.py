@@ -214,3 +214,56 @@ def test_a_png_laid_out_once_is_the_same_file_as_savefigs(cat, tmp_path):
     save_figure(fig, tmp_path / "input.pdf", "pdf", 120)
     assert (tmp_path / "input.pdf").read_bytes()[:5] == b"%PDF-"
     plt.close(fig)
+
+
+def _plan_figures(cat):
+    from acroplan.core.plotting import plot_result
+
+    return plot_result(cat, effort=cat.has_torques)
+
+
+@pytest.mark.skipif(not hasattr(__import__("os"), "fork"), reason="os.fork (Linux) splits the figures")
+def test_figures_written_by_two_processes_are_the_same_files_as_by_one(cat, tmp_path):
+    """The command line's figures in two shares, one written by a forked copy: every file is there
+    and byte for byte the one a single process writes; the states figure (6 panels) is one share,
+    the input and effort figures (3 panels) the other."""
+    from acroplan.io.cli.common import _shares, save
+
+    figs = _plan_figures(cat)
+    mine, theirs = _shares(list(figs.items()), 2)
+    assert [n for n, _ in mine] == ["states"] and sorted(n for n, _ in theirs) == ["effort", "input"]
+    one, two = tmp_path / "one", tmp_path / "two"
+    one.mkdir()
+    two.mkdir()
+    save(figs, one, ["png"], workers=1)
+    save(_plan_figures(cat), two, ["png"], workers=2)
+    names = sorted(p.name for p in one.iterdir())
+    assert names == ["effort.png", "input.png", "states.png"] == sorted(p.name for p in two.iterdir())
+    for name in names:
+        assert (one / name).read_bytes() == (two / name).read_bytes(), name
+
+
+@pytest.mark.skipif(not hasattr(__import__("os"), "fork"), reason="os.fork (Linux) splits the figures")
+@pytest.mark.parametrize("copy", ["fails", "hangs", "no fork"])
+def test_a_share_the_forked_copy_does_not_write_is_written_by_the_process_itself(cat, tmp_path, monkeypatch, copy):
+    import os
+    import time
+
+    from acroplan.io.cli import common
+
+    def failing(share, folder, fmts):
+        pid = os.fork()
+        if pid == 0:
+            if copy == "hangs":
+                time.sleep(60)
+            os._exit(1)
+        return pid
+
+    monkeypatch.setattr(common, "_fork_writer", (lambda *a: None) if copy == "no fork" else failing)
+    monkeypatch.setattr(common, "FORK_PATIENCE", 0.3)
+    t = time.monotonic()
+    common.save(_plan_figures(cat), tmp_path, ["png"], workers=2)
+    assert time.monotonic() - t < 20.0  # a hanging copy is killed after FORK_PATIENCE, not waited for
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["effort.png", "input.png", "states.png"]
+    for p in tmp_path.iterdir():
+        assert p.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and p.stat().st_size > 10_000

@@ -214,23 +214,121 @@ def scipy_docs_as_written() -> None:
     sys.meta_path.insert(0, _ArrayApiFinder())
 
 
-def save(figs: dict, folder: Path, fmts) -> None:
+def save(figs: dict, folder: Path, fmts, *, workers: int | None = None) -> None:
     """Write each figure as ``folder/NAME.FORMAT`` (120 dpi) and close it; the stage "writing
-    figures" (a PNG of a figure of many panels takes a quarter of a second and more)."""
+    figures" (a PNG of a figure of many panels takes a quarter of a second and more).
+
+    With ``workers`` = 2 (the default where the machine has two processors and ``os.fork``, Linux)
+    the figures are split in two shares of about equal work (their panels) and a forked copy of
+    this process writes one share while this one writes the other: the same figure objects, so the
+    same bytes (``tests/test_figures.py``), in about the time of the larger share (the falling
+    cat's 6-panel states figure beside its input and effort figures: ``benchmarks/RESULTS.md``,
+    fourteenth session). A share the copy did not write (it failed, or took
+    :data:`FORK_PATIENCE` seconds more than this process's share) is written here, so the outputs
+    are whole either way; ``workers=1`` writes every figure here."""
     import matplotlib.pyplot as plt
 
     from ...core.plotting import save_figure
     from ...core.progress import stage
 
+    items = list(figs.items())
     try:
-        with stage("writing figures", len(figs) * len(fmts), unit="file") as st:
-            for name, fig in figs.items():
-                for f in fmts:
-                    save_figure(fig, folder / f"{name}.{f}", f, 120)
-                    st.update(detail=f"{name}.{f}")
+        with stage("writing figures", len(items) * len(fmts), unit="file") as st:
+            def write(share):
+                for name, fig in share:
+                    for f in fmts:
+                        save_figure(fig, folder / f"{name}.{f}", f, 120)
+                        st.update(detail=f"{name}.{f}")
+
+            mine, theirs = _shares(items, _fig_workers() if workers is None else workers)
+            pid = _fork_writer(theirs, folder, fmts) if theirs else None
+            write(mine)
+            if theirs and not _joined(pid):
+                write(theirs)  # the copy failed or was too slow: this process writes its share
+            elif theirs:
+                st.update(len(theirs) * len(fmts), detail="written by a second process")
     finally:
         for fig in figs.values():
             plt.close(fig)
+
+
+#: Seconds :func:`save` waits for its forked writer after its own share, before writing that
+#: share itself (a share takes well under a second; this is for a copy that hangs).
+FORK_PATIENCE = 30.0
+
+
+def _fig_workers() -> int:
+    """2 where a forked copy can write figures beside this process (``os.fork``, Linux, two
+    processors or more), else 1."""
+    import os
+
+    return 2 if sys.platform.startswith("linux") and hasattr(os, "fork") and (os.cpu_count() or 1) >= 2 else 1
+
+
+def _shares(items: list, workers: int) -> tuple[list, list]:
+    """The figures split in two shares of about equal work, counted in panels (``(all, [])`` for
+    one worker or one figure): the larger share stays in this process."""
+    if workers < 2 or len(items) < 2:
+        return items, []
+    order = sorted(items, key=lambda kv: -max(1, len(kv[1].axes)))
+    a, b, wa, wb = [], [], 0, 0
+    for name, fig in order:
+        w = max(1, len(fig.axes))
+        if wa <= wb:
+            a.append((name, fig))
+            wa += w
+        else:
+            b.append((name, fig))
+            wb += w
+    return a, b
+
+
+def _fork_writer(share: list, folder: Path, fmts) -> int | None:
+    """Fork a copy of this process that writes ``share``'s figures and exits (0 when every file was
+    written); its process id, ``None`` when fork failed. The copy runs nothing else: no exit
+    handlers, no flushing of this process's buffers (``os._exit``)."""
+    import os
+    import warnings
+
+    from ...core.plotting import save_figure
+
+    try:
+        with warnings.catch_warnings():  # Python 3.12+ warns of fork with threads (heyoka's pool):
+            warnings.simplefilter("ignore", DeprecationWarning)  # the copy runs matplotlib alone
+            pid = os.fork()
+    except OSError:
+        return None
+    if pid:
+        return pid
+    code = 1
+    try:
+        for name, fig in share:
+            for f in fmts:
+                save_figure(fig, folder / f"{name}.{f}", f, 120)
+        code = 0
+    finally:
+        os._exit(code)
+
+
+def _joined(pid: int | None) -> bool:
+    """Whether the forked writer ``pid`` wrote its share: waited for up to :data:`FORK_PATIENCE`
+    seconds, then killed."""
+    import os
+    import signal
+    import time
+
+    if pid is None:
+        return False
+    deadline = time.monotonic() + FORK_PATIENCE
+    while True:
+        done, status = os.waitpid(pid, os.WNOHANG)
+        if done:
+            return os.waitstatus_to_exitcode(status) == 0
+        if time.monotonic() > deadline:
+            os.kill(pid, signal.SIGKILL)
+            os.waitpid(pid, 0)
+            return False
+        time.sleep(0.005)
 
 
 @contextlib.contextmanager
