@@ -267,7 +267,7 @@ def _fig_workers() -> int:
 
 def _shares(items: list, workers: int) -> tuple[list, list]:
     """The figures split in two shares of about equal work, counted in panels (``(all, [])`` for
-    one worker or one figure): the larger share stays in this process."""
+    one worker or one figure): the share of the figure with the most panels stays in this process."""
     if workers < 2 or len(items) < 2:
         return items, []
     order = sorted(items, key=lambda kv: -max(1, len(kv[1].axes)))
@@ -320,15 +320,18 @@ def _joined(pid: int | None) -> bool:
     if pid is None:
         return False
     deadline = time.monotonic() + FORK_PATIENCE
-    while True:
-        done, status = os.waitpid(pid, os.WNOHANG)
-        if done:
-            return os.waitstatus_to_exitcode(status) == 0
-        if time.monotonic() > deadline:
-            os.kill(pid, signal.SIGKILL)
-            os.waitpid(pid, 0)
-            return False
-        time.sleep(0.005)
+    try:
+        while True:
+            done, status = os.waitpid(pid, os.WNOHANG)
+            if done:
+                return os.waitstatus_to_exitcode(status) == 0
+            if time.monotonic() > deadline:
+                os.kill(pid, signal.SIGKILL)
+                os.waitpid(pid, 0)
+                return False
+            time.sleep(0.005)
+    except (ChildProcessError, ProcessLookupError):  # reaped elsewhere (SIGCHLD ignored): not known written
+        return False
 
 
 @contextlib.contextmanager
