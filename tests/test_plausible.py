@@ -286,3 +286,32 @@ def test_the_waypoint_rate_of_few_waypoints_is_numpys_to_the_bit():
     X[1, 0] = np.nan
     rate, k = waypoint_rate(robot, [0.0, 1.0, 2.0], X)
     assert np.isnan(rate) and k == 0
+
+
+def test_the_warnings_peaks_are_the_effort_summarys_without_its_integrals():
+    """:func:`peak_efforts` (what a warning gives) against :meth:`PlanResult.effort`: the acrobot's
+    flagged random segments bit for bit (its model's value at a time does not depend on the other
+    times asked with it), the three rods' flagged loop (a planar body) to 1e-12 relative."""
+    from acroplan.core.effort import peak_efforts
+    from acroplan.zoo import random_segment
+
+    rng = np.random.default_rng(5)
+    flagged = []
+    while len(flagged) < 5:
+        p = random_segment(rng)
+        r = acroplan.plan(p.robot, conditions="free", **p.plan_kwargs(), verify=False, progress=False)
+        if r.warnings:
+            flagged.append(r)
+    for r in flagged:
+        assert r._effort is None  # the warning did not compute the whole summary
+        peaks, e = peak_efforts(r), r.effort()
+        assert peaks == {n: (v.peak_torque, v.peak_power) for n, v in e.items()}
+    from acroplan.families.planar.examples import three_rods_turn
+
+    body, kw = three_rods_turn()
+    del kw["u_max"]
+    r = acroplan.plan(body, **kw, progress=False)
+    assert r.warnings  # its loop without the rate limit is flagged (above)
+    peaks, e = peak_efforts(r), r.effort()
+    for n, v in e.items():
+        assert peaks[n] == pytest.approx((v.peak_torque, v.peak_power), rel=1e-12)

@@ -15,7 +15,7 @@ from .objectives import gram
 from .progress import stage
 
 __all__ = ["JointEffort", "EFFORT_RULE", "peak_times", "PEAK_CANDIDATES", "PEAK_ZOOMS", "PEAK_POINTS", "ROOT_XTOL",
-           "ROOT_RTOL", "ROOT_POINTS", "INTERPOLANT_TAIL", "effort_summary", "peak", "peaks"]
+           "ROOT_RTOL", "ROOT_POINTS", "INTERPOLANT_TAIL", "effort_summary", "peak_efforts", "peak", "peaks"]
 
 
 #: How :meth:`PlanResult.effort` integrates and takes maxima (also written in ``to_dict()["effort"]``).
@@ -129,6 +129,36 @@ def effort_summary(result) -> dict[str, JointEffort]:
             for j, name in enumerate(names)}
 
 
+def peak_efforts(result) -> dict[str, tuple[float, float]]:
+    """Each joint's peak :math:`|\tau|` and peak :math:`|\tau u|` of ``result``, ``{joint:
+    (peak_torque, peak_power)}``: :func:`effort_summary`'s peaks, found the same way (the model on
+    every panel's Gauss nodes and edges, then the zooms of the largest), without its integrals and
+    the roots of the powers for the positive work (a third to a half of its time: the two-link plans
+    the plausibility check flags, 2.0 against 0.9 ms, ``benchmarks/RESULTS.md``, fourteenth
+    session). What :func:`acroplan.planning.plausibility`'s warning gives.
+
+    Raises
+    ------
+    InvalidInputError
+        The system has no torque model, or the result has no segments.
+    """
+    model, names, inputs = result._torque_setup()
+    if not result.segments:
+        raise InvalidInputError("result", "has no planned segments", "plan a motion first")
+    p = len(names)
+    xg, wg = _GAUSS32
+    top_tau, top_pow = np.zeros(p), np.zeros(p)
+    done = {}
+    for seg in result.segments:
+        key = _motion_key(result, seg, model)
+        own = done.get(key)
+        if own is None:
+            own = done[key] = _segment_effort(result, seg, model, inputs, xg, wg, peaks_only=True)
+        np.maximum(top_tau, own["peak_tau"], out=top_tau)
+        np.maximum(top_pow, own["peak_pow"], out=top_pow)
+    return {name: (float(top_tau[j]), float(top_pow[j])) for j, name in enumerate(names)}
+
+
 def _gauss32():
     xg, wg = np.polynomial.legendre.leggauss(32)
     xg, wg = (xg + 1.0) / 2.0, wg / 2.0  # on [0, 1]
@@ -185,7 +215,7 @@ def _motion_key(result, seg, model) -> tuple:
             np.asarray(seg.basis_coefficients, dtype=float).tobytes(), part.tobytes())
 
 
-def _segment_effort(result, seg, model, inputs, xg, wg) -> dict:
+def _segment_effort(result, seg, model, inputs, xg, wg, *, peaks_only: bool = False) -> dict:
     """One segment's integrals and peaks, by joint: ``{"u2", "tau2", "net", "pos", "peak_tau",
     "peak_pow"}``, each (p,) (the sums and maxima :func:`effort_summary` takes over the segments). The torque
     model is called on the grid (every panel's Gauss nodes and edges); the later rounds (two of the
@@ -193,12 +223,11 @@ def _segment_effort(result, seg, model, inputs, xg, wg) -> dict:
     (:class:`PanelInterpolants`) and call the model, once a round, only for times in panels the
     interpolants do not resolve: never point by point, since a model that integrates (a spatial
     body's momentum) costs as much for one time as for hundreds. One call a segment when every panel
-    is resolved, at most four."""
+    is resolved, at most four. ``peaks_only``: ``{"peak_tau", "peak_pow"}`` alone, by the same
+    rounds of the peaks' zooms run without the roots' (the same numbers where the model's value at
+    a time does not depend on the other times asked with it, as the acrobot's and a planar body's;
+    a spatial body's integrating model may differ in the last bits)."""
     T = seg.t1 - seg.t0
-    basis = result.basis_for(seg)
-    G = gram(basis)
-    c = np.asarray(seg.basis_coefficients, dtype=float)
-    acc = {"u2": T * np.array([c[i] @ G @ c[i] for i in inputs])}
     P = int(min(4096, max(8, math.ceil(seg.max_abs_u * T))))
 
     def model_motion(tt):
@@ -217,6 +246,12 @@ def _segment_effort(result, seg, model, inputs, xg, wg) -> dict:
     tau_q, pow_q = tau_g[:, inner].reshape(p, P, 32), pow_g[:, inner].reshape(p, P, 32)
     # the later rounds read the panels' interpolants where they are resolved, the model elsewhere
     motion = PanelInterpolants(edges, np.concatenate([tau_q, pow_q]), model_motion, p)
+    if peaks_only:
+        (top, _), = _lockstep(motion, [(_peak_rounds(grid, np.vstack([tau_g, pow_g])), np.vstack)])
+        return {"peak_tau": top[:p], "peak_pow": top[p:]}
+    G = gram(result.basis_for(seg))
+    c = np.asarray(seg.basis_coefficients, dtype=float)
+    acc = {"u2": T * np.array([c[i] @ G @ c[i] for i in inputs])}
     panel_w = h * wg
     acc["tau2"] = np.einsum("jpk,k->j", tau_q**2, panel_w)
     panel_pow = np.einsum("jpk,k->jp", pow_q, panel_w)  # (p, P): the power's integral per panel

@@ -11,6 +11,7 @@ import numpy as np
 
 from ..core.result import PlanResult
 from ..core.budget import BudgetExceeded
+from ..core.effort import peak_efforts
 
 from .request import PlanRequest
 
@@ -20,8 +21,9 @@ __all__ = ["plausibility", "beyond_capacity", "waypoint_rate", "PLAUSIBLE_FACTOR
 #: A success whose peak joint rate exceeds this many times the fastest rate its waypoints imply
 #: (:func:`waypoint_rate`) carries warnings (:func:`plausibility`).
 PLAUSIBLE_FACTOR = 10.0
-#: Up to this many segments, a warning's peak torque and power are the exact effort summary's
-#: (:meth:`PlanResult.effort`, about 20 ms a segment); beyond, sampled on the fastest segments.
+#: Up to this many segments, a warning's peak torque and power are exact (the effort summary's
+#: peaks, :func:`acroplan.core.effort.peak_efforts`, less than half the summary's time: 0.9 against
+#: 2.0 ms for a flagged two-link segment); beyond, sampled on the fastest segments.
 EXACT_EFFORT_SEGMENTS = 100
 #: Segments from which a plan's waypoints count as dense (the warning then suggests fewer).
 DENSE_SEGMENTS = 50
@@ -81,8 +83,8 @@ def plausibility(result: PlanResult, *, factor: float = PLAUSIBLE_FACTOR) -> tup
     are met, but by a motion far wilder than theirs (dense waypoints of a body with little
     authority, free conditions that pass a growing oscillation from segment to segment). The
     warnings then say: the peak rate, where, and the ratio; the peak torque and power when the
-    body gives torques (exact, :meth:`PlanResult.effort`, up to :data:`EXACT_EFFORT_SEGMENTS`
-    segments; beyond, a lower bound sampled on the 32 fastest segments, said so); and what to try
+    body gives torques (exact, the peaks of :meth:`PlanResult.effort`, up to
+    :data:`EXACT_EFFORT_SEGMENTS` segments; beyond, a lower bound sampled on the 32 fastest segments, said so); and what to try
     (fewer waypoints when they are dense, from :data:`DENSE_SEGMENTS` segments: the issue's 5,001
     waypoints 0.02 s apart give 179 rad/s free and 92 rad/s spline, every 250th of them 0.28 rad/s;
     ``conditions="spline"`` for free conditions). Only bodies whose inputs are all joint rates are checked,
@@ -125,7 +127,8 @@ def plausibility(result: PlanResult, *, factor: float = PLAUSIBLE_FACTOR) -> tup
     if not peak > factor * implied:
         return ()
     seg = segs[worst]
-    name = system.input_names[free[int(np.argmax(row_peaks(seg)))]]
+    # the input at the peak (one free input: that one, without finding its extremes again)
+    name = system.input_names[free[0] if len(free) == 1 else free[int(np.argmax(row_peaks(seg)))]]
     out = [f"peak joint rate {peak:.4g} rad/s ({name}, segment {seg.index}, t = {seg.t0:.4g} to {seg.t1:.4g} s) is "
            f"{peak / implied:.0f} times the fastest rate the waypoints imply, {implied:.4g} rad/s (finite difference "
            f"over [{result.times[k]:.4g}, {result.times[k + 1]:.4g}] s)"]
@@ -150,10 +153,14 @@ def _effort_warning(result: PlanResult, peaks) -> str:
     segs = result.segments
     try:
         if len(segs) <= EXACT_EFFORT_SEGMENTS:
-            effort = result.effort()
-            j = max(effort, key=lambda n: effort[n].peak_torque)
-            p = max(e.peak_power for e in effort.values())
-            return f"peak torque {effort[j].peak_torque:.4g} N m (joint {j}), peak power {p:.4g} W"
+            # the exact peaks alone (peak_efforts: the summary's without its integrals and roots, less
+            # than half its time), or the summary's when it was computed already
+            known = result._effort
+            peaks = ({n: (e.peak_torque, e.peak_power) for n, e in known.items()} if known is not None
+                     else peak_efforts(result))
+            j = max(peaks, key=lambda n: peaks[n][0])
+            p = max(v[1] for v in peaks.values())
+            return f"peak torque {peaks[j][0]:.4g} N m (joint {j}), peak power {p:.4g} W"
         fastest = np.argsort(peaks)[-32:]
         t = np.concatenate([np.linspace(segs[i].t0, segs[i].t1, 65) for i in sorted(fastest)])
         tau, power = result.torques(t)
@@ -228,7 +235,7 @@ def _plausible(result: PlanResult, req: PlanRequest) -> PlanResult:
         head = warnings[0].split(" (", 1)[0] + " beyond what the body can do"
     out = dataclasses.replace(result, warnings=warnings, message=result.message + f"; IMPLAUSIBLE: {head} "
                               f"({len(warnings)} warning{'s' if len(warnings) > 1 else ''}: result.warnings)")
-    object.__setattr__(out, "_effort", result._effort)  # the effort summary the warnings computed, kept
+    object.__setattr__(out, "_effort", result._effort)  # an effort summary computed already, kept
     return out
 
 
