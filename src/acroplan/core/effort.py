@@ -130,11 +130,11 @@ def effort_summary(result) -> dict[str, JointEffort]:
 
 
 def peak_efforts(result) -> dict[str, tuple[float, float]]:
-    """Each joint's peak :math:`|\tau|` and peak :math:`|\tau u|` of ``result``, ``{joint:
+    """Each joint's peak :math:`|\\tau|` and peak :math:`|\\tau u|` of ``result``, ``{joint:
     (peak_torque, peak_power)}``: :func:`effort_summary`'s peaks, found the same way (the model on
     every panel's Gauss nodes and edges, then the zooms of the largest), without its integrals and
-    the roots of the powers for the positive work (a third to a half of its time: the two-link plans
-    the plausibility check flags, 2.0 against 0.9 ms, ``benchmarks/RESULTS.md``, fourteenth
+    the roots of the powers for the positive work, in less than half its time (0.9 against 2.0 ms
+    on the two-link plans the plausibility check flags: ``benchmarks/RESULTS.md``, fourteenth
     session). What :func:`acroplan.planning.plausibility`'s warning gives.
 
     Raises

@@ -84,10 +84,11 @@ def plausibility(result: PlanResult, *, factor: float = PLAUSIBLE_FACTOR) -> tup
     authority, free conditions that pass a growing oscillation from segment to segment). The
     warnings then say: the peak rate, where, and the ratio; the peak torque and power when the
     body gives torques (exact, the peaks of :meth:`PlanResult.effort`, up to
-    :data:`EXACT_EFFORT_SEGMENTS` segments; beyond, a lower bound sampled on the 32 fastest segments, said so); and what to try
-    (fewer waypoints when they are dense, from :data:`DENSE_SEGMENTS` segments: the issue's 5,001
-    waypoints 0.02 s apart give 179 rad/s free and 92 rad/s spline, every 250th of them 0.28 rad/s;
-    ``conditions="spline"`` for free conditions). Only bodies whose inputs are all joint rates are checked,
+    :data:`EXACT_EFFORT_SEGMENTS` segments; beyond, a lower bound sampled on the 32 fastest
+    segments, said so); and what to try (fewer waypoints when they are dense, from
+    :data:`DENSE_SEGMENTS` segments: the issue's 5,001 waypoints 0.02 s apart give 179 rad/s free
+    and 92 rad/s spline, every 250th of them 0.28 rad/s; ``conditions="spline"`` for free
+    conditions). Only bodies whose inputs are all joint rates are checked,
     and only the inputs without a rate limit (``u_max``, ``input_bounds``, a link table's or URDF's
     velocity): a bounded input is within what the caller says the body can do.
 
@@ -156,11 +157,11 @@ def _effort_warning(result: PlanResult, peaks) -> str:
             # the exact peaks alone (peak_efforts: the summary's without its integrals and roots, less
             # than half its time), or the summary's when it was computed already
             known = result._effort
-            peaks = ({n: (e.peak_torque, e.peak_power) for n, e in known.items()} if known is not None
-                     else peak_efforts(result))
-            j = max(peaks, key=lambda n: peaks[n][0])
-            p = max(v[1] for v in peaks.values())
-            return f"peak torque {peaks[j][0]:.4g} N m (joint {j}), peak power {p:.4g} W"
+            tops = ({n: (e.peak_torque, e.peak_power) for n, e in known.items()} if known is not None
+                    else peak_efforts(result))
+            j = max(tops, key=lambda n: tops[n][0])
+            p = max(v[1] for v in tops.values())
+            return f"peak torque {tops[j][0]:.4g} N m (joint {j}), peak power {p:.4g} W"
         fastest = np.argsort(peaks)[-32:]
         t = np.concatenate([np.linspace(segs[i].t0, segs[i].t1, 65) for i in sorted(fastest)])
         tau, power = result.torques(t)
