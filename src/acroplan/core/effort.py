@@ -103,19 +103,11 @@ def effort_summary(result) -> dict[str, JointEffort]:
     InvalidInputError
         The system has no torque model, or the result has no segments.
     """
-    model, names, inputs = result._torque_setup()
-    if not result.segments:
-        raise InvalidInputError("result", "has no planned segments", "plan a motion first")
+    names, inputs, efforts = _segment_efforts(result, peaks_only=False)
     p = len(names)
-    xg, wg = _GAUSS32
     acc = {k: np.zeros(p) for k in ("peak_tau", "peak_pow", "pos", "net", "tau2", "u2")}
-    done = {}  # each joint motion's own effort, by its key (_motion_key)
     with stage("effort summary", len(result.segments), unit="segment") as st:
-        for seg in result.segments:
-            key = _motion_key(result, seg, model)
-            own = done.get(key)
-            if own is None:
-                own = done[key] = _segment_effort(result, seg, model, inputs, xg, wg)
+        for own in efforts:
             for k in ("pos", "net", "tau2", "u2"):
                 acc[k] += own[k]
             for k in ("peak_tau", "peak_pow"):
@@ -142,21 +134,32 @@ def peak_efforts(result) -> dict[str, tuple[float, float]]:
     InvalidInputError
         The system has no torque model, or the result has no segments.
     """
-    model, names, inputs = result._torque_setup()
-    if not result.segments:
-        raise InvalidInputError("result", "has no planned segments", "plan a motion first")
-    p = len(names)
-    xg, wg = _GAUSS32
-    top_tau, top_pow = np.zeros(p), np.zeros(p)
-    done = {}
-    for seg in result.segments:
-        key = _motion_key(result, seg, model)
-        own = done.get(key)
-        if own is None:
-            own = done[key] = _segment_effort(result, seg, model, inputs, xg, wg, peaks_only=True)
+    names, inputs, efforts = _segment_efforts(result, peaks_only=True)
+    top_tau, top_pow = np.zeros(len(names)), np.zeros(len(names))
+    for own in efforts:
         np.maximum(top_tau, own["peak_tau"], out=top_tau)
         np.maximum(top_pow, own["peak_pow"], out=top_pow)
     return {name: (float(top_tau[j]), float(top_pow[j])) for j, name in enumerate(names)}
+
+
+def _segment_efforts(result, *, peaks_only: bool):
+    """``(names, inputs, efforts)`` of ``result``: its torque model's joints and their inputs, and
+    an iterator over its segments' own efforts (:func:`_segment_effort`), a joint motion worked out
+    once and its repeats given the same (:func:`_motion_key`). Raises as :func:`effort_summary`."""
+    model, names, inputs = result._torque_setup()
+    if not result.segments:
+        raise InvalidInputError("result", "has no planned segments", "plan a motion first")
+    xg, wg = _GAUSS32
+
+    def efforts():
+        done = {}  # each joint motion's own effort, by its key (_motion_key)
+        for seg in result.segments:
+            key = _motion_key(result, seg, model)
+            if key not in done:
+                done[key] = _segment_effort(result, seg, model, inputs, xg, wg, peaks_only=peaks_only)
+            yield done[key]
+
+    return names, inputs, efforts()
 
 
 def _gauss32():
