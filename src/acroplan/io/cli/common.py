@@ -228,23 +228,16 @@ def save(figs: dict, folder: Path, fmts, *, workers: int | None = None) -> None:
     are whole either way; ``workers=1`` writes every figure here."""
     import matplotlib.pyplot as plt
 
-    from ...core.plotting import save_figure
     from ...core.progress import stage
 
     items = list(figs.items())
     try:
         with stage("writing figures", len(items) * len(fmts), unit="file") as st:
-            def write(share):
-                for name, fig in share:
-                    for f in fmts:
-                        save_figure(fig, folder / f"{name}.{f}", f, 120)
-                        st.update(detail=f"{name}.{f}")
-
             mine, theirs = _shares(items, _fig_workers() if workers is None else workers)
             pid = _fork_writer(theirs, folder, fmts) if theirs else None
-            write(mine)
+            _write_share(mine, folder, fmts, st)
             if theirs and not _joined(pid):
-                write(theirs)  # the copy failed or was too slow: this process writes its share
+                _write_share(theirs, folder, fmts, st)  # the copy failed or was too slow: written here
             elif theirs:
                 st.update(len(theirs) * len(fmts), detail="written by a second process")
     finally:
@@ -290,8 +283,6 @@ def _fork_writer(share: list, folder: Path, fmts) -> int | None:
     import os
     import warnings
 
-    from ...core.plotting import save_figure
-
     try:
         with warnings.catch_warnings():  # Python 3.12+ warns of fork with threads (heyoka's pool):
             warnings.simplefilter("ignore", DeprecationWarning)  # the copy runs matplotlib alone
@@ -302,12 +293,23 @@ def _fork_writer(share: list, folder: Path, fmts) -> int | None:
         return pid
     code = 1
     try:
-        for name, fig in share:
-            for f in fmts:
-                save_figure(fig, folder / f"{name}.{f}", f, 120)
+        _write_share(share, folder, fmts)
         code = 0
     finally:
         os._exit(code)
+
+
+def _write_share(share: list, folder: Path, fmts, st=None) -> None:
+    """Write the figures ``share`` (``(name, figure)`` pairs) as ``folder/NAME.FORMAT`` at 120 dpi,
+    reporting each file to the stage ``st`` when given (not in a forked copy: the stage is this
+    process's)."""
+    from ...core.plotting import save_figure
+
+    for name, fig in share:
+        for f in fmts:
+            save_figure(fig, folder / f"{name}.{f}", f, 120)
+            if st is not None:
+                st.update(detail=f"{name}.{f}")
 
 
 def _joined(pid: int | None) -> bool:
