@@ -17,6 +17,7 @@ from ..core.limits import Limits
 from ..core import progress as progress_mod
 from ..core.family import prepare
 from ..core.result import PlanResult, SegmentResult, Status
+from ..core.blas import one_blas_thread
 from ..core.budget import BudgetExceeded, budget
 from ..core.chain import STAGE as JOINT_STAGE
 from ..core.budget import now as budget_clock
@@ -187,7 +188,8 @@ def plan(system: ControlAffineSystem, *, times, conditions: str | None = None, m
                                         max_evaluations=max_evaluations, time_limit=time_limit,
                                         start_rate=start_rate, end_rate=end_rate, degrees=degrees,
                                         objective=objective, tau_max=tau_max, capacity=capacity, **waypoints)
-            with budget(req.time_limit, start=started):  # what solve() does, its progress already active
+            # what solve() does, its progress already active
+            with budget(req.time_limit, start=started), one_blas_thread():
                 return _solve(req, prog)
     finally:
         if owned:
@@ -203,7 +205,7 @@ def solve(req: PlanRequest, *, progress=None, started: float | None = None) -> P
     outer = progress_mod.current()
     prog = progress_mod.resolve(progress)
     owned = prog is not outer and not isinstance(progress, progress_mod.Progress)
-    with prog.active(), budget(req.time_limit, start=started):
+    with prog.active(), budget(req.time_limit, start=started), one_blas_thread():
         try:
             return _solve(req, prog)
         finally:

@@ -6,7 +6,8 @@ error while building the point, computing a derived quantity or planning), as
 :func:`acroplan.plan_many` reports one; otherwise what plan() returns (or, with ``plan=False``,
 the derived quantities' status).
 
-Every point is computed with one BLAS thread (:func:`one_blas_thread`), on every executor: Dask's
+Every point is computed with one BLAS thread (:func:`acroplan.core.blas.one_blas_thread`, which
+:func:`acroplan.plan` holds itself; here it covers the derived quantities too), on every executor: Dask's
 workers start with ``OPENBLAS_NUM_THREADS=1`` (its ``distributed.nanny.pre-spawn-environ``) while
 the driver's serial executor has one BLAS thread per core, and OpenBLAS's threaded products split
 their sums by thread, so the last bits of a result (seen: the acrobot's flat-output check,
@@ -26,6 +27,7 @@ from typing import Any
 import numpy as np
 
 from ..core import backend
+from ..core.blas import one_blas_thread
 from ..core.errors import InvalidInputError
 from ..core.progress import Progress
 from ..core.sweep_hooks import derived_value
@@ -35,14 +37,6 @@ from .metrics import point_metrics
 from .vocabulary import PointStatus, SweepPoint, message_code
 
 __all__ = ["compute_chunk", "evaluate_point", "run_chunk", "warm_worker", "one_blas_thread"]
-
-
-def one_blas_thread():
-    """A context in which the BLAS libraries numpy and scipy loaded use one thread (module
-    docstring; ``threadpoolctl``, of the ``sweep`` extra)."""
-    from threadpoolctl import threadpool_limits
-
-    return threadpool_limits(limits=1, user_api="blas")
 
 
 def _crash(e: BaseException, where: str) -> str:
