@@ -169,6 +169,11 @@ def run():
     """Console entry point: one readable line for an unexpected error, unless --debug."""
     import os
 
+    # one BLAS thread in the whole command (set before numpy loads its BLAS), as plan() holds while
+    # it plans (acroplan.core.blas): the effort summaries and checks written beside a plan are then
+    # the same bits under any machine's thread settings too; a value the environment gives is kept
+    for var in ("OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+        os.environ.setdefault(var, "1")
     matplotlib_home()  # before matplotlib is imported
     # heyoka imported without sympy (0.3 s): an acrobot's plan needs none (acroplan.core.heyoka_import)
     from ...core import heyoka_import
