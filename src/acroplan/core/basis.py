@@ -28,7 +28,7 @@ from numpy.polynomial import Polynomial as _Poly
 
 from .errors import InvalidInputError
 
-__all__ = ["InputBasis", "Monomial", "Legendre", "make_basis", "basis_tables", "check_points"]
+__all__ = ["InputBasis", "Monomial", "Legendre", "make_basis", "basis_tables", "check_points", "gauss_legendre"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -104,7 +104,7 @@ class InputBasis(abc.ABC):
 
     def gram(self) -> np.ndarray:
         """:math:`\\int_0^1 b_i b_k\\,ds`, shape ``(n, n)`` (Gauss-Legendre, exact)."""
-        x, w = np.polynomial.legendre.leggauss(self.n + 1)
+        x, w = gauss_legendre(self.n + 1)
         V = self.matrix((x + 1) / 2)
         return (V * (w / 2)[:, None]).T @ V
 
@@ -121,6 +121,24 @@ class InputBasis(abc.ABC):
         numpy.ndarray, same shape as ``c``: :math:`u(\\tau) = \\sum_i p_i \\tau^i`.
         """
         return self.to_power_s(c) / float(T) ** np.arange(self.n)
+
+
+@functools.lru_cache(maxsize=64)
+def gauss_legendre(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """``numpy.polynomial.legendre.leggauss(n)``, read-only and computed once per ``n``: the same
+    numbers, without the eigenvalues of an n x n matrix at each call (1.3 ms for n = 64, which the
+    composite rules built per panel count paid for every new count: about 10% of the acrobot's
+    plan_many, ``benchmarks/RESULTS.md``, fifteenth session).
+
+    Returns
+    -------
+    x, w : numpy.ndarray, shape (n,)
+        Nodes on [-1, 1] and weights.
+    """
+    x, w = np.polynomial.legendre.leggauss(n)
+    x.setflags(write=False)
+    w.setflags(write=False)
+    return x, w
 
 
 @functools.cache

@@ -19,7 +19,7 @@ from typing import Callable
 
 import numpy as np
 
-from .basis import InputBasis, check_points
+from .basis import InputBasis, check_points, gauss_legendre
 from .errors import InvalidInputError
 
 __all__ = ["energy", "TorqueModel", "EnergyCost", "TorqueCost", "cost_for", "call_torque", "tau_vector", "gram",
@@ -81,7 +81,7 @@ def gram(basis: InputBasis) -> np.ndarray:
 @functools.lru_cache(maxsize=16)
 def gauss(panels: int, per: int):
     """Composite Gauss-Legendre nodes and weights on [0, 1] (read-only)."""
-    xg, wg = np.polynomial.legendre.leggauss(per)
+    xg, wg = gauss_legendre(per)
     s = ((np.arange(panels)[:, None] + (xg[None, :] + 1.0) / 2.0) / panels).ravel()
     w = np.tile(wg / (2.0 * panels), panels)
     s.setflags(write=False)
