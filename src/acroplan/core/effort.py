@@ -426,19 +426,30 @@ def _hopeful(x, f, i, best, *, ends: bool = False):
     above it). At an end, always, or with ``ends`` (the ends of the whole span) unless the slope of
     the parabola through the three end samples falls away from the end by more than
     :math:`2|f''|h`: then the end's own value, already known, is the maximum there."""
-    K = f.shape[1]
     r = np.arange(f.shape[0])
+    return _hopeful_at(lambda j: x[r, j], lambda j: f[r, j], f.shape[1], i, best, ends=ends)
+
+
+def _hopeful_at(x_at, f_at, K: int, i, best, *, ends: bool = False):
+    """:func:`_hopeful` with the samples read by ``x_at(j)`` and ``f_at(j)`` (the time and the value
+    of each candidate's sample ``j``, an array of indices or one index): the first round's
+    candidates read the whole grid's row without copying it (:func:`_peak_rounds`), the zooms
+    their own samples. The same arithmetic in the same order either way."""
     inside = (i > 0) & (i < K - 1)
     a, c = np.maximum(i - 1, 0), np.minimum(i + 1, K - 1)
-    hm, hp = x[r, i] - x[r, a], x[r, c] - x[r, i]
+    xi, fi = x_at(i), f_at(i)
+    hm, hp = xi - x_at(a), x_at(c) - xi
     with np.errstate(divide="ignore", invalid="ignore"):
-        d2 = 2.0 * ((f[r, c] - f[r, i]) / hp - (f[r, i] - f[r, a]) / hm) / (hp + hm)
-        reach = f[r, i] + 2.0 * np.abs(d2) * np.maximum(hm, hp) ** 2
+        d2 = 2.0 * ((f_at(c) - fi) / hp - (fi - f_at(a)) / hm) / (hp + hm)
+        reach = fi + 2.0 * np.abs(d2) * np.maximum(hm, hp) ** 2
         keep = ~inside | ~np.isfinite(reach) | (reach >= best)
         if ends and K >= 3:
             for at, j0, j1, j2, sign in ((i == 0, 0, 1, 2, 1.0), (i == K - 1, K - 1, K - 2, K - 3, -1.0)):
-                h1, h2 = x[r, j1] - x[r, j0], x[r, j2] - x[r, j1]  # inward, signed
-                s1, s2 = (f[r, j1] - f[r, j0]) / h1, (f[r, j2] - f[r, j1]) / h2
+                if not at.any():
+                    continue
+                h1, h2 = x_at(j1) - x_at(j0), x_at(j2) - x_at(j1)  # inward, signed
+                f0, f1 = f_at(j0), f_at(j1)
+                s1, s2 = (f1 - f0) / h1, (f_at(j2) - f1) / h2
                 curv = 2.0 * (s2 - s1) / (h1 + h2)
                 slope = s1 - 0.5 * curv * h1  # f' at the end
                 falls = sign * slope < -2.0 * np.abs(curv) * np.abs(h1)  # falling inward
@@ -468,16 +479,21 @@ def _peak_rounds(grid, values):
     v = np.abs(values)
     best = v.max(axis=1)
     when = grid[np.argmax(v, axis=1)]
-    pad = np.full((v.shape[0], 1), -np.inf)
-    left, right = np.hstack([pad, v[:, :-1]]), np.hstack([v[:, 1:], pad])
-    # each row's local maxima within 1% of its largest, the largest first (ties in time order)
-    cand = np.where((v >= left) & (v >= right) & (v >= 0.99 * best[:, None]), v, -np.inf)
-    top = np.argsort(-cand, axis=1, kind="stable")[:, :PEAK_CANDIDATES]
-    rows = np.repeat(np.arange(v.shape[0]), top.shape[1])
-    idx = top.ravel()
-    ok = np.isfinite(cand[rows, idx])
-    rows, idx = rows[ok], idx[ok]
-    keep = _hopeful(np.broadcast_to(grid, (rows.size, grid.size)), v[rows], idx, best[rows], ends=True)
+    # each row's local maxima within 1% of its largest (a sample not below its neighbours, an end
+    # not below its one neighbour), the largest first, ties in time order, at most PEAK_CANDIDATES
+    local = v >= 0.99 * best[:, None]
+    if v.shape[1] > 1:
+        local[:, :-1] &= v[:, :-1] >= v[:, 1:]
+        local[:, 1:] &= v[:, 1:] >= v[:, :-1]
+    rows, idx = np.nonzero(local)
+    vals = v[rows, idx]
+    order = np.lexsort((idx, -vals, rows))  # by row, then value down, then time
+    rows, idx = rows[order], idx[order]
+    first = np.searchsorted(rows, rows, side="left")
+    take = np.arange(rows.size) - first < PEAK_CANDIDATES
+    take[take] = np.isfinite(vals[order][take])  # an infinite sample takes its place and is dropped
+    rows, idx = rows[take], idx[take]
+    keep = _hopeful_at(lambda j: grid[j], lambda j: v[rows, j], grid.size, idx, best[rows], ends=True)
     rows, idx = rows[keep], idx[keep]
     lo, hi = grid[np.maximum(idx - 1, 0)], grid[np.minimum(idx + 1, grid.size - 1)]
     n = PEAK_POINTS
