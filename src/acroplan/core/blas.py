@@ -8,7 +8,7 @@ robot's turn took 378 against 371 endpoint evaluations, the falling cat and the 
 ended at other coefficients in the last bits (the forward 1 1/2 somersault with two twists: 426
 against 428 evaluations, ``benchmarks/RESULTS.md``, fifteenth session). The planners' matrices are
 small (at most a few hundred rows), where the threads' start-up and spinning cost more than they
-share: the twisting dives took 10-60% longer with two threads on two cores.
+share: the twisting dives took 10-70% longer with two threads on two cores.
 
 :func:`acroplan.plan` holds :func:`one_blas_thread` while it plans: every BLAS library loaded in
 the process runs one thread, and each gets back the count it had when the last holder leaves
