@@ -5,8 +5,9 @@ OpenBLAS (numpy's and scipy's) starts one thread per core, and its threaded prod
 sums by thread, so the last bits of a product depend on how many threads ran it, and a planner's
 path with them: planned under one and under two BLAS threads on one machine, the bundled space
 robot's turn took 378 against 371 endpoint evaluations, the falling cat and the twisting dives
-ended at other coefficients in the last bits (the forward 1 1/2 somersault with two twists: 426
-against 428 evaluations, ``benchmarks/RESULTS.md``, fifteenth session). The planners' matrices are
+ended at other coefficients (the dives at the same optima, their costs equal to 6e-13 relative;
+the forward 1 1/2 somersault with two twists in 426 against 428 evaluations:
+``benchmarks/RESULTS.md``, fifteenth session). The planners' matrices are
 small (at most a few hundred rows), where the threads' start-up and spinning cost more than they
 share: the twisting dives took 10-70% longer with two threads on two cores.
 
