@@ -829,3 +829,73 @@ def test_panel_interpolants_serve_where_they_resolve_and_call_the_model_elsewher
         if bad:
             inside = (t >= edges[4]) & (t < edges[5])
             assert np.array_equal(np.sort(asked[0]), np.sort(t[inside]))
+
+def test_gauss_legendre_is_numpys_rule_computed_once_and_read_only():
+    """core.basis.gauss_legendre: numpy's leggauss to the bit, the same arrays on a second call,
+    not writable, and exact for polynomials of degree 2n - 1 (the rule's order) on [-1, 1]."""
+    from acroplan.core.basis import gauss_legendre
+
+    for n in (1, 7, 32, 64):
+        x, w = gauss_legendre(n)
+        xr, wr = np.polynomial.legendre.leggauss(n)
+        assert np.array_equal(x, xr) and np.array_equal(w, wr)
+        assert gauss_legendre(n)[0] is x and not x.flags.writeable and not w.flags.writeable
+        k = 2 * n - 2  # an even degree below 2n: the integral of x^k is 2 / (k + 1)
+        assert abs(w @ x**k - 2.0 / (k + 1)) < 1e-14
+
+
+def _former_first_candidates(grid, values, count):
+    """The peaks' first-round candidates as _peak_rounds chose them before the fifteenth session
+    (padded rows, a full stable argsort, the finite ones kept): ``(rows, idx)``."""
+    v = np.abs(values)
+    best = v.max(axis=1)
+    pad = np.full((v.shape[0], 1), -np.inf)
+    left, right = np.hstack([pad, v[:, :-1]]), np.hstack([v[:, 1:], pad])
+    cand = np.where((v >= left) & (v >= right) & (v >= 0.99 * best[:, None]), v, -np.inf)
+    top = np.argsort(-cand, axis=1, kind="stable")[:, :count]
+    rows = np.repeat(np.arange(v.shape[0]), top.shape[1])
+    idx = top.ravel()
+    ok = np.isfinite(cand[rows, idx])
+    return rows[ok], idx[ok]
+
+
+def test_the_peaks_first_round_takes_the_candidates_it_took_before(monkeypatch):
+    """effort._peak_rounds' first round (local maxima by shifted slices, the few found ordered by
+    lexsort, the grid read in place) asks for the same zoom times as the former one (padded copies,
+    a full argsort; kept here as the reference) on rows with plateaus, ties, equal neighbours, an
+    infinite sample, maxima at the ends and single samples: the effort summaries' peaks stay the
+    same to the bit (checked on 41 plans when it was changed)."""
+    from acroplan.core import effort
+
+    rng = np.random.default_rng(3)
+    for trial in range(200):
+        K = int(rng.integers(1, 40))
+        r = int(rng.integers(1, 5))
+        grid = np.sort(rng.uniform(0.0, 1.0, K))
+        grid[0] = 0.0
+        values = np.round(rng.normal(size=(r, K)), 1)  # coarse values: ties and plateaus
+        if K > 2 and trial % 3 == 0:
+            values[0, -1] = values[0].max() + 1.0  # a maximum at the end
+        if trial % 7 == 0:
+            values[-1, int(rng.integers(K))] = np.inf
+        if trial % 5 == 0:
+            values[0, :] = 1.0  # a plateau: every sample a local maximum
+        rows, idx = _former_first_candidates(grid, values, effort.PEAK_CANDIDATES)
+        # the former round's candidates, through the same test of whether they can still rise
+        v = np.abs(values)
+        best = v.max(axis=1)
+        keep = effort._hopeful(np.broadcast_to(grid, (rows.size, K)), v[rows], idx, best[rows], ends=True)
+        rows, idx = rows[keep], idx[keep]
+        lo, hi = grid[np.maximum(idx - 1, 0)], grid[np.minimum(idx + 1, K - 1)]
+        keep = hi > lo
+        lo, hi = lo[keep], hi[keep]
+        frac = np.linspace(0.0, 1.0, effort.PEAK_POINTS)
+        want = lo[:, None] + (hi - lo)[:, None] * frac[None, :]
+        if want.size:
+            want[:, -1] = hi
+        gen = effort._peak_rounds(grid, values)
+        try:
+            got = next(gen)
+        except StopIteration:
+            got = np.zeros(0)
+        assert np.array_equal(got, want.ravel()), trial
