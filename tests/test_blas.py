@@ -63,3 +63,29 @@ def test_a_plan_gives_the_same_bits_under_one_or_two_blas_threads_of_the_caller(
                   sum(s.evaluations for s in res.segments))
     assert out[1][1] == out[2][1]
     assert np.array_equal(out[1][0], out[2][0])  # bit for bit: one machine, one thread both times
+
+
+@pytest.mark.parametrize("given", [None, "2"])
+def test_the_command_line_starts_with_one_blas_thread_unless_the_environment_says(given):
+    """acroplan.io.cli.app.run sets OPENBLAS_NUM_THREADS (and MKL's) to 1 before numpy loads its
+    BLAS in the command's process (so the effort summaries written beside a plan are held too),
+    and keeps a value the environment gives: numpy's BLAS then runs that many threads there (a
+    process of its own, since the command line sets process-wide state)."""
+    import os
+    import subprocess
+    import sys
+
+    env = {k: v for k, v in os.environ.items() if k not in ("OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS",
+                                                            "OMP_NUM_THREADS")}
+    if given is not None:
+        env["OPENBLAS_NUM_THREADS"] = given
+    code = ("import os, sys; sys.argv = ['acroplan', '--help']\n"
+            "from acroplan.io.cli.app import run\n"
+            "run()\n"
+            "import numpy, threadpoolctl\n"
+            "print('threads', os.environ['OPENBLAS_NUM_THREADS'], "
+            "max(i['num_threads'] for i in threadpoolctl.threadpool_info() if i['user_api'] == 'blas'))\n")
+    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=120)
+    assert res.returncode == 0, res.stderr
+    want = "1" if given is None else given
+    assert res.stdout.strip().splitlines()[-1] == f"threads {want} {want}", res.stdout[-300:]
