@@ -89,3 +89,33 @@ def test_the_command_line_starts_with_one_blas_thread_unless_the_environment_say
     assert res.returncode == 0, res.stderr
     want = "1" if given is None else given
     assert res.stdout.strip().splitlines()[-1] == f"threads {want} {want}", res.stdout[-300:]
+
+
+def test_libraries_other_than_openblas_and_ones_that_fail_are_held_or_left_without_stopping_a_plan(monkeypatch):
+    """A library reached through its threadpoolctl controller (MKL, BLIS, FlexiBLAS: controllers
+    without OpenBLAS's controlling thread) is set to one thread and given its count back; one whose
+    calls fail is left as it is, and the hold, and so the plan, goes on."""
+    from acroplan.core import blas
+
+    class FakeMKL:  # threadpoolctl's MKLController has no clear_controlling_thread
+        user_api, internal_api = "blas", "mkl"
+
+        def __init__(self):
+            self.n, self.calls = 4, []
+
+        def get_num_threads(self):
+            return self.n
+
+        def set_num_threads(self, n):
+            self.calls.append(n)
+            self.n = n
+
+    class Broken(FakeMKL):
+        def get_num_threads(self):
+            raise OSError("symbol not found")
+
+    mkl, broken = FakeMKL(), Broken()
+    monkeypatch.setattr(blas, "_libraries", [blas._functions(mkl), blas._functions(broken)])
+    with blas.one_blas_thread():
+        assert mkl.n == 1
+    assert mkl.n == 4 and mkl.calls == [1, 4] and broken.calls == []

@@ -17,7 +17,8 @@ the process runs one thread, and each gets back the count it had when the last h
 executor; the count is per process). A caller's ``OPENBLAS_NUM_THREADS`` or ``threadpoolctl``
 limit holds outside plans. The hold costs about 3 us (three calls into each library); the
 libraries (numpy's and scipy's, imported first) are found once, the first time, by
-``threadpoolctl`` (the maintained way to reach them). Without ``threadpoolctl`` it does nothing.
+``threadpoolctl`` (the maintained way to reach them). Without ``threadpoolctl`` it does nothing,
+and a library whose count cannot be read or set is left as it is: a plan is never refused for it.
 """
 
 from __future__ import annotations
@@ -36,7 +37,8 @@ _libraries: list | None = None
 def _blas_libraries() -> list:
     """``[(get_num_threads, set_num_threads)]`` of each BLAS library of this process, found once
     (threadpoolctl's controllers; OpenBLAS with its own threads through its two C functions
-    directly, a third of the controller's cost)."""
+    directly, a third of the controller's cost). Empty when they cannot be found: a plan is then
+    computed with the threads it finds, never refused for it."""
     global _libraries
     if _libraries is None:
         # numpy's and scipy's libraries loaded first (dependencies, imported by any plan anyway), so
@@ -46,27 +48,33 @@ def _blas_libraries() -> list:
 
         try:
             from threadpoolctl import ThreadpoolController
-        except ImportError:  # pragma: no cover - a dependency; without it, nothing is held
-            _libraries = []
-        else:
+
             _libraries = [_functions(lib) for lib in ThreadpoolController().lib_controllers
                           if lib.user_api == "blas"]
+        except Exception:  # noqa: BLE001 - no threadpoolctl, or one that cannot read this process
+            _libraries = []
     return _libraries
 
 
 def _functions(lib) -> tuple:
     """``(get, set)`` of one of threadpoolctl's library controllers."""
-    if lib.internal_api == "openblas" and lib.threading_layer != "openmp":
+    dynlib = getattr(lib, "dynlib", None)
+    if lib.internal_api == "openblas" and getattr(lib, "threading_layer", None) != "openmp" and dynlib is not None:
         # OpenBLAS's exported names carry its build's affixes (scipy's wheels: scipy_..._64_)
         for prefix, suffix in itertools.product(("", "scipy_"), ("", "64_", "_64")):
-            get = getattr(lib.dynlib, f"{prefix}openblas_get_num_threads{suffix}", None)
-            put = getattr(lib.dynlib, f"{prefix}openblas_set_num_threads{suffix}", None)
+            get = getattr(dynlib, f"{prefix}openblas_get_num_threads{suffix}", None)
+            put = getattr(dynlib, f"{prefix}openblas_set_num_threads{suffix}", None)
             if get is not None and put is not None:
                 return get, put
+    # any other library (MKL, BLIS, FlexiBLAS, OpenBLAS on OpenMP) through its controller; only
+    # threadpoolctl's OpenBLAS controller (3.6 on) keeps a controlling thread, which its own limits
+    # clear when they end
+    clear = getattr(type(lib), "clear_controlling_thread", None)
 
     def put(n):
         lib.set_num_threads(n)
-        type(lib).clear_controlling_thread()  # as threadpoolctl's own limits do when they end
+        if clear is not None:
+            clear()
 
     return lib.get_num_threads, put
 
@@ -82,10 +90,13 @@ class _OneThread:
             if _holders == 0:
                 _saved.clear()
                 for get, put in _blas_libraries():
-                    n = get()
-                    if n is not None and n != 1:
-                        put(1)
-                        _saved.append((put, n))
+                    try:
+                        n = get()
+                        if n is not None and n != 1:
+                            put(1)
+                            _saved.append((put, n))
+                    except Exception:  # noqa: BLE001 - a library that cannot be set is left as it is
+                        pass
             _holders += 1
         return self
 
@@ -95,7 +106,10 @@ class _OneThread:
             _holders -= 1
             if _holders == 0:
                 for put, n in _saved:
-                    put(n)
+                    try:
+                        put(n)
+                    except Exception:  # noqa: BLE001 - as above
+                        pass
                 _saved.clear()
         return False
 
