@@ -67,8 +67,8 @@ def _functions(lib) -> tuple:
             if get is not None and put is not None:
                 return get, put
     # any other library (MKL, BLIS, FlexiBLAS, OpenBLAS on OpenMP) through its controller; only
-    # threadpoolctl's OpenBLAS controller (3.6 on) keeps a controlling thread, which its own limits
-    # clear when they end
+    # threadpoolctl's OpenBLAS controller keeps a controlling thread (in its recent versions),
+    # which its own limits clear when they end
     clear = getattr(type(lib), "clear_controlling_thread", None)
 
     def put(n):
