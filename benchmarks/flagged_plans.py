@@ -7,6 +7,10 @@ For another source tree (an older commit, without the check: its plans are all "
 ``src`` first on ``PYTHONPATH``; ``--flagged FILE`` then takes the indices of the plans flagged by
 the newer tree (``--write-flagged FILE`` writes them) so that the same problems are compared.
 
+CPU time counts every thread of the process: a tree from before ``plan()`` held BLAS at one thread
+(``acroplan.core.blas``, fifteenth session) spends its BLAS threads' spinning too, so compare with
+one under ``OPENBLAS_NUM_THREADS=1``.
+
 Run:  python benchmarks/flagged_plans.py [--n 400] [--write-flagged F | --flagged F]
 """
 

@@ -13,6 +13,10 @@ wrappers add a few microseconds, so the total without ``--parts`` is the figure 
 For another source tree (an older commit), put its ``src`` first on ``PYTHONPATH``; ``--parts``
 needs the ``acroplan.planning`` package (since ca0a696).
 
+CPU time counts every thread of the process: a tree from before ``plan()`` held BLAS at one thread
+(``acroplan.core.blas``, fifteenth session) spends its BLAS threads' spinning too, so compare with
+one under ``OPENBLAS_NUM_THREADS=1``.
+
 Run:  python benchmarks/plan_overhead.py [--n 100] [--seed 11] [--repeat 4] [--parts]
 """
 

@@ -126,9 +126,9 @@ class InputBasis(abc.ABC):
 @functools.lru_cache(maxsize=64)
 def gauss_legendre(n: int) -> tuple[np.ndarray, np.ndarray]:
     """``numpy.polynomial.legendre.leggauss(n)``, read-only and computed once per ``n``: the same
-    numbers, without the eigenvalues of an n x n matrix at each call (1.3 ms for n = 64, which the
-    composite rules built per panel count paid for every new count: about 10% of the acrobot's
-    plan_many, ``benchmarks/RESULTS.md``, fifteenth session).
+    numbers, without the eigenvalues of an n x n matrix at each call (1.0 ms for n = 64, which the
+    composite rules built per panel count paid for every new count: 0.22 s of some 2 s for 2,000
+    random two-link plans, ``benchmarks/RESULTS.md``, fifteenth session).
 
     Returns
     -------
