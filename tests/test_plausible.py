@@ -315,3 +315,46 @@ def test_the_warnings_peaks_are_the_effort_summarys_without_its_integrals():
     peaks, e = peak_efforts(r), r.effort()
     for n, v in e.items():
         assert peaks[n] == pytest.approx((v.peak_torque, v.peak_power), rel=1e-12)
+
+
+def test_the_warnings_torque_line_is_worked_out_when_first_read_with_the_same_numbers():
+    """A flagged plan keeps its peak torque and power as a :class:`PendingWarning` until its
+    warnings are read (``plan_many`` of plans nobody reads the warnings of does not pay the 1.2 ms),
+    then gives what :func:`plausibility` works out at once, the same strings read here or after a
+    pickle (a process pool's result), and keeps them."""
+    import pickle
+
+    from acroplan.core.result import PendingWarning
+    from acroplan.planning.plausible import _effort_warning
+    from acroplan.zoo import random_segment
+
+    rng = np.random.default_rng(5)
+    flagged = []
+    while len(flagged) < 3:
+        p = random_segment(rng)
+        r = acroplan.plan(p.robot, conditions="free", **p.plan_kwargs(), verify=False, progress=False)
+        if r.__dict__["_warnings_held"]:
+            flagged.append(r)
+    for r in flagged:
+        held = r.__dict__["_warnings_held"]
+        assert [type(w) for w in held] == [str, PendingWarning, str]
+        assert r._effort is None
+        assert "(3 warnings: result.warnings)" in r.message
+        shipped = pickle.loads(pickle.dumps(r))
+        assert type(shipped.__dict__["_warnings_held"][1]) is PendingWarning
+        eager = plausibility(r)
+        first = r.warnings
+        assert first == eager and first[0] == held[0] and first[2] == held[2]
+        assert first[1].startswith("peak torque ") and " N m (joint phi), peak power " in first[1]
+        assert all(type(w) is str for w in first)
+        assert r.warnings is first and r.__dict__["_warnings_held"] is first  # worked out once, kept
+        assert r._effort is None  # the peaks alone, not the whole summary
+        assert shipped.warnings == eager
+        assert r.to_dict()["warnings"] == list(eager)
+    # with the summary computed before the warnings are read, the line comes from it, the same
+    r = flagged[0]
+    again = pickle.loads(pickle.dumps(r))
+    peaks = np.array([s.max_abs_u for s in r.segments])
+    object.__setattr__(again, "warnings", (r.warnings[0], PendingWarning(_effort_warning, (peaks,)), r.warnings[2]))
+    again.effort()
+    assert again.warnings == r.warnings

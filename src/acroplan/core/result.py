@@ -37,6 +37,52 @@ from .system import ControlAffineSystem, joint_inputs, model_torques, torque_mod
 __all__ = ["PlanResult", "SegmentResult", "Samples", "Status", "STATUSES", "JointEffort", "EFFORT_RULE"]
 
 
+class PendingWarning:
+    """A warning of :attr:`PlanResult.warnings` whose text is worked out when the warnings are first
+    read: ``function(result, *args) -> str``, run with BLAS held at one thread
+    (:func:`acroplan.core.blas.one_blas_thread`, so that its numbers are the same bits whoever reads
+    them), then kept in the result. A plan makes one for a warning whose numbers cost more than the
+    plan (the exact peak torque and power of :func:`acroplan.planning.plausibility`: 1.2 ms against
+    the 1.5 ms a flagged two-link plan takes), so that plans whose warnings nobody reads, in
+    :func:`acroplan.plan_many`, do not pay for them. ``function`` is a module-level function (a
+    result with a pending warning pickles, and the warning is worked out where it is read)."""
+
+    __slots__ = ("function", "args")
+
+    def __init__(self, function, args: tuple = ()):
+        self.function, self.args = function, tuple(args)
+
+    def __reduce__(self):
+        return PendingWarning, (self.function, self.args)
+
+    def __repr__(self):
+        return f"PendingWarning({getattr(self.function, '__qualname__', self.function)})"
+
+
+class _Warnings:
+    """The descriptor of :attr:`PlanResult.warnings` (a dataclass field whose default is a
+    descriptor): set, it keeps a tuple of str and :class:`PendingWarning`; read, it works out the
+    pending ones once and gives a tuple of str."""
+
+    def __set_name__(self, owner, name):
+        self.held = f"_{name}_held"
+
+    def __get__(self, obj, owner=None):
+        if obj is None:
+            return ()  # the field's default
+        held = obj.__dict__.get(self.held, ())
+        if any(isinstance(w, PendingWarning) for w in held):
+            from .blas import one_blas_thread
+
+            with one_blas_thread():
+                held = tuple(w.function(obj, *w.args) if isinstance(w, PendingWarning) else w for w in held)
+            obj.__dict__[self.held] = held
+        return held
+
+    def __set__(self, obj, value):
+        obj.__dict__[self.held] = tuple(w if isinstance(w, PendingWarning) else str(w) for w in value)
+
+
 _BASIS_NOTE = {
     "legendre": "u(t) = sum_i b_i P_i(2 s - 1), s = (t - t0) / (t1 - t0), P_i the Legendre polynomials: "
                 "accurate at every size (the power basis loses digits from about 10 coefficients on)",
@@ -80,7 +126,9 @@ class PlanResult:
         Why a successful plan may not be a motion to use, each a short sentence with its numbers
         (:func:`acroplan.planning.plausibility`: a peak joint rate far beyond what the waypoints
         imply, with the peak torque and power); empty when nothing is suspect. The message says
-        how many there are; every one is in :meth:`to_dict` (``solution.json``).
+        how many there are; every one is in :meth:`to_dict` (``solution.json``). A warning whose
+        numbers cost more than the plan (the exact peak torque and power) is worked out when the
+        warnings are first read, then kept (:class:`PendingWarning`).
 
     Methods: :meth:`evaluate` (states, inputs, and torques and power), :meth:`sample`,
     :meth:`to_dict`, :meth:`to_json`, :meth:`to_pandas`, :meth:`plot`. When the system has a torque
@@ -107,14 +155,13 @@ class PlanResult:
     verification: str | None = None
     objective: str | None = None
     torque_limits: dict | None = None
-    warnings: tuple[str, ...] = ()
+    warnings: tuple[str, ...] = _Warnings()
     #: the effort summary, computed on first use (a cache of values the segments fix)
     _effort: dict | None = dataclasses.field(default=None, init=False, repr=False, compare=False)
 
     def __post_init__(self):
         _freeze(self, "times", "waypoints")
         object.__setattr__(self, "status", Status(self.status))
-        object.__setattr__(self, "warnings", tuple(str(w) for w in self.warnings))
 
     @property
     def success(self) -> bool:

@@ -9,7 +9,7 @@ import math
 
 import numpy as np
 
-from ..core.result import PlanResult
+from ..core.result import PendingWarning, PlanResult
 from ..core.budget import BudgetExceeded
 from ..core.effort import peak_efforts
 
@@ -95,7 +95,18 @@ def plausibility(result: PlanResult, *, factor: float = PLAUSIBLE_FACTOR) -> tup
     A turn at zero angular momentum made by shape loops needs joint rates many times its turn's
     (the bundled ``three-rods-turn`` 14 times, ``space-robot-turn`` 31 times): such plans pass when
     their rates are bounded, as the bundled ones are; unbounded, they are flagged.
+
+    Here every warning is worked out. :func:`plan` leaves the peak torque and power to be worked
+    out when its result's warnings are first read (:class:`~acroplan.core.result.PendingWarning`),
+    with the same numbers.
     """
+    return tuple(w.function(result, *w.args) if isinstance(w, PendingWarning) else w
+                 for w in _rate_warnings(result, factor))
+
+
+def _rate_warnings(result: PlanResult, factor: float = PLAUSIBLE_FACTOR) -> tuple:
+    """:func:`plausibility`'s warnings, the peak torque and power a
+    :class:`~acroplan.core.result.PendingWarning` (when the summary was not computed already)."""
     system, segs = result.system, result.segments
     if not result.success or not segs or not system.rate_inputs or \
             set(system.rate_inputs) != set(system.input_names) or \
@@ -133,8 +144,9 @@ def plausibility(result: PlanResult, *, factor: float = PLAUSIBLE_FACTOR) -> tup
     out = [f"peak joint rate {peak:.4g} rad/s ({name}, segment {seg.index}, t = {seg.t0:.4g} to {seg.t1:.4g} s) is "
            f"{peak / implied:.0f} times the fastest rate the waypoints imply, {implied:.4g} rad/s (finite difference "
            f"over [{result.times[k]:.4g}, {result.times[k + 1]:.4g}] s)"]
-    if result.has_torques:
-        out.append(_effort_warning(result, peaks))
+    if result.has_torques:  # its numbers when the warnings are read: they cost more than the plan
+        out.append(_effort_warning(result, peaks) if result._effort is not None else
+                   PendingWarning(_effort_warning, (peaks,)))
     K = len(result.times) - 1
     tries = []
     if K >= DENSE_SEGMENTS:
@@ -223,7 +235,7 @@ def _plausible(result: PlanResult, req: PlanRequest) -> PlanResult:
     if not result.success:
         return result
     try:
-        rate = plausibility(result)
+        rate = _rate_warnings(result)
         warnings = rate + beyond_capacity(result, req.capacity)
     except BudgetExceeded:
         return result
