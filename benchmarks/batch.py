@@ -10,6 +10,8 @@ It reports:
   batch    acroplan.plan_many with each executor ("serial", "thread", "process") on the same
            problems, wall time from the call to the last result (process: pool start, parent-side
            validation, compilation in the parent and result transfer included), plans per second;
+           after the serial run, what reading every result's warnings costs (a flagged plan's exact
+           peak torque and power are worked out then) and the throughput with it;
   heyoka   heyoka's SIMD batch mode (taylor_adaptive_batch, the recommended batch size) against
            the same number of scalar propagations of the same variational system: the speed-up it
            could bring to the integrator's share of a plan.
@@ -66,6 +68,14 @@ def batch(probs):
         ok = sum(r.success for r in out)
         print(f"plan_many executor={executor:8s} {len(probs) / dt:7.0f} plans/s  ({dt:.2f} s for {len(probs)}, "
               f"{ok} planned)")
+        if executor == "serial":
+            # a flagged plan's exact peak torque and power are worked out when its warnings are first
+            # read (acroplan.core.result.PendingWarning): what reading them all costs, beside
+            t0 = time.perf_counter()
+            flagged = sum(bool(r.warnings) for r in out)
+            dw = time.perf_counter() - t0
+            print(f"  reading every result's warnings afterwards: {dw:.2f} s ({flagged} flagged); with it "
+                  f"{len(probs) / (dt + dw):7.0f} plans/s")
 
 
 def heyoka_batch_mode(reps=2000):
