@@ -351,8 +351,12 @@ def test_the_warnings_torque_line_is_worked_out_when_first_read_with_the_same_nu
         assert r._effort is None  # the peaks alone, not the whole summary
         assert shipped.warnings == eager
         assert r.to_dict()["warnings"] == list(eager)
-    # with the summary computed before the warnings are read, the line comes from it, the same
+    # a result pickled before this descriptor kept its warnings under their own name
     r = flagged[0]
+    older = pickle.loads(pickle.dumps(r))
+    older.__dict__["warnings"] = older.__dict__.pop("_warnings_held")
+    assert older.warnings == r.warnings
+    # with the summary computed before the warnings are read, the line comes from it, the same
     again = pickle.loads(pickle.dumps(r))
     peaks = np.array([s.max_abs_u for s in r.segments])
     object.__setattr__(again, "warnings", (r.warnings[0], PendingWarning(_effort_warning, (peaks,)), r.warnings[2]))

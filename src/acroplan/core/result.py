@@ -70,7 +70,9 @@ class _Warnings:
     def __get__(self, obj, owner=None):
         if obj is None:
             return ()  # the field's default
-        held = obj.__dict__.get(self.held, ())
+        held = obj.__dict__.get(self.held)
+        if held is None:  # a result pickled before the warnings had this descriptor kept them by name
+            held = obj.__dict__[self.held] = tuple(obj.__dict__.get("warnings", ()))
         if any(isinstance(w, PendingWarning) for w in held):
             from .blas import one_blas_thread
 
