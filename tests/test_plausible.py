@@ -248,12 +248,13 @@ def test_capacity_is_a_yardstick_not_a_limit():
 @pytest.mark.parametrize("family", ["legendre", "monomial"])
 def test_the_sup_bound_bounds_the_exact_peak_and_is_attained_at_one_end(family):
     """``InputBasis.sup_bound`` (the sum of the coefficients' magnitudes, what ``plausibility``
-    asks before any root finding) is at least the exact peak :math:`\\max_{[0,1]} |u|`
+    asks before any root finding) is at least the exact peak, and the check grid's sample
+    (``sampled_input_peak``) at most it; the exact peak :math:`\\max_{[0,1]} |u|`
     (``input_extremes``) for random series, and equals it when every coefficient is non-negative
     (then :math:`u(1) = \\sum_i c_i`, every basis function being 1 at s = 1); a basis that knows no
     bound says so (``None``)."""
     from acroplan.core.basis import InputBasis, make_basis
-    from acroplan.core.limits import input_extremes
+    from acroplan.core.limits import input_extremes, sampled_input_peak
 
     rng = np.random.default_rng(8)
     for n in (1, 2, 6, 14, 30):
@@ -262,6 +263,11 @@ def test_the_sup_bound_bounds_the_exact_peak_and_is_attained_at_one_end(family):
             c = rng.normal(size=n) * rng.uniform(0.1, 10.0)
             lo, hi = input_extremes(basis, c)
             assert max(abs(lo), abs(hi)) <= basis.sup_bound(c) * (1 + 1e-12)
+            # the check grid's sample (what plan() flags with before any root finding) is below it
+            low = sampled_input_peak(basis, c)
+            assert low <= max(abs(lo), abs(hi)) * (1 + 1e-12)
+            # the largest row's (a matrix product instead of a matrix-vector one: the last bit may differ)
+            assert sampled_input_peak(basis, np.vstack([0.5 * c, c])) == pytest.approx(low, rel=1e-14)
         c = np.abs(rng.normal(size=n))
         lo, hi = input_extremes(basis, c)
         assert hi == pytest.approx(basis.sup_bound(c), rel=1e-12)
@@ -317,12 +323,15 @@ def test_the_warnings_peaks_are_the_effort_summarys_without_its_integrals():
         assert peaks[n] == pytest.approx((v.peak_torque, v.peak_power), rel=1e-12)
 
 
-def test_the_warnings_torque_line_is_worked_out_when_first_read_with_the_same_numbers():
-    """A flagged plan keeps its peak torque and power as a :class:`PendingWarning` until its
-    warnings are read (``plan_many`` of plans nobody reads the warnings of does not pay the 1.2 ms),
-    then gives what :func:`plausibility` works out at once, the same strings read here or after a
-    pickle (a process pool's result), and keeps them."""
+def test_a_flagged_plans_exact_numbers_are_worked_out_when_its_warnings_are_first_read():
+    """A plan whose sampled peak rate (the limits' check grid, a lower bound) is already beyond the
+    factor is flagged at once, its message giving that bound ("at least"); its exact peak rate (the
+    roots of u') and peak torque and power stay :class:`PendingWarning` s until the warnings are
+    read (``plan_many`` of plans nobody reads the warnings of does not pay for them: 0.15 + 1.2 ms a
+    flagged two-link plan), then give what :func:`plausibility` works out at once: the same strings
+    read here or after a pickle (a process pool's result), kept once worked out."""
     import pickle
+    import re
 
     from acroplan.core.result import PendingWarning
     from acroplan.planning.plausible import _effort_warning
@@ -337,17 +346,23 @@ def test_the_warnings_torque_line_is_worked_out_when_first_read_with_the_same_nu
             flagged.append(r)
     for r in flagged:
         held = r.__dict__["_warnings_held"]
-        assert [type(w) for w in held] == [str, PendingWarning, str]
-        assert r._effort is None
-        assert "(3 warnings: result.warnings)" in r.message
+        assert [type(w) for w in held] == [PendingWarning, PendingWarning, str]
+        assert r._effort is None and r.segments[0].extremes is None  # neither worked out yet
+        head = re.search(r"IMPLAUSIBLE: peak joint rate at least ([0-9.]+) rad/s, at least ([0-9]+)x what the "
+                         r"waypoints imply \(3 warnings: result.warnings\)$", r.message)
+        assert head is not None, r.message
         shipped = pickle.loads(pickle.dumps(r))
         assert type(shipped.__dict__["_warnings_held"][1]) is PendingWarning
         eager = plausibility(r)
         first = r.warnings
-        assert first == eager and first[0] == held[0] and first[2] == held[2]
+        assert first == eager and first[2] == held[2]
+        assert first[0].startswith("peak joint rate ") and " times the fastest rate the waypoints imply" in first[0]
         assert first[1].startswith("peak torque ") and " N m (joint phi), peak power " in first[1]
         assert all(type(w) is str for w in first)
         assert r.warnings is first and r.__dict__["_warnings_held"] is first  # worked out once, kept
+        # the message's sampled bound is below the exact peak, and within the grid's resolution of it
+        peak = r.segments[0].max_abs_u
+        assert float(head.group(1)) <= float(f"{peak:.4g}") and float(head.group(1)) >= 0.999 * peak
         assert r._effort is None  # the peaks alone, not the whole summary
         assert shipped.warnings == eager
         assert r.to_dict()["warnings"] == list(eager)

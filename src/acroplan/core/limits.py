@@ -36,7 +36,8 @@ from .errors import InvalidInputError
 from .linalg import null_space
 from .system import ControlAffineSystem
 
-__all__ = ["Limits", "linear_limits", "violation", "solve_with_limits", "input_extremes", "COMPLIANCE_TOL"]
+__all__ = ["Limits", "linear_limits", "violation", "solve_with_limits", "input_extremes", "sampled_input_peak",
+           "COMPLIANCE_TOL"]
 
 #: Largest limit violation a compliant result may have.
 COMPLIANCE_TOL = 1e-9
@@ -265,6 +266,15 @@ def _extremes(crit: np.ndarray, values, on_grid: np.ndarray):
             at = values(real)
             lo, hi = min(lo, float(at.min())), max(hi, float(at.max()))
     return lo, hi
+
+
+def sampled_input_peak(basis: InputBasis, c) -> float:
+    """:math:`\\max_j \\max_k |u_j(s_k)|` of the series ``c`` (rows ``(r, n)``, or one ``(n,)``) on
+    the 257 points :math:`s_k` of the check grid: a lower bound of the exact peak
+    (:func:`input_extremes`), without its root finding (a matrix product: some 5 us, against 0.1-0.15
+    ms on a two-link plan's segment)."""
+    c = np.asarray(c, dtype=float)
+    return float(np.abs(_grid_matrix(basis, "u") @ c.T).max())
 
 
 def input_extremes(basis: InputBasis, c) -> tuple[float, float]:

@@ -104,49 +104,52 @@ def plausibility(result: PlanResult, *, factor: float = PLAUSIBLE_FACTOR) -> tup
                  for w in _rate_warnings(result, factor))
 
 
-def _rate_warnings(result: PlanResult, factor: float = PLAUSIBLE_FACTOR) -> tuple:
+def _rate_warnings(result: PlanResult, factor: float = PLAUSIBLE_FACTOR, *, lazy: bool = False) -> tuple:
     """:func:`plausibility`'s warnings, the peak torque and power a
-    :class:`~acroplan.core.result.PendingWarning` (when the summary was not computed already)."""
+    :class:`~acroplan.core.result.PendingWarning` (when the summary was not computed already).
+    ``lazy`` (what :func:`plan` asks): a plan whose sampled peak rate (each free input on the
+    257 points of the limits' check grid, a lower bound of its peak) is already beyond the factor
+    is flagged without finding the exact peak (the roots of u': 0.15 ms of a two-link plan), and
+    its rate warning is pending too, with the same words and numbers when read."""
+    return _rate_check(result, factor, lazy)[0]
+
+
+def _rate_check(result: PlanResult, factor: float, lazy: bool) -> tuple[tuple, str]:
+    """``(warnings, head)``: :func:`_rate_warnings`' warnings and what the message says of the
+    peak rate (the sampled lower bound, "at least", when the exact peak is pending)."""
     system, segs = result.system, result.segments
     if not result.success or not segs or not system.rate_inputs or \
             set(system.rate_inputs) != set(system.input_names) or \
             not set(system.rate_inputs.values()) <= set(system.angle_states):
-        return ()
+        return (), ""
     # an input with a rate limit is within what the caller says the body can do: not checked
-    free = [j for j, name in enumerate(system.input_names)
-            if result.limits is None or result.limits.input_bound(name) is None]
+    free = tuple(j for j, name in enumerate(system.input_names)
+                 if result.limits is None or result.limits.input_bound(name) is None)
     implied, k = waypoint_rate(system, result.times, result.waypoints)
     if not free or implied <= 0.0:
-        return ()
+        return (), ""
     # an upper bound of every free input's peak first (InputBasis.sup_bound: the sum of the
     # coefficients' magnitudes): a plan it shows within the factor needs no root finding (0.1-0.2
     # ms of a two-link plan's 0.4-0.8), and the answer is the same
     bounds = [result.basis_for(s).sup_bound(s.basis_coefficients[j]) for s in segs for j in free]
     if all(b is not None for b in bounds) and not max(bounds) > factor * implied:
-        return ()
-    from ..core.limits import input_extremes
-
-    def row_peaks(seg):
-        basis = result.basis_for(seg)
-        return [max(abs(v) for v in input_extremes(basis, seg.basis_coefficients[j])) for j in free]
-
-    if len(free) == system.n_inputs:
-        peaks = np.array([s.max_abs_u for s in segs])  # exact, and kept for the message and to_dict
+        return (), ""
+    low = _sampled_peak(result, free) if lazy else 0.0
+    if low > factor * implied:
+        rate = PendingWarning(_rate_warning, (free, implied, k))
+        effort = PendingWarning(_effort_of_peaks, (free,))
+        head = f"peak joint rate at least {low:.4g} rad/s, at least {low / implied:.0f}x what the waypoints imply"
     else:
-        peaks = np.array([max(row_peaks(s)) for s in segs])
-    worst = int(np.argmax(peaks))
-    peak = float(peaks[worst])
-    if not peak > factor * implied:
-        return ()
-    seg = segs[worst]
-    # the input at the peak (one free input: that one, without finding its extremes again)
-    name = system.input_names[free[0] if len(free) == 1 else free[int(np.argmax(row_peaks(seg)))]]
-    out = [f"peak joint rate {peak:.4g} rad/s ({name}, segment {seg.index}, t = {seg.t0:.4g} to {seg.t1:.4g} s) is "
-           f"{peak / implied:.0f} times the fastest rate the waypoints imply, {implied:.4g} rad/s (finite difference "
-           f"over [{result.times[k]:.4g}, {result.times[k + 1]:.4g}] s)"]
+        peaks = _exact_peaks(result, free)
+        if not float(peaks.max()) > factor * implied:
+            return (), ""
+        rate = _rate_warning(result, free, implied, k)
+        effort = PendingWarning(_effort_warning, (peaks,))
+        ratio = rate.split(" is ", 1)[1].split(" times", 1)[0]
+        head = f"{rate.split(' (', 1)[0]}, {ratio}x what the waypoints imply"
+    out = [rate]
     if result.has_torques:  # its numbers when the warnings are read: they cost more than the plan
-        out.append(_effort_warning(result, peaks) if result._effort is not None else
-                   PendingWarning(_effort_warning, (peaks,)))
+        out.append(effort.function(result, *effort.args) if result._effort is not None else effort)
     K = len(result.times) - 1
     tries = []
     if K >= DENSE_SEGMENTS:
@@ -158,7 +161,50 @@ def _rate_warnings(result: PlanResult, factor: float = PLAUSIBLE_FACTOR) -> tupl
     out.append("try " + " or ".join(tries) if tries else
                "check the waypoints (a turn the body can only make with such a motion), or add rate limits "
                "(u_max, input_bounds) to plan within them")
-    return tuple(out)
+    return tuple(out), head
+
+
+def _sampled_peak(result: PlanResult, free) -> float:
+    """The largest :math:`|u_j|` of the free inputs on the 257 points of the limits' check grid
+    (:mod:`acroplan.core.limits`), over the segments: a lower bound of the peak rate."""
+    from ..core.limits import sampled_input_peak
+
+    rows = list(free)
+    return max(sampled_input_peak(result.basis_for(seg), seg.basis_coefficients[rows]) for seg in result.segments)
+
+
+def _row_peaks(result: PlanResult, seg, free) -> list[float]:
+    """Each free input's exact peak :math:`\\max|u_j|` on ``seg`` (the roots of :math:`u_j'`)."""
+    from ..core.limits import input_extremes
+
+    basis = result.basis_for(seg)
+    return [max(abs(v) for v in input_extremes(basis, seg.basis_coefficients[j])) for j in free]
+
+
+def _exact_peaks(result: PlanResult, free) -> np.ndarray:
+    """Each segment's exact peak rate of the free inputs, shape (K,) (every input free: the
+    segments' own :attr:`~acroplan.core.segment.SegmentResult.max_abs_u`, kept in them)."""
+    if len(free) == result.system.n_inputs:
+        return np.array([s.max_abs_u for s in result.segments])
+    return np.array([max(_row_peaks(result, s, free)) for s in result.segments])
+
+
+def _rate_warning(result: PlanResult, free, implied: float, k: int) -> str:
+    """The warning of the peak rate: the exact peak, where, and its ratio to ``implied`` (the
+    waypoints' fastest rate, over interval ``k``)."""
+    peaks = _exact_peaks(result, free)
+    worst = int(np.argmax(peaks))
+    peak, seg = float(peaks[worst]), result.segments[worst]
+    # the input at the peak (one free input: that one, without finding its extremes again)
+    name = result.system.input_names[free[0] if len(free) == 1 else free[int(np.argmax(_row_peaks(result, seg, free)))]]
+    return (f"peak joint rate {peak:.4g} rad/s ({name}, segment {seg.index}, t = {seg.t0:.4g} to {seg.t1:.4g} s) is "
+            f"{peak / implied:.0f} times the fastest rate the waypoints imply, {implied:.4g} rad/s (finite difference "
+            f"over [{result.times[k]:.4g}, {result.times[k + 1]:.4g}] s)")
+
+
+def _effort_of_peaks(result: PlanResult, free) -> str:
+    """:func:`_effort_warning` with the segments' exact peak rates (worked out here)."""
+    return _effort_warning(result, _exact_peaks(result, free))
 
 
 def _effort_warning(result: PlanResult, peaks) -> str:
@@ -235,16 +281,13 @@ def _plausible(result: PlanResult, req: PlanRequest) -> PlanResult:
     if not result.success:
         return result
     try:
-        rate = _rate_warnings(result)
+        rate, head = _rate_check(result, PLAUSIBLE_FACTOR, lazy=True)
         warnings = rate + beyond_capacity(result, req.capacity)
     except BudgetExceeded:
         return result
     if not warnings:
         return result
-    if rate:
-        ratio = rate[0].split(" is ", 1)[1].split(" times", 1)[0]
-        head = f"{rate[0].split(' (', 1)[0]}, {ratio}x what the waypoints imply"
-    else:
+    if not rate:
         head = warnings[0].split(" (", 1)[0] + " beyond what the body can do"
     out = dataclasses.replace(result, warnings=warnings, message=result.message + f"; IMPLAUSIBLE: {head} "
                               f"({len(warnings)} warning{'s' if len(warnings) > 1 else ''}: result.warnings)")
