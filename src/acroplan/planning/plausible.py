@@ -98,7 +98,9 @@ def plausibility(result: PlanResult, *, factor: float = PLAUSIBLE_FACTOR) -> tup
 
     Here every warning is worked out. :func:`plan` leaves the peak torque and power to be worked
     out when its result's warnings are first read (:class:`~acroplan.core.result.PendingWarning`),
-    with the same numbers.
+    with the same numbers, and the exact peak rate too when a sample of the inputs (the limits'
+    257-point check grid: :func:`acroplan.core.limits.sampled_input_peak`, a lower bound) already
+    shows the plan beyond ``factor``; its message then gives that bound ("at least").
     """
     return tuple(w.function(result, *w.args) if isinstance(w, PendingWarning) else w
                  for w in _rate_warnings(result, factor))
