@@ -11,7 +11,7 @@ It reports:
            problems, wall time from the call to the last result (process: pool start, parent-side
            validation, compilation in the parent and result transfer included), plans per second;
            after the serial run, what reading every result's warnings costs (a flagged plan's exact
-           peak torque and power are worked out then) and the throughput with it;
+           peak rate, torque and power are worked out then) and the throughput with it;
   heyoka   heyoka's SIMD batch mode (taylor_adaptive_batch, the recommended batch size) against
            the same number of scalar propagations of the same variational system: the speed-up it
            could bring to the integrator's share of a plan.
@@ -69,8 +69,8 @@ def batch(probs):
         print(f"plan_many executor={executor:8s} {len(probs) / dt:7.0f} plans/s  ({dt:.2f} s for {len(probs)}, "
               f"{ok} planned)")
         if executor == "serial":
-            # a flagged plan's exact peak torque and power are worked out when its warnings are first
-            # read (acroplan.core.result.PendingWarning): what reading them all costs, beside
+            # a flagged plan's exact peak rate, torque and power are worked out when its warnings are
+            # first read (acroplan.core.result.PendingWarning): what reading them all costs, beside
             t0 = time.perf_counter()
             flagged = sum(bool(r.warnings) for r in out)
             dw = time.perf_counter() - t0
