@@ -4,9 +4,10 @@ fastest of ``--repeat`` passes after a warm-up on the first 200. It weighs every
 so the plans the plausibility check flags (one in nine) count by their share; the medians of
 ``plan_overhead.py`` do not see them.
 
-Problems: the first ``--n`` of ``acroplan.zoo.random_segment(np.random.default_rng(SEED))``,
-``conditions="free"``, ``verify=False``; the results' warnings are not read (a flagged plan's exact
-peak torque and power are worked out when they are: ``batch.py`` prints what that costs).
+Problems: ``batch.py``'s (the first ``--n`` of ``acroplan.zoo.random_segment`` from
+``np.random.default_rng(SEED)``, ``conditions="free"``), ``verify=False``, no progress shown; the
+results' warnings are not read (a flagged plan's exact peak rate, torque and power are worked out
+when they are: ``batch.py`` prints what that costs).
 
 For another source tree (an older commit), put its ``src`` first on ``PYTHONPATH``, and alternate
 the two in separate processes (this machine's speed moves by a fifth within minutes). CPU time
@@ -21,10 +22,8 @@ from __future__ import annotations
 import argparse
 import time
 
-import numpy as np
-
 import acroplan
-from acroplan.zoo import random_segment
+from batch import problems as batch_problems  # batch.py's population (this folder is on sys.path)
 
 
 def main() -> None:
@@ -34,14 +33,12 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--loop", action="store_true", help="a loop of acroplan.plan instead of plan_many")
     args = ap.parse_args()
-    rng = np.random.default_rng(args.seed)
-    problems = [random_segment(rng) for _ in range(args.n)]
-    problems = [dict(system=p.robot, conditions="free", **p.plan_kwargs()) for p in problems]
+    problems = batch_problems(args.n, args.seed)
 
-    def run(probs):
+    def run(probs):  # no progress shown, on a terminal or not: its updates are not what is timed
         if args.loop:
-            return [acroplan.plan(**p, verify=False) for p in probs]
-        return acroplan.plan_many(probs, executor="serial", verify=False)
+            return [acroplan.plan(**p, verify=False, progress=False) for p in probs]
+        return acroplan.plan_many(probs, executor="serial", verify=False, progress=False)
 
     run(problems[:200])
     best = None

@@ -830,6 +830,7 @@ def test_panel_interpolants_serve_where_they_resolve_and_call_the_model_elsewher
             inside = (t >= edges[4]) & (t < edges[5])
             assert np.array_equal(np.sort(asked[0]), np.sort(t[inside]))
 
+
 def test_gauss_legendre_is_numpys_rule_computed_once_and_read_only():
     """core.basis.gauss_legendre: numpy's leggauss to the bit, the same arrays on a second call,
     not writable, and exact for polynomials of degree 2n - 1 (the rule's order) on [-1, 1]."""

@@ -103,22 +103,17 @@ def plausibility(result: PlanResult, *, factor: float = PLAUSIBLE_FACTOR) -> tup
     shows the plan beyond ``factor``; its message then gives that bound ("at least").
     """
     return tuple(w.function(result, *w.args) if isinstance(w, PendingWarning) else w
-                 for w in _rate_warnings(result, factor))
-
-
-def _rate_warnings(result: PlanResult, factor: float = PLAUSIBLE_FACTOR, *, lazy: bool = False) -> tuple:
-    """:func:`plausibility`'s warnings, the peak torque and power a
-    :class:`~acroplan.core.result.PendingWarning` (when the summary was not computed already).
-    ``lazy`` (what :func:`plan` asks): a plan whose sampled peak rate (each free input on the
-    257 points of the limits' check grid, a lower bound of its peak) is already beyond the factor
-    is flagged without finding the exact peak (the roots of u': 0.15 ms of a two-link plan), and
-    its rate warning is pending too, with the same words and numbers when read."""
-    return _rate_check(result, factor, lazy)[0]
+                 for w in _rate_check(result, factor, lazy=False)[0])
 
 
 def _rate_check(result: PlanResult, factor: float, lazy: bool) -> tuple[tuple, str]:
-    """``(warnings, head)``: :func:`_rate_warnings`' warnings and what the message says of the
-    peak rate (the sampled lower bound, "at least", when the exact peak is pending)."""
+    """``(warnings, head)``: :func:`plausibility`'s warnings, the peak torque and power a
+    :class:`~acroplan.core.result.PendingWarning` (when the summary was not computed already), and
+    what the message says of the peak rate. ``lazy`` (what :func:`plan` asks): a plan whose sampled
+    peak rate (each free input on the 257 points of the limits' check grid, a lower bound of its
+    peak) is already beyond the factor is flagged without finding the exact peak (the roots of u':
+    0.15 ms of a two-link plan); its rate warning is pending too, with the same words and numbers
+    when read, and the head gives the sampled bound ("at least")."""
     system, segs = result.system, result.segments
     if not result.success or not segs or not system.rate_inputs or \
             set(system.rate_inputs) != set(system.input_names) or \
