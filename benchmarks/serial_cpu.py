@@ -14,12 +14,23 @@ the two in separate processes (this machine's speed moves by a fifth within minu
 counts every thread of the process: compare with a tree from before ``plan()`` held BLAS at one
 thread (``acroplan.core.blas``) under ``OPENBLAS_NUM_THREADS=1``.
 
-Run:  python benchmarks/serial_cpu.py [--n 2000] [--seed 5] [--repeat 3] [--loop]
+``--parts`` also gives each plan's mean CPU time in its parts (the fastest pass's), by wrappers
+that add about a microsecond each: the request's validation (``PlanRequest.build``), the exact
+feasibility test (the family's ``check_segment``; in a tree with ``acroplan.planning``, the
+front's ``_infeasible`` around it), the strategy that plans the interval (the two-link family's
+``AcrobotAuto.solve``), the plausibility check (``_plausible``, since issue #24), and the rest
+(the front door's own work). It finds each part by name in the tree it runs, so it compares a
+tree from before the front door's package (639160b: ``acroplan/planning.py``) with one after.
+
+Run:  python benchmarks/serial_cpu.py [--n 2000] [--seed 5] [--repeat 3] [--loop] [--parts]
 """
 
 from __future__ import annotations
 
 import argparse
+import collections
+import functools
+import importlib.util
 import time
 
 import acroplan
@@ -32,25 +43,76 @@ def main() -> None:
     ap.add_argument("--seed", type=int, default=5)
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--loop", action="store_true", help="a loop of acroplan.plan instead of plan_many")
+    ap.add_argument("--parts", action="store_true", help="each plan's mean CPU time in its parts too")
     args = ap.parse_args()
+    spent = timed_parts() if args.parts else None
     problems = batch_problems(args.n, args.seed)
+    # no progress shown, on a terminal or not: its updates are not what is timed (a tree from
+    # before acroplan.core.progress, 4439547, shows none and takes a callable there)
+    quiet = {"progress": False} if importlib.util.find_spec("acroplan.core.progress") else {}
 
-    def run(probs):  # no progress shown, on a terminal or not: its updates are not what is timed
+    def run(probs):
         if args.loop:
-            return [acroplan.plan(**p, verify=False, progress=False) for p in probs]
-        return acroplan.plan_many(probs, executor="serial", verify=False, progress=False)
+            return [acroplan.plan(**p, verify=False, **quiet) for p in probs]
+        return acroplan.plan_many(probs, executor="serial", verify=False, **quiet)
 
     run(problems[:200])
-    best = None
+    best, parts = None, None
     for _ in range(args.repeat):
+        if spent is not None:
+            spent.clear()
         c0, t0 = time.process_time(), time.perf_counter()
         out = run(problems)
         c, t = time.process_time() - c0, time.perf_counter() - t0
-        best = (c, t) if best is None or c < best[0] else best
+        if best is None or c < best[0]:
+            best, parts = (c, t), dict(spent or {})
     ok = sum(r.success for r in out)
     what = "a loop of plan()" if args.loop else "plan_many(executor='serial')"
     print(f"acroplan {acroplan.__version__}, {what}: {args.n} problems (seed {args.seed}, {ok} planned), fastest of "
           f"{args.repeat}: CPU {best[0]:.3f} s ({best[0] / args.n * 1e3:.3f} ms a plan), wall {best[1]:.3f} s")
+    if parts is not None:
+        us = {k: v / args.n * 1e6 for k, v in parts.items()}
+        inner = us.get("check_segment", 0.0) if "_infeasible" in us else 0.0
+        rest = best[0] / args.n * 1e6 - sum(us.values()) + inner
+        print("  parts, mean us a plan: " + ", ".join(f"{k} {v:.1f}" for k, v in us.items()) + f", the rest {rest:.1f}"
+              + (" (check_segment is inside _infeasible)" if "_infeasible" in us else ""))
+
+
+def timed_parts() -> collections.Counter:
+    """Wrap the parts of a plan (module docstring) found in this tree with CPU-time counters."""
+    spent: collections.Counter = collections.Counter()
+
+    def wrap(owner, name, label):
+        f = getattr(owner, name)
+
+        @functools.wraps(f)
+        def g(*a, **k):
+            t = time.process_time()
+            try:
+                return f(*a, **k)
+            finally:
+                spent[label] += time.process_time() - t
+        setattr(owner, name, g)
+
+    from acroplan.families.acrobot import flat
+    from acroplan.families.acrobot.model import Acrobot
+
+    import acroplan.planning
+
+    if hasattr(acroplan.planning, "__path__"):  # the front door's package
+        import acroplan.planning.front as front
+        import acroplan.planning.request as request
+
+        wrap(request.PlanRequest, "build", "PlanRequest.build")
+        wrap(front, "_infeasible", "_infeasible")
+        wrap(front, "_plausible", "_plausible")
+    else:  # 639160b's single module
+        import acroplan.planning as front
+
+        wrap(front.PlanRequest, "build", "PlanRequest.build")
+    wrap(Acrobot, "check_segment", "check_segment")
+    wrap(flat.AcrobotAuto, "solve", "AcrobotAuto.solve")
+    return spent
 
 
 if __name__ == "__main__":
