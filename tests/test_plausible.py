@@ -65,6 +65,29 @@ def test_the_sampled_motion_is_the_bodys(motion):
     assert 1.7 < implied < 1.9  # the turn P0 / h(straight) = 1.73 rad/s is the fastest rate
 
 
+def test_the_waypoint_rate_on_floats_is_numpys_bit_for_bit():
+    """Up to 32 waypoints the waypoints' rate is worked out on Python floats (plain loops: it runs
+    after every plan): the same differences, maxima and quotients as the numpy path, so the same
+    bits; a waypoint or time that is not finite, or times that do not increase, go to the numpy
+    path (which then says NaN or inf as numpy does)."""
+    from acroplan.planning.plausible import _FEW, _few_rate
+
+    rng = np.random.default_rng(17)
+    for K in (1, 2, 5, 31):
+        for n, idx in ((2, (0, 1)), (4, (1, 3)), (5, (0, 2, 3, 4))):
+            X = rng.normal(scale=3.0, size=(K + 1, n)) * 10.0 ** rng.integers(-3, 3, size=(K + 1, n))
+            t = np.cumsum(rng.uniform(0.01, 2.0, size=K + 1))
+            rate = np.max(np.abs(np.diff(X[:, list(idx)], axis=0)), axis=1) / np.diff(t)
+            assert K + 1 <= _FEW
+            assert _few_rate(X.tolist(), t.tolist(), idx) == (float(rate.max()), int(np.argmax(rate)))
+    assert _few_rate([[0.0, 1.0], [float("nan"), 2.0]], [0.0, 1.0], (0, 1)) is None
+    assert _few_rate([[0.0, 1.0], [1.0, 2.0]], [0.0, float("inf")], (0, 1)) is None
+    assert _few_rate([[0.0, 1.0], [1.0, 2.0], [2.0, 3.0]], [0.0, 1.0, 1.0], (0, 1)) is None
+    body = from_height_mass(1.74, 70.0).two_link(angular_momentum=P0)
+    implied, k = waypoint_rate(body, [0.0, 0.5, 1.5], [[0.0, 1.0], [0.2, 3.0], [0.3, 2.0]])
+    assert (implied, k) == (abs(3.0 - 1.0) / 0.5, 0)
+
+
 @pytest.mark.xdist_group("plausible-5001")
 def test_5001_dense_waypoints_free_give_a_warning_with_the_peaks(tmp_path, motion):
     """The issue's feasible file: "success" with a peak joint rate of some hundred rad/s. It now

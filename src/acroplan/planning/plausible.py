@@ -35,18 +35,23 @@ def waypoint_rate(system, times, waypoints) -> tuple[float, int]:
     (every angle state, the turn :math:`\\theta` included; a spatial body's attitude as the
     rotation vector :meth:`~ControlAffineSystem.diff` gives), in rad/s. ``(0.0, 0)`` when the
     system has no angle state or the waypoints do not move."""
-    X = np.asarray(waypoints, dtype=float)
-    if system.ndx == system.n_states:
-        angles = system.angle_states
-        idx = [i for i, name in enumerate(system.state_names) if name in angles]
+    return _waypoint_rate(system, times, waypoints, _static(system)[1])
+
+
+def _waypoint_rate(system, times, waypoints, idx) -> tuple[float, int]:
+    """:func:`waypoint_rate` with the angle states' indices ``idx`` (:func:`_static`: ``None`` for
+    an attitude on a manifold)."""
+    if idx is not None:
         if not idx:
             return 0.0, 0
-        if len(X) <= _FEW:
-            found = _few_rate(X.tolist(), [float(v) for v in times], idx)
+        if len(waypoints) <= _FEW:
+            found = _few_rate(np.asarray(waypoints, dtype=float).tolist(), [float(v) for v in times], idx)
             if found is not None:
                 return found
-        D = np.abs(np.diff(X[:, idx], axis=0))
+        X = np.asarray(waypoints, dtype=float)
+        D = np.abs(np.diff(X[:, list(idx)], axis=0))
     else:  # an attitude on a manifold (unit quaternion): its rotation vector and the joint angles
+        X = np.asarray(waypoints, dtype=float)
         D = np.abs(np.array([system.diff(X[k], X[k + 1]) for k in range(len(X) - 1)]))
     rate = np.max(D, axis=1) / np.diff(np.asarray(times, dtype=float))
     k = int(np.argmax(rate))
@@ -61,17 +66,64 @@ _FEW = 32
 
 def _few_rate(rows, times, idx):
     """:func:`waypoint_rate` of a few waypoints (lists of floats), ``None`` unless every value is
-    finite and the times increase (the numpy path then says what numpy says: NaN, inf)."""
-    if not all(math.isfinite(v) for row in rows for v in row) or \
-            not all(math.isfinite(v) for v in times) or any(b <= a for a, b in zip(times, times[1:])):
-        return None
+    finite and the times increase (the numpy path then says what numpy says: NaN, inf). Plain
+    loops: a plan checks this after its planner, where each generator expression cost a few
+    microseconds more than in a loop of its own (``benchmarks/RESULTS.md``, seventeenth session)."""
+    isfinite = math.isfinite
+    for row in rows:
+        for v in row:
+            if not isfinite(v):
+                return None
+    before = None
+    for v in times:
+        if not isfinite(v) or (before is not None and v <= before):
+            return None
+        before = v
     best, where = -1.0, 0
     for k in range(len(times) - 1):
         a, b = rows[k], rows[k + 1]
-        d = max(abs(b[i] - a[i]) for i in idx) / (times[k + 1] - times[k])
+        d = -1.0
+        for i in idx:
+            e = abs(b[i] - a[i])
+            if e > d:
+                d = e
+        d /= times[k + 1] - times[k]
         if d > best:
             best, where = d, k
     return best, where
+
+
+#: what :func:`_static` found, by the system's class and names (at most :data:`_STATIC_SIZE`)
+_STATIC: dict = {}
+_STATIC_SIZE = 256
+
+
+def _static(system) -> tuple[bool, tuple | None]:
+    """``(checked, idx)`` of a system, found once for its class and names: whether
+    :func:`plausibility` checks its plans (every input a joint rate, of an angle state) and the
+    indices of its angle states among its states (``None`` when its states are not a vector
+    space: an attitude on a manifold, whose rate :func:`waypoint_rate` takes from
+    :meth:`~ControlAffineSystem.diff`). A system is immutable; its class, names and rate inputs
+    are the key, so two systems that differ in them never share an entry (names given as lists,
+    which cannot be a key, are worked out each time)."""
+    rates = system.rate_inputs
+    try:
+        key = (type(system), system.state_names, system.input_names, system.angle_states, system.ndx,
+               tuple(rates.items()) if rates else ())
+        found = _STATIC.get(key)
+    except TypeError:
+        key, found = None, None
+    if found is None:
+        angles = system.angle_states
+        checked = bool(rates) and set(rates) == set(system.input_names) and set(rates.values()) <= set(angles)
+        idx = (tuple(i for i, name in enumerate(system.state_names) if name in angles)
+               if system.ndx == system.n_states else None)
+        found = (checked, idx)
+        if key is not None:
+            if len(_STATIC) >= _STATIC_SIZE:
+                _STATIC.clear()
+            _STATIC[key] = found
+    return found
 
 
 def plausibility(result: PlanResult, *, factor: float = PLAUSIBLE_FACTOR) -> tuple[str, ...]:
@@ -115,21 +167,22 @@ def _rate_check(result: PlanResult, factor: float, lazy: bool) -> tuple[tuple, s
     0.15 ms of a two-link plan); its rate warning is pending too, with the same words and numbers
     when read, and the head gives the sampled bound ("at least")."""
     system, segs = result.system, result.segments
-    if not result.success or not segs or not system.rate_inputs or \
-            set(system.rate_inputs) != set(system.input_names) or \
-            not set(system.rate_inputs.values()) <= set(system.angle_states):
+    if not result.success or not segs:
+        return (), ""
+    checked, idx = _static(system)
+    if not checked:
         return (), ""
     # an input with a rate limit is within what the caller says the body can do: not checked
-    free = tuple(j for j, name in enumerate(system.input_names)
-                 if result.limits is None or result.limits.input_bound(name) is None)
-    implied, k = waypoint_rate(system, result.times, result.waypoints)
+    limits = result.limits
+    free = (tuple(range(len(system.input_names))) if limits is None else
+            tuple(j for j, name in enumerate(system.input_names) if limits.input_bound(name) is None))
+    implied, k = _waypoint_rate(system, result.times, result.waypoints, idx)
     if not free or implied <= 0.0:
         return (), ""
     # an upper bound of every free input's peak first (InputBasis.sup_bound: the sum of the
     # coefficients' magnitudes): a plan it shows within the factor needs no root finding (0.1-0.2
     # ms of a two-link plan's 0.4-0.8), and the answer is the same
-    bounds = [result.basis_for(s).sup_bound(s.basis_coefficients[j]) for s in segs for j in free]
-    if all(b is not None for b in bounds) and not max(bounds) > factor * implied:
+    if _bounds_within(result, free, factor * implied):
         return (), ""
     low = _sampled_peak(result, free) if lazy else 0.0
     if low > factor * implied:
@@ -159,6 +212,18 @@ def _rate_check(result: PlanResult, factor: float, lazy: bool) -> tuple[tuple, s
                "check the waypoints (a turn the body can only make with such a motion), or add rate limits "
                "(u_max, input_bounds) to plan within them")
     return tuple(out), head
+
+
+def _bounds_within(result: PlanResult, free, top: float) -> bool:
+    """Whether the coefficients' bound (:meth:`InputBasis.sup_bound`) of every free input on every
+    segment is known and at most ``top`` (loops that stop at the first bound beyond it)."""
+    for seg in result.segments:
+        basis, c = result.basis_for(seg), seg.basis_coefficients
+        for j in free:
+            b = basis.sup_bound(c[j])
+            if b is None or b > top:
+                return False
+    return True
 
 
 def _sampled_peak(result: PlanResult, free) -> float:
