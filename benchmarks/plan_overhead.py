@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import argparse
 import collections
-import functools
 import time
 
 import numpy as np
@@ -44,22 +43,11 @@ def main() -> None:
     if args.parts:
         import acroplan.planning.front as front
         import acroplan.planning.request as request
+        from serial_cpu import cpu_timed  # this folder is on sys.path
 
-        def timed(owner, name):
-            f = getattr(owner, name)
-
-            @functools.wraps(f)
-            def g(*a, **k):
-                t = time.process_time()
-                try:
-                    return f(*a, **k)
-                finally:
-                    spent[name] += time.process_time() - t
-            setattr(owner, name, g)
-
-        timed(front, "_plan_intervals")
-        timed(front, "_plausible")
-        timed(request.PlanRequest, "build")
+        cpu_timed(spent, front, "_plan_intervals")
+        cpu_timed(spent, front, "_plausible")
+        cpu_timed(spent, request.PlanRequest, "build")
     rng = np.random.default_rng(args.seed)
     problems = [random_segment(rng) for _ in range(args.n)]
     problems = [dict(system=p.robot, conditions="free", **p.plan_kwargs()) for p in problems]

@@ -78,40 +78,42 @@ def main() -> None:
               + (" (check_segment is inside _infeasible)" if "_infeasible" in us else ""))
 
 
+def cpu_timed(spent, owner, name: str, label: str | None = None) -> None:
+    """Replace ``owner.name`` by a wrapper that adds its CPU time to ``spent[label or name]``
+    (also used by ``plan_overhead.py --parts``)."""
+    f = getattr(owner, name)
+
+    @functools.wraps(f)
+    def g(*a, **k):
+        t = time.process_time()
+        try:
+            return f(*a, **k)
+        finally:
+            spent[label or name] += time.process_time() - t
+    setattr(owner, name, g)
+
+
 def timed_parts() -> collections.Counter:
     """Wrap the parts of a plan (module docstring) found in this tree with CPU-time counters."""
-    spent: collections.Counter = collections.Counter()
-
-    def wrap(owner, name, label):
-        f = getattr(owner, name)
-
-        @functools.wraps(f)
-        def g(*a, **k):
-            t = time.process_time()
-            try:
-                return f(*a, **k)
-            finally:
-                spent[label] += time.process_time() - t
-        setattr(owner, name, g)
-
+    import acroplan.planning
     from acroplan.families.acrobot import flat
     from acroplan.families.acrobot.model import Acrobot
 
-    import acroplan.planning
+    spent: collections.Counter = collections.Counter()
 
     if hasattr(acroplan.planning, "__path__"):  # the front door's package
         import acroplan.planning.front as front
         import acroplan.planning.request as request
 
-        wrap(request.PlanRequest, "build", "PlanRequest.build")
-        wrap(front, "_infeasible", "_infeasible")
-        wrap(front, "_plausible", "_plausible")
+        cpu_timed(spent, request.PlanRequest, "build", "PlanRequest.build")
+        cpu_timed(spent, front, "_infeasible", "_infeasible")
+        cpu_timed(spent, front, "_plausible", "_plausible")
     else:  # 639160b's single module
         import acroplan.planning as front
 
-        wrap(front.PlanRequest, "build", "PlanRequest.build")
-    wrap(Acrobot, "check_segment", "check_segment")
-    wrap(flat.AcrobotAuto, "solve", "AcrobotAuto.solve")
+        cpu_timed(spent, front.PlanRequest, "build", "PlanRequest.build")
+    cpu_timed(spent, Acrobot, "check_segment", "check_segment")
+    cpu_timed(spent, flat.AcrobotAuto, "solve", "AcrobotAuto.solve")
     return spent
 
 
