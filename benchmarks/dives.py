@@ -2,7 +2,9 @@
 ``acroplan.examples.load(name)``, the Pinocchio check included), its time, its counts
 in Yeadon's angles, its peak rate and torque against the data's limits.
 
-The first plan in the process includes compiling the 5-link body; ``--repeat 2`` plans each dive
+Each line gives the plan's time, its cost (the sum of its segments' optimal costs; 0 for a
+feasible plan) and its endpoint evaluations, then the counts in Yeadon's angles. The first plan in
+the process includes compiling the 5-link body; ``--repeat 2`` plans each dive
 again (warm). By default each file's own options (each asks for an optimal plan within the
 strength data); ``--objective energy``, ``torque`` or ``none`` (the feasible plan) replaces the
 file's objective, and ``--tau-max strength`` or ``none`` its torque limits (``strength``: the
@@ -50,7 +52,11 @@ def main() -> None:
             t0 = time.perf_counter()
             res = acroplan.plan(body, **{**kw, **extra})  # the options given here replace the file's
             dt = time.perf_counter() - t0
-            line = f"{name} [{'cold' if k == 0 else 'warm'}] {res.status} in {dt:.1f} s"
+            # the cost and the endpoint evaluations: on a noisy machine the count, not the time,
+            # tells whether a change moved the optimiser's path
+            cost = sum((s.optimality or {}).get("cost") or 0.0 for s in res.segments)
+            line = (f"{name} [{'cold' if k == 0 else 'warm'}] {res.status} in {dt:.1f} s, cost {cost!r}, "
+                    f"{sum(s.evaluations for s in res.segments)} endpoint evaluations")
             if res.status == "success":
                 line += ": " + dive_report(res).summary()
             print(line, flush=True)
