@@ -231,8 +231,10 @@ def _sampled_peak(result: PlanResult, free) -> float:
     (:mod:`acroplan.core.limits`), over the segments: a lower bound of the peak rate."""
     from ..core.limits import sampled_input_peak
 
+    every = len(free) == result.system.n_inputs  # all rows: the coefficients as they are, no copy
     rows = list(free)
-    return max(sampled_input_peak(result.basis_for(seg), seg.basis_coefficients[rows]) for seg in result.segments)
+    return max(sampled_input_peak(result.basis_for(seg), seg.basis_coefficients if every else
+                                  seg.basis_coefficients[rows]) for seg in result.segments)
 
 
 def _row_peaks(result: PlanResult, seg, free) -> list[float]:
