@@ -65,7 +65,8 @@ def main() -> None:
             print(f"{name} seed {seed}: {res.status} in {dt:.1f} s, cost {cost:.15g}, joint optimum "
                   f"{'kept' if joint.get('kept') else 'not kept'} ({joint.get('iterations')} SQP iterations, from "
                   f"the sequential {joint.get('sequential_cost', float('nan')):.10g}), "
-                  f"{sum(s.evaluations for s in res.segments)} endpoint evaluations", flush=True)
+                  f"{sum(s.evaluations for s in res.segments)} endpoint evaluations of the intervals, "
+                  f"{joint.get('evaluations')} of the joint optimum", flush=True)
         spread = (max(costs) - min(costs)) / max(abs(min(costs)), 1e-300)
         print(f"{name}: {len(costs)} problems, costs {min(costs):.15g} to {max(costs):.15g} (relative spread "
               f"{spread:.1e})", flush=True)

@@ -3,7 +3,8 @@
 in Yeadon's angles, its peak rate and torque against the data's limits.
 
 Each line gives the plan's time, its cost (the sum of its segments' optimal costs; 0 for a
-feasible plan) and its endpoint evaluations, then the counts in Yeadon's angles. The first plan in
+feasible plan) and its endpoint evaluations (the intervals' own, the feasible start's included,
+and the joint optimum's), then the counts in Yeadon's angles. The first plan in
 the process includes compiling the 5-link body; ``--repeat 2`` plans each dive
 again (warm). By default each file's own options (each asks for an optimal plan within the
 strength data); ``--objective energy``, ``torque`` or ``none`` (the feasible plan) replaces the
@@ -55,8 +56,11 @@ def main() -> None:
             # the cost and the endpoint evaluations: on a noisy machine the count, not the time,
             # tells whether a change moved the optimiser's path
             cost = sum((s.optimality or {}).get("cost") or 0.0 for s in res.segments)
+            joint = ((res.segments[0].optimality or {}).get("joint") or {}) if res.segments else {}
+            own = sum(s.evaluations for s in res.segments)
             line = (f"{name} [{'cold' if k == 0 else 'warm'}] {res.status} in {dt:.1f} s, cost {cost!r}, "
-                    f"{sum(s.evaluations for s in res.segments)} endpoint evaluations")
+                    f"{own + (joint.get('evaluations') or 0)} endpoint evaluations (the intervals' {own}, the "
+                    f"joint optimum's {joint.get('evaluations') or 0})")
             if res.status == "success":
                 line += ": " + dive_report(res).summary()
             print(line, flush=True)
