@@ -103,26 +103,23 @@ def _static(system) -> tuple[bool, tuple | None]:
     :func:`plausibility` checks its plans (every input a joint rate, of an angle state) and the
     indices of its angle states among its states (``None`` when its states are not a vector
     space: an attitude on a manifold, whose rate :func:`waypoint_rate` takes from
-    :meth:`~ControlAffineSystem.diff`). A system is immutable; its class, names and rate inputs
-    are the key, so two systems that differ in them never share an entry (names given as lists,
-    which cannot be a key, are worked out each time)."""
+    :meth:`~ControlAffineSystem.diff`). The key is the class, the state, input and angle names, the
+    rate inputs and the tangent dimension, all that the answer depends on (not
+    :attr:`~ControlAffineSystem.structure_key`: a planar or spatial body's is its topology alone,
+    its names being runtime), so two systems that differ in any of them never share an entry."""
     rates = system.rate_inputs
-    try:
-        key = (type(system), system.state_names, system.input_names, system.angle_states, system.ndx,
-               tuple(rates.items()) if rates else ())
-        found = _STATIC.get(key)
-    except TypeError:
-        key, found = None, None
+    key = (type(system), tuple(system.state_names), tuple(system.input_names), tuple(system.angle_states),
+           tuple(rates.items()) if rates else (), system.ndx)
+    found = _STATIC.get(key)
     if found is None:
         angles = system.angle_states
         checked = bool(rates) and set(rates) == set(system.input_names) and set(rates.values()) <= set(angles)
         idx = (tuple(i for i, name in enumerate(system.state_names) if name in angles)
                if system.ndx == system.n_states else None)
         found = (checked, idx)
-        if key is not None:
-            if len(_STATIC) >= _STATIC_SIZE:
-                _STATIC.clear()
-            _STATIC[key] = found
+        if len(_STATIC) >= _STATIC_SIZE:
+            _STATIC.clear()
+        _STATIC[key] = found
     return found
 
 
@@ -191,12 +188,12 @@ def _rate_check(result: PlanResult, factor: float, lazy: bool) -> tuple[tuple, s
         head = f"peak joint rate at least {low:.4g} rad/s, at least {low / implied:.0f}x what the waypoints imply"
     else:
         peaks = _exact_peaks(result, free)
-        if not float(peaks.max()) > factor * implied:
+        peak = float(peaks.max())
+        if not peak > factor * implied:
             return (), ""
-        rate = _rate_warning(result, free, implied, k)
+        rate = _rate_warning(result, free, implied, k, peaks)
         effort = PendingWarning(_effort_warning, (peaks,))
-        ratio = rate.split(" is ", 1)[1].split(" times", 1)[0]
-        head = f"{rate.split(' (', 1)[0]}, {ratio}x what the waypoints imply"
+        head = f"peak joint rate {peak:.4g} rad/s, {peak / implied:.0f}x what the waypoints imply"
     out = [rate]
     if result.has_torques:  # its numbers when the warnings are read: they cost more than the plan
         out.append(effort.function(result, *effort.args) if result._effort is not None else effort)
@@ -231,9 +228,8 @@ def _sampled_peak(result: PlanResult, free) -> float:
     (:mod:`acroplan.core.limits`), over the segments: a lower bound of the peak rate."""
     from ..core.limits import sampled_input_peak
 
-    every = len(free) == result.system.n_inputs  # all rows: the coefficients as they are, no copy
-    rows = list(free)
-    return max(sampled_input_peak(result.basis_for(seg), seg.basis_coefficients if every else
+    rows = None if len(free) == result.system.n_inputs else list(free)  # all rows: as they are, no copy
+    return max(sampled_input_peak(result.basis_for(seg), seg.basis_coefficients if rows is None else
                                   seg.basis_coefficients[rows]) for seg in result.segments)
 
 
@@ -253,10 +249,11 @@ def _exact_peaks(result: PlanResult, free) -> np.ndarray:
     return np.array([max(_row_peaks(result, s, free)) for s in result.segments])
 
 
-def _rate_warning(result: PlanResult, free, implied: float, k: int) -> str:
+def _rate_warning(result: PlanResult, free, implied: float, k: int, peaks=None) -> str:
     """The warning of the peak rate: the exact peak, where, and its ratio to ``implied`` (the
-    waypoints' fastest rate, over interval ``k``)."""
-    peaks = _exact_peaks(result, free)
+    waypoints' fastest rate, over interval ``k``); ``peaks`` the segments' exact peaks
+    (:func:`_exact_peaks`) when already found."""
+    peaks = _exact_peaks(result, free) if peaks is None else peaks
     worst = int(np.argmax(peaks))
     peak, seg = float(peaks[worst]), result.segments[worst]
     # the input at the peak (one free input: that one, without finding its extremes again)
