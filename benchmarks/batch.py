@@ -70,7 +70,8 @@ def batch(probs):
               f"{ok} planned)")
         if executor == "serial":
             # a flagged plan's exact peak rate, torque and power are worked out when its warnings are
-            # first read (acroplan.core.result.PendingWarning): what reading them all costs, beside
+            # first read (acroplan.core.result.PendingWarning): what reading them all costs, beside the
+            # plans' own time
             t0 = time.perf_counter()
             flagged = sum(bool(r.warnings) for r in out)
             dw = time.perf_counter() - t0

@@ -271,8 +271,9 @@ def _extremes(crit: np.ndarray, values, on_grid: np.ndarray):
 def sampled_input_peak(basis: InputBasis, c) -> float:
     """:math:`\\max_j \\max_k |u_j(s_k)|` of the series ``c`` (rows ``(r, n)``, or one ``(n,)``) on
     the 257 points :math:`s_k` of the check grid: a lower bound of the exact peak
-    (:func:`input_extremes`), without its root finding (a matrix product: some 5 us, against 0.1-0.15
-    ms on a two-link plan's segment)."""
+    (:func:`input_extremes`), without its root finding (a matrix product: 8 us for one series of 10
+    coefficients in a ``timeit`` loop, against 0.1-0.15 ms for the exact peak of a two-link plan's
+    segment)."""
     c = np.asarray(c, dtype=float)
     return float(np.abs(_grid_matrix(basis, "u") @ c.T).max())
 
