@@ -602,6 +602,34 @@ def test_the_qp_step_is_newtons_where_the_model_bends_down_across_the_binding_ro
         assert np.abs(p_off - p_star).max() > 1e-2 * np.abs(p_star).max(), seed
 
 
+def test_the_newton_step_drops_a_row_nearly_dependent_on_a_binding_one(monkeypatch):
+    """A limit's grid puts neighbouring points of one peak in the working set, one at its bound and
+    one just inside: rows nearly parallel, which made the Schur complement of sqp._active_newton
+    singular, so that its Newton step was refused and the flipped model's step taken (the forward
+    dive's joint optimum converged linearly). Here each bent program of known solution (as in the
+    test above) gets a row 1e-7 (relative) off an active row's normal and 5e-8 further inside its
+    bound, given as a hint: the nearly dependent row leaves the set (sqp._dependent_row) and the step
+    and the multipliers are the known ones, to 1e-9 of the step, on 20 programs; refused instead
+    (sqp.DROP_DEPENDENT off), the step is off by more than 1%."""
+    from acroplan.core import sqp
+
+    for seed in range(20):
+        W, g, h, A, R, r, p_star, lam_star, mu_star, active = _bent_qp(seed)
+        rng = np.random.default_rng(100 + seed)
+        a = int(active[0])
+        n = rng.normal(size=R.shape[1])
+        n -= (n @ p_star) / (p_star @ p_star) * p_star  # the new row's value at the known step as row a's
+        twin = R[a] + 1e-7 * np.linalg.norm(R[a]) * n / np.linalg.norm(n)
+        R2, r2 = np.vstack([R, twin]), np.append(r, r[a] - 5e-8)
+        mu2 = np.append(mu_star, 0.0)
+        hint = np.append(active, R.shape[0])
+        _the_known_step(sqp.qp_step(W, g, h, A, R2, r2, hint=hint), p_star, lam_star, mu2, R2, r2, scale=1e-9)
+        monkeypatch.setattr(sqp, "DROP_DEPENDENT", False)
+        p_off = sqp.qp_step(W, g, h, A, R2, r2, hint=hint)[0]
+        monkeypatch.setattr(sqp, "DROP_DEPENDENT", True)
+        assert np.abs(p_off - p_star).max() > 1e-2 * np.abs(p_star).max(), seed
+
+
 def test_the_sqp_converges_quadratically_onto_a_bound_where_the_curvature_is_negative(monkeypatch):
     """The SQP on min 0.5 z^T Q z + c^T z with Q indefinite (eigenvalues -1.30, 2.30, 2), s.t.
     z_2 = 0.1 z_0^2 and z_0 <= 1, exact Hessians, from (0.8, 3, 0.064): the optimum is on the bound,

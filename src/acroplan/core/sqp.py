@@ -328,6 +328,18 @@ def _well_conditioned_cholesky(Wr):
 ACTIVE_NEWTON = True
 #: Rounds of :func:`_active_newton`'s working set.
 ACTIVE_ROUNDS = 8
+#: Whether :func:`_active_newton` drops a row of its working set that is nearly dependent on the
+#: others (:func:`_dependent_row`) instead of giving up. The joint optimum's grids of the rate limits
+#: (64 uniform and 64 Chebyshev points an interval, which crowd at its ends) put neighbouring points
+#: of one peak in the set, one at its bound and one within 1e-7 of it: their rows differ by 1e-5 on
+#: the null space, the Schur complement had an eigenvalue 1e-11 of its largest, and every Newton
+#: step of the bundled forward dive's joint torque optimum was refused; the flipped model's steps
+#: then converged linearly (KKT residual x0.6 an iteration, 31 iterations). Dropping the row: 25
+#: (``benchmarks/RESULTS.md``, eighteenth session).
+DROP_DEPENDENT = True
+#: :func:`_dependent_row`: rows count as nearly dependent when a unit combination of them (the
+#: near-null eigenvector of the Schur complement) is at most this long on the null space.
+DEPENDENT_ROWS = 1e-3
 
 
 def _active_newton(R, r, work, pY, Zr, V, e, Vg):
@@ -369,10 +381,17 @@ def _active_newton(R, r, work, pY, Zr, V, e, Vg):
         S = Be @ B.T
         es = np.linalg.eigvalsh(0.5 * (S + S.T)) if k else np.zeros(0)
         # an eigenvalue of S (of the rows scaled to unit length) near zero: the KKT matrix is nearly
-        # singular, the model nearly flat on the set's null space, and its Newton step long and
-        # unreliable (the step with the magnitudes is kept)
+        # singular. When rows of the set are nearly dependent on the null space (two neighbouring
+        # points of one limit's grid at a peak, one at its bound and one within 1e-7 of it), the row
+        # of the near-null combination farthest inside its bound leaves the set (it joins again if
+        # the step breaks it); else the model is nearly flat on the set's null space, its Newton step
+        # long and unreliable, and the step with the magnitudes is kept
         if k and not np.abs(es).min() > 1e-8 * max(float(np.abs(es).max()), 1e-300):
-            return None
+            dropped = _dependent_row(B, S, r[work]) if DROP_DEPENDENT else None
+            if dropped is None:
+                return None
+            work = np.delete(work, dropped)
+            continue
         convex = negative + int(np.count_nonzero(es > 0.0)) == k
         mu_w = np.linalg.solve(S, (r[work] + R[work] @ pY) / norms - Be @ Vg) if k else np.zeros(0)
         p = pY - ZV @ ((Vg + B.T @ mu_w) / e)
@@ -395,6 +414,22 @@ def _active_newton(R, r, work, pY, Zr, V, e, Vg):
         mu[work] = np.maximum(mu_w, 0.0)
         return p, mu
     return None
+
+
+def _dependent_row(B, S, r_work):
+    """The position in the working set of the row to drop when the Schur complement ``S`` of
+    :func:`_active_newton` is nearly singular because rows of ``B`` (unit length) are nearly
+    dependent, or ``None`` when they are not: of the rows that weigh (at least a tenth of the
+    largest) in the eigenvector of ``S``'s eigenvalue nearest zero, the one farthest inside its
+    bound (``r_work``, the rows' values :math:`r_i \\le 0`). Nearly dependent means that the same
+    combination nearly cancels in ``B`` itself (:math:`\\|B^\\top v\\| \\le 10^{-3}`); otherwise
+    ``S`` is singular through the model's curvature, and dropping a row would not mend it."""
+    ev, vecs = np.linalg.eigh(0.5 * (S + S.T))
+    v = vecs[:, int(np.argmin(np.abs(ev)))]
+    if not float(np.linalg.norm(B.T @ v)) <= DEPENDENT_ROWS:
+        return None
+    weigh = np.flatnonzero(np.abs(v) >= 0.1 * np.abs(v).max())
+    return int(weigh[int(np.argmin(r_work[weigh]))])
 
 
 def _at_bound(r, tol=1e-7):
