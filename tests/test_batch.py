@@ -28,6 +28,24 @@ def test_batch_equals_one_by_one(executor):
     assert many[2].status == "infeasible" and all(r.success for i, r in enumerate(many) if i != 2)
     for a, b in zip(one, many):
         assert a.to_json() == b.to_json()  # bit for bit
+        assert a == b  # every field, arrays and all (the system too, pickled to a process and back)
+
+
+def test_results_compare_bit_for_bit():
+    """``==`` of results (PlanResult, SegmentResult, Samples) compares every field, arrays entry by
+    entry, NaN equal to NaN: the same request planned twice is equal; a waypoint moved by 1e-12
+    rad, a message changed or a NaN made 0 is not. (The generated ``==`` raised on the arrays.)"""
+    import dataclasses
+
+    p = _problems(1)[0]
+    kw = {k: v for k, v in p.items() if k != "system"}
+    a, b = acroplan.plan(p["system"], **kw), acroplan.plan(p["system"], **kw)
+    assert a == b and not (a != b) and a.segments[0] == b.segments[0] and a.sample(33) == b.sample(33)
+    moved = acroplan.plan(p["system"], **{**kw, "phi": [kw["phi"][0], kw["phi"][1] + 1e-12]})
+    assert moved.success and moved != a and moved.segments[0] != a.segments[0]
+    assert dataclasses.replace(a, message=a.message + ".") != a and a != a.to_dict() and a != None  # noqa: E711
+    seg = dataclasses.replace(a.segments[0], sigma_min=float("nan"))
+    assert seg == dataclasses.replace(seg) and seg != dataclasses.replace(seg, sigma_min=0.0)
 
 
 def test_batch_validates_before_planning():

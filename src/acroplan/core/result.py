@@ -30,7 +30,7 @@ from .basis import InputBasis, basis_tables
 from .effort import EFFORT_RULE, JointEffort, effort_summary
 from .errors import InvalidInputError
 from .progress import stage
-from .segment import Samples, SegmentResult, _freeze, _json_safe, _num
+from .segment import Samples, SegmentResult, _freeze, _json_safe, _num, _same_fields
 from .status import STATUSES, Status
 from .system import ControlAffineSystem, joint_inputs, model_torques, torque_model_of
 
@@ -142,6 +142,10 @@ class PlanResult:
     :math:`\\int\\tau^2 dt`, :math:`\\int u^2 dt`), the ``tau_<joint>`` and ``power_<joint>``
     columns of :meth:`evaluate` and :meth:`to_pandas`, the ``effort`` block of :meth:`to_dict` and
     ``plot("effort")``; without one, none of these appear.
+
+    Two results are equal (``==``) when every field is the same, bit for bit (arrays entry by entry,
+    NaN equal to NaN): the same request planned twice on one machine gives equal results. So are
+    two :class:`SegmentResult` and two :class:`Samples`.
     """
 
     status: Status
@@ -161,6 +165,10 @@ class PlanResult:
     warnings: tuple[str, ...] = _Warnings()
     #: the effort summary, computed on first use (a cache of values the segments fix)
     _effort: dict | None = dataclasses.field(default=None, init=False, repr=False, compare=False)
+
+    #: bit for bit, arrays and all (:func:`acroplan.core.segment._same`): two plans of the same
+    #: request on one machine are equal; the generated ``==`` raised on the arrays
+    __eq__ = _same_fields
 
     def __post_init__(self):
         _freeze(self, "times", "waypoints")

@@ -23,6 +23,42 @@ def _freeze(obj, *names):
         object.__setattr__(obj, name, a)
 
 
+def _same(a, b) -> bool:
+    """Whether two field values are the same, bit for bit: arrays of the same shape and dtype with
+    equal entries (NaN equal to NaN), floats likewise, tuples, lists and dicts entry by entry, any
+    other value by ``==`` (by identity when its ``==`` gives no single truth value)."""
+    if a is b:
+        return True
+    if isinstance(a, np.ndarray) or isinstance(b, np.ndarray):
+        a, b = np.asarray(a), np.asarray(b)
+        if a.shape != b.shape or a.dtype != b.dtype:
+            return False
+        try:
+            return bool(np.array_equal(a, b, equal_nan=True))
+        except TypeError:  # an array of objects: entry by entry
+            return all(_same(x, y) for x, y in zip(a.ravel().tolist(), b.ravel().tolist()))
+    if isinstance(a, float) and isinstance(b, float):
+        return a == b or (a != a and b != b)
+    if isinstance(a, (tuple, list)) and isinstance(b, (tuple, list)):
+        return type(a) is type(b) and len(a) == len(b) and all(_same(x, y) for x, y in zip(a, b))
+    if isinstance(a, dict) and isinstance(b, dict):
+        return a.keys() == b.keys() and all(_same(a[k], b[k]) for k in a)
+    try:
+        return bool(a == b)
+    except (ValueError, TypeError):
+        return False
+
+
+def _same_fields(x, y):
+    """Dataclass equality field by field with :func:`_same` (the fields with ``compare=True``):
+    the ``__eq__`` of the result records, whose array fields made the generated one raise."""
+    if x is y:
+        return True
+    if type(x) is not type(y):
+        return NotImplemented
+    return all(_same(getattr(x, f.name), getattr(y, f.name)) for f in dataclasses.fields(x) if f.compare)
+
+
 def _json_safe(obj):
     """``obj`` with every non-finite float replaced by ``None`` (recursively)."""
     if isinstance(obj, float):
@@ -71,6 +107,9 @@ class Samples:
     torques: np.ndarray | None = None
     power: np.ndarray | None = None
     joint_names: tuple[str, ...] = ()
+
+    #: bit for bit, arrays and all (:func:`_same`); the generated ``==`` raised on the arrays
+    __eq__ = _same_fields
 
     def __getattr__(self, name):
         names = object.__getattribute__(self, "state_names")
@@ -177,6 +216,9 @@ class SegmentResult:
     basis: InputBasis | None = dataclasses.field(default=None, repr=False)
     #: first-order optimality diagnostics of an optimal plan's segment (plain JSON types)
     optimality: dict | None = dataclasses.field(default=None, repr=False, compare=False)
+
+    #: bit for bit, arrays and all (:func:`_same`); the generated ``==`` raised on the arrays
+    __eq__ = _same_fields
 
     def __post_init__(self):
         _freeze(self, "coefficients", "basis_coefficients", "start", "target")
