@@ -331,11 +331,11 @@ ACTIVE_ROUNDS = 8
 #: Whether :func:`_active_newton` drops a row of its working set that is nearly dependent on the
 #: others (:func:`_dependent_row`) instead of giving up. The joint optimum's grids of the rate limits
 #: (64 uniform and 64 Chebyshev points an interval, which crowd at its ends) put neighbouring points
-#: of one peak in the set, one at its bound and one within 1e-7 of it: their rows differ by 1e-5 on
-#: the null space, the Schur complement had an eigenvalue 1e-11 of its largest, and every Newton
-#: step of the bundled forward dive's joint torque optimum was refused; the flipped model's steps
-#: then converged linearly (KKT residual x0.6 an iteration, 31 iterations). Dropping the row: 25
-#: (``benchmarks/RESULTS.md``, eighteenth session).
+#: of one peak in the set, one at its bound and one within 1e-7 of it: their rows (unit length)
+#: differ by about 4e-5 on the null space, the Schur complement had an eigenvalue 1e-11 of its
+#: largest, and every Newton step of the bundled forward dive's joint torque optimum was refused;
+#: the flipped model's steps then converged linearly (KKT residual x0.6 an iteration, 31
+#: iterations). Dropping the row: 25 (``benchmarks/RESULTS.md``, eighteenth session).
 DROP_DEPENDENT = True
 #: :func:`_dependent_row`: rows count as nearly dependent when a unit combination of them (the
 #: near-null eigenvector of the Schur complement) is at most this long on the null space.
@@ -347,7 +347,8 @@ def _active_newton(R, r, work, pY, Zr, V, e, Vg):
     active-set method from the working set ``work`` (rows taken as equations, :math:`R_w p = -r_w`,
     beside :math:`A p = -h`): a row whose multiplier is negative leaves the set, a row the step
     breaks joins it (the only move where the model is not positive definite on the set's null
-    space: its step is a saddle's), at most :data:`ACTIVE_ROUNDS` times. ``(p, mu)`` when a round's
+    space: its step is a saddle's), a row nearly dependent on the others leaves it
+    (:func:`_dependent_row`), at most :data:`ACTIVE_ROUNDS` times. ``(p, mu)`` when a round's
     step keeps every row with multipliers not negative and the model is positive definite on the
     null space of its equations (so that ``p`` is a local solution of the program); ``None`` when
     no round gets there, or when the model is singular on the equations' null space.
