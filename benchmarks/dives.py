@@ -11,13 +11,21 @@ strength data); ``--objective energy``, ``torque`` or ``none`` (the feasible pla
 file's objective, and ``--tau-max strength`` or ``none`` its torque limits (``strength``: the
 strength data's, ``strength.torque_limits``).
 
+``--stages`` also gives each plan's wall time by stage (wrappers that add microseconds): the
+feasible plan each interval starts from (the family's ``method="auto"`` strategy), the first size's
+optimum from it (``_Search.first_stage``), the ladder of basis sizes, the reported size's
+refinement and dense check (``_Search.report``), the intervals' joint optimum, the independent
+check (the front's ``_verified``) and the rest.
+
 Run:  python benchmarks/dives.py [--dives back-full-twist ...] [--repeat 2] [--objective energy|torque|none]
-      [--tau-max strength|none]
+      [--tau-max strength|none] [--stages]
 """
 
 from __future__ import annotations
 
 import argparse
+import collections
+import functools
 import platform
 import time
 
@@ -35,7 +43,9 @@ def main() -> None:
                     help="replaces the file's objective (none: the feasible plan)")
     ap.add_argument("--tau-max", choices=("strength", "none"), default=None,
                     help="replaces the file's torque limits")
+    ap.add_argument("--stages", action="store_true", help="each plan's wall time by stage too")
     args = ap.parse_args()
+    spent = timed_stages() if args.stages else None
     print(f"# {platform.processor() or platform.machine()}, python {platform.python_version()}")
     for name in args.dives:
         prob = examples.load(name)
@@ -50,6 +60,8 @@ def main() -> None:
             if args.tau_max == "strength":
                 extra["tau_max"] = torque_limits(body)
         for k in range(args.repeat):
+            if spent is not None:
+                spent.clear()
             t0 = time.perf_counter()
             res = acroplan.plan(body, **{**kw, **extra})  # the options given here replace the file's
             dt = time.perf_counter() - t0
@@ -64,6 +76,44 @@ def main() -> None:
             if res.status == "success":
                 line += ": " + dive_report(res).summary()
             print(line, flush=True)
+            if spent is not None:
+                parts = ", ".join(f"{label} {spent[label]:.2f}" for label in STAGES if label in spent)
+                print(f"    stages (s): {parts}, the rest {dt - sum(spent.values()):.2f}", flush=True)
+
+
+#: The labels of the stages :func:`timed_stages` times, in the order printed
+STAGES = ("feasible", "first stage", "ladder", "report", "joint", "check")
+
+
+def timed_stages() -> collections.Counter:
+    """Wrap each stage's function (no stage calls another) so that its wall time adds up, by
+    label, in the returned counter."""
+    from acroplan.core import optimal
+    from acroplan.families.spatial import strategy
+    from acroplan.planning import front
+
+    spent = collections.Counter()
+
+    def wrap(owner, name, label):
+        inner = getattr(owner, name)
+
+        @functools.wraps(inner)
+        def timed(*a, **k):
+            t0 = time.perf_counter()
+            try:
+                return inner(*a, **k)
+            finally:
+                spent[label] += time.perf_counter() - t0
+
+        setattr(owner, name, timed)
+
+    wrap(strategy.SpatialAuto, "solve", "feasible")
+    wrap(optimal._Search, "first_stage", "first stage")
+    wrap(optimal._Search, "ladder", "ladder")
+    wrap(optimal._Search, "report", "report")
+    wrap(optimal.EnergyOptimal, "joint", "joint")
+    wrap(front, "_verified", "check")
+    return spent
 
 
 if __name__ == "__main__":
