@@ -78,18 +78,18 @@ def main() -> None:
               + (" (check_segment is inside _infeasible)" if "_infeasible" in us else ""))
 
 
-def cpu_timed(spent, owner, name: str, label: str | None = None) -> None:
-    """Replace ``owner.name`` by a wrapper that adds its CPU time to ``spent[label or name]``
-    (also used by ``plan_overhead.py --parts``)."""
+def cpu_timed(spent, owner, name: str, label: str | None = None, clock=time.process_time) -> None:
+    """Replace ``owner.name`` by a wrapper that adds its CPU time (or the time of ``clock``) to
+    ``spent[label or name]`` (also used by ``plan_overhead.py --parts`` and ``dives.py --stages``)."""
     f = getattr(owner, name)
 
     @functools.wraps(f)
     def g(*a, **k):
-        t = time.process_time()
+        t = clock()
         try:
             return f(*a, **k)
         finally:
-            spent[label or name] += time.process_time() - t
+            spent[label or name] += clock() - t
     setattr(owner, name, g)
 
 
