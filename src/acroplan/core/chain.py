@@ -117,14 +117,15 @@ class ChainProblem:
 
     def ineq(self, z):
         """Every interval's inequalities (:meth:`OptimalProblem.ineq`), their Jacobian block-diagonal."""
-        rows = [(k, p.ineq_rows()) for k, p in enumerate(self.probs) if p.lin is not None or p.tmax is not None]
-        R = np.zeros((sum(n for _, n in rows), self.N))
-        parts, i = [], 0
-        for k, n in rows:  # each interval's block written in place (a copy of each was a third of this)
-            parts.append(self.probs[k].ineq(z[self.offsets[k]:self.offsets[k + 1]],
-                                            out=R[i:i + n, self.offsets[k]:self.offsets[k + 1]])[0])
-            i += n
-        return np.concatenate(parts), R
+        parts = [(k, *p.ineq(zk)) for k, (p, zk) in enumerate(zip(self.probs, self.split(z)))
+                 if p.lin is not None or p.tmax is not None]
+        r = np.concatenate([rk for _, rk, _ in parts])
+        R = np.zeros((r.size, self.N))
+        i = 0
+        for k, rk, Rk in parts:
+            R[i:i + rk.size, self.offsets[k]:self.offsets[k + 1]] = Rk
+            i += rk.size
+        return r, R
 
     def curvature(self, z):
         """The constraints' Hessians in ``z``, shape (q, N, N): each interval's forward differences

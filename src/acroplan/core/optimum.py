@@ -295,17 +295,10 @@ class OptimalProblem:
         fin = np.isfinite(tmax)
         return tau.ravel()[fin], tmax[fin], self.zmat(J.reshape(-1, self.N)[fin])
 
-    def ineq_rows(self) -> int:
-        """How many rows :meth:`ineq` gives: the linear ones and two per finite torque limit and
-        point of the torque limits' grid."""
-        n_lin = 0 if self.lin is None else self.lin[0].shape[0]
-        return n_lin + (0 if self.tmax is None else 2 * int(np.isfinite(self.tmax).sum()) * len(self.grid))
-
-    def ineq(self, z, out=None):
+    def ineq(self, z):
         """The inequalities :math:`r(z) \\le 0` and their Jacobian: the rate and joint limits (linear
         rows :math:`A_z z - b_z`) and the torque limits, :math:`\\pm\\tau - (1 - m)\\bar\\tau` on
-        the grid (:data:`TORQUE_MARGIN` :math:`m`), in one array; the Jacobian written into ``out``
-        when given (shape (:meth:`ineq_rows`, N_z): a block of the joint optimum's, written once)."""
+        the grid (:data:`TORQUE_MARGIN` :math:`m`), in one array."""
         n_lin = 0 if self.lin is None else self.lin[0].shape[0]
         n_tau = 0
         if self.tmax is not None:
@@ -313,7 +306,7 @@ class OptimalProblem:
             top = tmax * (1.0 - TORQUE_MARGIN)
             n_tau = tau.size
         r = np.empty(n_lin + 2 * n_tau)
-        R = np.empty((r.size, self.Z.shape[1] if not self.free else self.N)) if out is None else out
+        R = np.empty((r.size, self.Z.shape[1] if not self.free else self.N))
         if n_lin:
             Az, bz = self.lin
             r[:n_lin] = Az @ z - bz

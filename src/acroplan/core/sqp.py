@@ -661,10 +661,7 @@ def sqp(prob, z, Hz, *, tol, kkt_tol, max_iter=40, refresh=None, max_refresh=Non
         else:  # symmetric rank-one correction of the modelled curvature, from the Lagrangian's secant
             y = (xt.g - x.g) + (xt.A - x.A).T @ lam_qp - (xt.H + (lam_qp @ Hz2).reshape(N, N) + D) @ s
             if mu is not None:
-                # the rows with a multiplier alone (a few dozen of the joint optimum's thousands: the
-                # difference of the whole Jacobians was 12 ms an iteration of the double full-out's)
-                on = np.flatnonzero(mu)
-                y += (xt.R[on] - x.R[on]).T @ mu[on]
+                y += (xt.R - x.R).T @ mu
             den = float(y @ s)
             if abs(den) > 1e-8 * math.sqrt(float(y @ y) * float(s @ s)) > 0:
                 D += np.outer(y, y) / den
