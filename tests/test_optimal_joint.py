@@ -390,6 +390,7 @@ def test_the_joint_optimum_takes_the_times_where_it_broke_a_torque_limit(monkeyp
     top = 0.5 * free.effort()["q"].peak_torque
     monkeypatch.setattr(optimal, "JOINT_LIMIT_GRIDS", (4,))
     monkeypatch.setattr(optimal, "JOINT_LIMIT_ENDS", 0)  # the first grid uniform alone: the exchange is tested
+    monkeypatch.setattr(optimal, "JOINT_TORQUE_ENDS", False)
     monkeypatch.setattr(optimum, "TORQUE_LIMIT_GRID", 4)
     monkeypatch.setattr(optimal, "EXCHANGE_ROUNDS", 6)
     res = acroplan.plan(sysm, objective="energy", tau_max=top, **prob)
@@ -494,18 +495,36 @@ def test_the_dense_check_refines_a_torque_peak_between_its_points():
     assert run.broken["torque"] and "max(|tau| - tau_max) = 1.00e-02" in res.message
 
 
+def test_the_end_cluster_is_half_a_feature_apart_at_each_end():
+    """optimum.end_cluster(n): 37 points an end, evenly over [0, 18/n^2] and [1 - 18/n^2, 1] (the
+    span at most 1/4), so 1/(2 n^2) apart: half the width of an n-coefficient input's narrowest
+    features at the ends; sorted, in [0, 1], symmetric about 1/2."""
+    from acroplan.core.optimum import end_cluster
+
+    for n in (6, 10, 14, 20, 30, 48):
+        e = end_cluster(n)
+        w = min(18.0 / n**2, 0.25)
+        assert e.size == 74 and np.all(np.diff(e) > 0) and e[0] == 0.0 and e[-1] == 1.0
+        np.testing.assert_allclose(e, 1.0 - e[::-1], rtol=0, atol=1e-15)
+        np.testing.assert_allclose(np.diff(e[:37]), w / 36, rtol=1e-12)
+        assert e[36] == w and (n < 9 or abs(w / 36 - 1 / (2 * n**2)) < 1e-15), n
+
+
 def test_a_retry_densifies_the_limits_that_were_broken_between_the_points():
     """optimal._denser_grids: a retry puts on the denser grid only the kind of limit its last
     optimum broke between the points (the rate and joint limits, or the torque limits); both when
     neither was found broken (another check failed); ``None`` when nothing would be denser. The
     forward dive's torque optimum broke a rate limit, its torques 12.6 N m within the strength:
-    its retries had evaluated the torques on 257 points an interval for nothing."""
+    its retries had evaluated the torques on 257 points an interval for nothing. The torque grid's
+    size is its uniform points' (``grid_points``), not counting the points crowded at the ends
+    (``optimum.end_cluster``), which every grid of a joint optimum has besides."""
     from types import SimpleNamespace
 
     from acroplan.core.optimal import _denser_grids
 
-    def run(lin, tq, limits, torque):
-        return SimpleNamespace(prob=SimpleNamespace(limit_grid=lin, grid=None if tq is None else np.zeros(tq)),
+    def run(lin, tq, limits, torque, ends=0):
+        return SimpleNamespace(prob=SimpleNamespace(limit_grid=lin, grid=None if tq is None else np.zeros(tq + ends),
+                                                    grid_points=tq),
                                broken={"limits": limits, "torque": torque})
 
     assert _denser_grids([run(64, 65, True, False), run(64, 65, False, False)], 256) == (256, 65)
@@ -514,6 +533,8 @@ def test_a_retry_densifies_the_limits_that_were_broken_between_the_points():
     assert _denser_grids([run(64, None, True, False)], 256) == (256, None)
     assert _denser_grids([run(256, 65, True, False)], 256) is None
     assert _denser_grids([run(256, 257, True, True)], 256) is None
+    assert _denser_grids([run(64, 65, True, False, ends=72)], 256) == (256, 65)
+    assert _denser_grids([run(256, 65, True, False, ends=72)], 256) is None
 
 
 def test_the_curvature_along_the_leading_coefficients_is_the_full_ones_there():

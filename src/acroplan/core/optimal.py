@@ -74,7 +74,8 @@ Solvers
   (:data:`~acroplan.core.optimum.EXCHANGE_SPREAD`), added to the torque limits' grid
   (:data:`EXCHANGE_ROUNDS`); and so is the first size's optimum, where the starts are compared,
   and the intervals' joint optimum (:data:`JOINT_LIMIT_GRIDS`, the first grid with
-  :data:`JOINT_LIMIT_ENDS` Chebyshev points at the ends too). (Before issue #22 the limits went to
+  :data:`JOINT_LIMIT_ENDS` Chebyshev points at the ends too, and every grid's torque limits also
+  on points crowded at the intervals' ends, :data:`JOINT_TORQUE_ENDS`). (Before issue #22 the limits went to
   scipy's SLSQP, where the falling cat's energy optimum took 160 s; ``benchmarks/RESULTS.md`` has
   the figure now.) A size whose linearised limits no step can keep (a start far outside them)
   fails, and the next size is tried. The second-order correction of a trial step keeps the limits
@@ -321,16 +322,17 @@ class _Search:
         return self._conditions[n]
 
     def new_run(self, n, limit_grid: int | None = None, torque_grid: int | None = None,
-                limit_ends: int = 0) -> OptimalRun:
+                limit_ends: int = 0, torque_ends: bool = False) -> OptimalRun:
         """A run at size ``n`` with the rate and joint limits on ``limit_grid`` points (default
         :data:`LIMIT_GRID`; and ``limit_ends`` Chebyshev points, :func:`~acroplan.core.limits.linear_limits`)
         and the torque limits on ``torque_grid`` (default as
-        :class:`~acroplan.core.optimum.OptimalProblem`)."""
+        :class:`~acroplan.core.optimum.OptimalProblem`; with ``torque_ends``, also on
+        :func:`~acroplan.core.optimum.end_cluster`)."""
         limit_grid = LIMIT_GRID if limit_grid is None else limit_grid
         bn, B, d = self.sized(n)
         iv = self.interval
         return OptimalRun(self.system, bn, iv.x0, iv.x1, iv.T, self.cost, self.model, self.limits, self.tmax, B, d,
-                          iv.tol, iv.max_evaluations, limit_grid, torque_grid, limit_ends)
+                          iv.tol, iv.max_evaluations, limit_grid, torque_grid, limit_ends, torque_ends)
 
     def first_stage(self, n, candidates):
         """Optimise the candidates ``(label, coefficients, promising)`` at size ``n``: the first one
@@ -817,7 +819,7 @@ class EnergyOptimal(Strategy):
             where = (f"{grid} points" if grids[1] is None or grids[1] > grid else
                      f"{grids[0]} points (the torque limits on {grids[1]})") + (
                          f" and {ends} Chebyshev points" if ends else "")
-            runs = [_Search(self, iv, model).new_run(seg.basis.n, *grids, limit_ends=ends)
+            runs = [_Search(self, iv, model).new_run(seg.basis.n, *grids, limit_ends=ends, torque_ends=JOINT_TORQUE_ENDS)
                     for iv, seg in zip(intervals, segments)]
             if sequential is None:
                 sequential = sum(float(r.prob.f(r.prob.z(np.ravel(c)))[0]) for r, c in zip(runs, start))
@@ -909,6 +911,13 @@ JOINT_LIMIT_GRIDS = (64, 256)
 #: 1314.315 (benchmarks/RESULTS.md, "2026-12-06 (fifth session)"). Only the joint optimum's: in the
 #: one-interval ladders the same points made the falling cat's least integral of u^2 twice as slow.
 JOINT_LIMIT_ENDS = 64
+#: Whether the joint optimum's torque limits are also imposed on points crowded at each interval's
+#: ends (:func:`~acroplan.core.optimum.end_cluster`: 37 an end, :math:`1/(2n^2)` apart), on every
+#: grid: its torques peak in boundary layers there. The bundled double full-out's joint optimum
+#: then held its torque limits on the first grid (11 SQP iterations) where it had taken four grids
+#: (10, 6, 5, 4), 241 endpoint evaluations of the plan against 406; the forward dive's 20
+#: iterations against 25 (``benchmarks/RESULTS.md``, eighteenth session).
+JOINT_TORQUE_ENDS = True
 #: Exchange rounds of the joint optimum after its densest grid (:meth:`EnergyOptimal.joint`): the
 #: times where its torques broke a limit between the grid's points are added to the torque limits'
 #: grid, with a time on either side of each (:data:`acroplan.core.optimum.EXCHANGE_SPREAD`), and the
@@ -942,7 +951,7 @@ def _denser_grids(runs, grid):
     64 points, its torques 12.6 N m within the strength: its retries on 256 points had evaluated
     the torques on 257 points an interval for nothing (benchmarks/RESULTS.md)."""
     lin = max(r.prob.limit_grid for r in runs)
-    tq = max((r.prob.grid.size for r in runs if r.prob.grid is not None), default=None)
+    tq = max((r.prob.grid_points for r in runs if r.prob.grid is not None), default=None)
     broke_lin = any(r.broken["limits"] for r in runs)
     broke_tq = any(r.broken["torque"] for r in runs)
     if not (broke_lin or broke_tq):

@@ -127,11 +127,33 @@ class OutOfEvaluations(RuntimeError):
     pass
 
 
+#: :func:`end_cluster`: points an end, and the span they cover in units of :math:`1/n^2` of the
+#: interval (``n`` coefficients an input), so that they lie :math:`1/(2n^2)` apart
+END_CLUSTER = (37, 18.0)
+
+
+def end_cluster(n: int) -> np.ndarray:
+    """Normalised times crowded at both ends of an interval, for the torque limits of a joint
+    optimum (:meth:`acroplan.core.optimal.EnergyOptimal.joint`): :data:`END_CLUSTER` ``[0]`` points
+    an end, evenly over :math:`[0, w]` and :math:`[1 - w, 1]`, :math:`w = 18/n^2` (at most 1/4),
+    so :math:`1/(2n^2)` apart. An input of ``n`` coefficients has features about :math:`1/n^2` of
+    the interval wide near its ends, and with the input continuous at the interior waypoints the
+    joint optimum's torques peak there, in boundary layers: the bundled double full-out's broke its
+    torque limits between the 65 uniform points within 0.5% of the intervals' ends, then between
+    257 within 2% (``benchmarks/RESULTS.md``, eighteenth session, item 12); points 1e-3 apart there
+    still missed them, 5e-4 apart caught them."""
+    count, span = END_CLUSTER
+    w = min(span / float(n) ** 2, 0.25)
+    e = np.linspace(0.0, w, count)
+    return np.union1d(e, 1.0 - e)
+
+
 class OptimalProblem:
     """One interval at one basis size, in reduced coordinates ``z`` (``c = c_p + Z z``)."""
 
     def __init__(self, system, basis, x0, x1, T, cost, B, d, max_evaluations, limits=None, torque_model=None,
-                 tau_max=None, limit_grid: int = 64, torque_grid: int | None = None, limit_ends: int = 0):
+                 tau_max=None, limit_grid: int = 64, torque_grid: int | None = None, limit_ends: int = 0,
+                 torque_ends: bool = False):
         self.system, self.basis, self.T = system, basis, float(T)
         self.x0 = np.asarray(x0, dtype=float)
         self.x1 = np.asarray(x1, dtype=float)
@@ -163,7 +185,9 @@ class OptimalProblem:
         # between the points, the torque limits or the others)
         points = max(TORQUE_LIMIT_GRID, int(limit_grid) + 1) if torque_grid is None else max(int(torque_grid), 2)
         self.grid = None if tau_max is None else np.linspace(0.0, 1.0, points)
-        self.grid_points = points  # the torque grid's first size (uniform), before exchange rounds
+        if torque_ends and self.grid is not None:  # and the ends' boundary layers (end_cluster)
+            self.grid = np.union1d(self.grid, end_cluster(n))
+        self.grid_points = points  # the torque grid's uniform points (before end clusters and exchange rounds)
 
     def add_torque_times(self, s) -> int:
         """Impose the torque limits at the normalised times ``s`` too (an exchange round: where a
@@ -361,10 +385,11 @@ class OptimalRun:
     """The optimisation at one basis size: solve from a start, refine, report."""
 
     def __init__(self, system, basis, x0, x1, T, cost, torque_model, limits, tau_max, B, d, tol, max_evaluations,
-                 limit_grid: int = 64, torque_grid: int | None = None, limit_ends: int = 0):
+                 limit_grid: int = 64, torque_grid: int | None = None, limit_ends: int = 0,
+                 torque_ends: bool = False):
         self.fn = cost_for(cost, system, basis, x0, T)
         self.prob = OptimalProblem(system, basis, x0, x1, T, self.fn, B, d, max_evaluations, limits, torque_model, tau_max,
-                                   limit_grid, torque_grid, limit_ends)
+                                   limit_grid, torque_grid, limit_ends, torque_ends)
         self.tol = tol
         #: whether the problem has inequalities (rate, joint or torque limits)
         self.inequalities = self.prob.lin is not None or self.prob.tmax is not None
