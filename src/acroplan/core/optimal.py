@@ -915,8 +915,8 @@ JOINT_LIMIT_ENDS = 64
 #: ends (:func:`~acroplan.core.optimum.end_cluster`: 37 an end, :math:`1/(2n^2)` apart), on every
 #: grid: its torques peak in boundary layers there. The bundled double full-out's joint optimum
 #: then held its torque limits on the first grid (11 SQP iterations) where it had taken four grids
-#: (10, 6, 5, 4), 241 endpoint evaluations of the plan against 406; the forward dive's 20
-#: iterations against 25 (``benchmarks/RESULTS.md``, eighteenth session).
+#: (10, 6, 5, 4): 57 endpoint evaluations against 172, the plan 3.8 s warm against 5.9; the forward
+#: dive's 20 iterations against 25 (``benchmarks/RESULTS.md``, eighteenth session, item 13).
 JOINT_TORQUE_ENDS = True
 #: Exchange rounds of the joint optimum after its densest grid (:meth:`EnergyOptimal.joint`): the
 #: times where its torques broke a limit between the grid's points are added to the torque limits'
