@@ -782,7 +782,8 @@ class EnergyOptimal(Strategy):
         given = list(curvatures) if curvatures is not None and len(curvatures) == len(segments) else None
         # whether the last SQP started from the intervals' Hessians: its retry then differences afresh
         # (from the intervals' Hessians, which it may never have refreshed, the double full-out's four
-        # retries took 11, 8, 6, 6 iterations instead of 6, 5, 4, 4)
+        # retries took 11, 8, 6, 6 iterations instead of 6, 5, 4, 4; it has needed no retry since its
+        # torque limits are also on the intervals' ends, JOINT_TORQUE_ENDS)
         borrowed = False
 
         def attempt(runs, start, curvature):
