@@ -188,7 +188,8 @@ MAX_ITER = 150
 
 
 def joint_optimum(runs, starts, *, tol: float, kkt_tol: float = KKT_TOL, max_iter: int = MAX_ITER,
-                  reference_cost: float | None = None, curvature=None, interval_curvature=None) -> ChainOutcome:
+                  reference_cost: float | None = None, curvature=None, interval_curvature=None,
+                  beat: bool = True) -> ChainOutcome:
     """The whole plan's optimum (module docstring) from the sequential one.
 
     Parameters
@@ -207,6 +208,10 @@ def joint_optimum(runs, starts, *, tol: float, kkt_tol: float = KKT_TOL, max_ite
         The sequential optimum's cost, which the result must beat, when ``starts`` are not that
         optimum (a retry on a denser limit grid starts from the coarser grid's joint optimum);
         default: the cost of ``starts``.
+    beat : bool
+        Whether the result must cost less than the reference (default); ``False`` for starts that
+        are no plan (the intervals' provisional optima with their limits broken between the grid's
+        points, :attr:`acroplan.core.strategies.Interval.provisional`), whose cost can be lower.
     curvature : numpy.ndarray, shape (q, N, N), optional
         The constraints' Hessians in the stacked coordinates to start from (a retry's: its
         :attr:`ChainOutcome.curvature`; they do not depend on the limits), instead of forward
@@ -262,7 +267,7 @@ def joint_optimum(runs, starts, *, tol: float, kkt_tol: float = KKT_TOL, max_ite
     tops = [float(np.max(p.tmax[np.isfinite(p.tmax)], initial=1.0)) for p in probs if p.tmax is not None]
     if broken > 1e-9 * max([1.0] + tops):
         why.append(f"a limit row is broken by {broken:.1e}")
-    if not f < f0:
+    if beat and not f < f0:
         why.append(f"the cost {f:.10g} is not below the sequential one {f0:.10g}")
     ok = not why
     msg = (f"jointly optimised across the {len(probs)} intervals (the input continuous at the interior waypoints): "

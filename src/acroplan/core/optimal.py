@@ -8,7 +8,9 @@ optimal plan carries its diagnostics (:meth:`EnergyOptimal.diagnostics`) as
 
 Through interior waypoints the front door then optimises the intervals together
 (:meth:`EnergyOptimal.joint`, :mod:`~acroplan.core.chain`): one interval at a time gives the best
-plan of each interval given the ones before, not the least cost of the whole plan.
+plan of each interval given the ones before, not the least cost of the whole plan. The intervals'
+optima are then only the joint optimum's start, reported as their ladders left them
+(:data:`PROVISIONAL_STARTS`); the front door plans them in full when the joint optimum is not kept.
 
 Where path deformation (:mod:`~acroplan.core.continuation`) finds *an* input that reaches the
 target, the strategies here find the best one within the input basis, for one of two costs:
@@ -541,9 +543,11 @@ class _Search:
                 break
         return current, history, predicted_stop
 
-    def report(self, current, history, predicted_stop, start_label):
-        """The reported optimum: ``current`` refined to ``kkt_tol``, with the ladder and its notes."""
-        st, iv = self.strategy, self.interval
+    def _refined(self, current):
+        """The reported size's optimum refined to the KKT target and checked between its grid's
+        points (solved again on the denser grid where it breaks a limit there): its
+        ``(result, run)``, the run the result is of (a denser grid's, when one was solved)."""
+        st = self.strategy
         if not current.checked:
             # a size taken on its grid alone (LADDER_ON_GRID): checked between the points first, and
             # solved on the denser grid where it breaks a limit there, at the ladder's tolerance, so
@@ -574,6 +578,29 @@ class _Search:
             else:
                 current.z = refined
             self.evaluations += current.prob.evaluations - before
+        return res, current
+
+    def _provisional(self, current):
+        """``(result, "within" or "broken")``: the ladder's last size as the ladder left it, a start of
+        the joint optimum (:data:`PROVISIONAL_STARTS`): not refined, its limits met on their grid
+        (the ladder's own test) and checked between the points only to say whether they hold there;
+        a success when its endpoint is met, so that the next interval starts from it."""
+        before = current.prob.evaluations
+        res = current.result()
+        self.evaluations += current.prob.evaluations - before
+        provisional = "within" if res.success else "broken"
+        if not res.success and res.final_error <= current.tol and (current.broken["limits"] or current.broken["torque"]):
+            res = dataclasses.replace(res, success=True)
+        return res, provisional
+
+    def report(self, current, history, predicted_stop, start_label):
+        """The reported optimum: ``current`` refined to ``kkt_tol`` (or, for a start of the joint
+        optimum, as the ladder left it: :meth:`_provisional`), with the ladder and its notes."""
+        st, iv = self.strategy, self.interval
+        if iv.provisional and PROVISIONAL_STARTS:
+            res, provisional = self._provisional(current)
+        else:
+            (res, current), provisional = self._refined(current), None
         i = next(k for k, (n, _) in enumerate(history) if n == res.basis.n)
         history[i] = (history[i][0], res.objective)
         if predicted_stop is not None:
@@ -596,12 +623,14 @@ class _Search:
                        else ")"))
         ladder = ", ".join(f"{n}: {v:.10g}" for n, v in history)
         msg = (f"{st.name}: {res.message}; sizes (n: cost) {ladder}; {note}; start: {start_label}"
-               + (f" ({self.notes[0]})" if self.notes else "") + f"; integral of |u|^2 = {res.energy:.10g}")
+               + (f" ({self.notes[0]})" if self.notes else "") + f"; integral of |u|^2 = {res.energy:.10g}"
+               + ("" if provisional is None else "; the joint optimum's start: not refined" + (
+                   "" if provisional == "within" else ", its limits broken between the grid's points")))
         grids = dict(limit_grid=int(current.prob.limit_grid),
                      torque_grid=0 if current.prob.grid is None else int(current.prob.grid.size))
         return dataclasses.replace(res, message=msg, evaluations=self.evaluations, sizes=tuple(history),
                                    converged_in_basis=converged, start=start_label, curvature=current.Hc,
-                                   **grids), self.feasible_pieces
+                                   provisional=provisional, **grids), self.feasible_pieces
 
 
 def own_ladder(system, objective: str, joint: bool = False) -> tuple[int, ...] | None:
@@ -768,8 +797,9 @@ class EnergyOptimal(Strategy):
         the first optimum, differences afresh there). Returns
         ``(segments, message)``: the new segments when the joint optimum succeeded and costs less,
         else the given ones, and what was done (also in each segment's ``optimality["joint"]``:
-        ``kept``, ``message``, and when kept ``cost``, ``sequential_cost``, ``evaluations``,
-        ``iterations``)."""
+        ``kept``, ``message``, and when kept ``cost``, ``sequential_cost``, ``sequential_checked``
+        (whether that is a plan's cost: the intervals' provisional optima within their limits between
+        the grid's points, :data:`PROVISIONAL_STARTS`), ``evaluations``, ``iterations``)."""
         from .chain import joint_optimum
 
         if len(intervals) < 2 or len(segments) != len(intervals) or any(not s.optimality for s in segments):
@@ -780,6 +810,9 @@ class EnergyOptimal(Strategy):
         start, sequential, curvature = [s.basis_coefficients for s in segments], None, None
         tol = min(iv.tol for iv in intervals)
         given = list(curvatures) if curvatures is not None and len(curvatures) == len(segments) else None
+        # a start whose limits break between their grid's points is no plan: its cost, which can be
+        # lower than the joint optimum's, is not one to beat (PROVISIONAL_STARTS)
+        beat = not any((s.optimality or {}).get("provisional") == "broken" for s in segments)
         # whether the last SQP started from the intervals' Hessians: its retry then differences afresh
         # (from the intervals' Hessians, which it may never have refreshed, the double full-out's four
         # retries took 11, 8, 6, 6 iterations instead of 6, 5, 4, 4; it has needed no retry since its
@@ -793,7 +826,7 @@ class EnergyOptimal(Strategy):
             fits = curvature is None and given is not None and all(
                 h is not None and np.shape(h) == (r.prob.system.ndx, r.prob.N, r.prob.N) for h, r in zip(given, runs))
             out = joint_optimum(runs, start, tol=tol, kkt_tol=self.kkt_tol, reference_cost=sequential,
-                                curvature=curvature, interval_curvature=given if fits else None)
+                                curvature=curvature, interval_curvature=given if fits else None, beat=beat)
             given, borrowed = None, fits
             if not out.success:
                 return out, None, None
@@ -865,9 +898,11 @@ class EnergyOptimal(Strategy):
         for iv, seg, run, c, cost, chk in zip(intervals, segments, runs, out.coefficients, out.costs, checks):
             err = float(chk.final_error)
             opt = dict(seg.optimality)
+            opt.pop("provisional", None)
             opt.update(cost=cost, integral_u2=float(energy(seg.basis, iv.T, c)), kkt=out.kkt, kkt_converged=kkt_ok,
                        final_error=err, converged=bool(kkt_ok and (opt.get("one_size") or opt.get("converged_in_basis"))),
                        joint={"kept": True, "cost": out.cost, "sequential_cost": out.start_cost,
+                              "sequential_checked": beat,
                               "evaluations": out.evaluations, "iterations": out.iterations, "message": out.message})
             piece = make_segment(iv.system, seg.basis, iv.x0, iv.x1, iv.T, c, t0=seg.t0, final_error=err,
                                  limits=iv.limits, message=f"{seg.message}; then {out.message}", method=self.name,
@@ -926,6 +961,15 @@ JOINT_TORQUE_ENDS = True
 #: between 257 points; one round brought it within then, three later (each optimum's peak moved
 #: beside the time added), two with the neighbours (benchmarks/RESULTS.md, twelfth session).
 EXCHANGE_ROUNDS = 3
+#: Whether an interval whose optimum only starts the joint optimum
+#: (:attr:`~acroplan.core.strategies.Interval.provisional`) reports its ladder's last size as the
+#: ladder left it: not refined to the KKT target, not solved again on a denser grid where it breaks a
+#: limit between its grid's points. The joint optimum refines and checks the whole plan; when it is
+#: not kept, :func:`acroplan.plan` plans the intervals again in full (and the joint optimum from
+#: them). The bundled dives' refinements were 0.26, 0.83 and 0.85 s of 1.9, 5.1 and 3.8 s warm
+#: (back full, forward, double full-out), spent on optima the joint optimum replaces
+#: (``benchmarks/RESULTS.md``, nineteenth session).
+PROVISIONAL_STARTS = True
 #: Whether the ladder's sizes are compared with their limits met on their grids alone
 #: (:meth:`_Search.ladder`): each size is a warm start of the next, and only the reported one is
 #: checked between its grid's points (and solved again on the denser grid where it breaks a limit

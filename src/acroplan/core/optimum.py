@@ -102,6 +102,11 @@ class OptimalSolve:
     start: str = "given"
     limit_grid: int = 64
     torque_grid: int = 0
+    #: ``None`` for an optimum refined to its KKT target and checked between its limits' grid
+    #: points; for a start of the joint optimum reported as the ladder left it
+    #: (:attr:`acroplan.core.strategies.Interval.provisional`), ``"within"`` or ``"broken"``: whether
+    #: its limits hold between the grid's points
+    provisional: str | None = None
     #: the endpoint's Hessians in the coefficients, shape (ndx, m n, m n), that the SQP last used at
     #: this size (forward differences, :meth:`OptimalProblem.curvature`), or ``None``: the joint
     #: optimum of several intervals starts from them (:meth:`acroplan.core.optimal.EnergyOptimal.joint`)
@@ -111,7 +116,8 @@ class OptimalSolve:
         """The diagnostics as plain JSON types (non-finite numbers as ``None``): ``objective``,
         ``cost``, ``integral_u2``, ``kkt``, ``multipliers``, ``final_error``, ``basis_size``,
         ``ladder`` (``[[n, cost], ...]``), ``converged_in_basis``, ``start``, ``solver``,
-        ``evaluations``, ``iterations``, ``success``, ``limit_grid``, ``torque_grid``."""
+        ``evaluations``, ``iterations``, ``success``, ``limit_grid``, ``torque_grid``, and ``provisional``
+        for a start of the joint optimum (:attr:`provisional`)."""
         num = (lambda v: float(v) if v is not None and math.isfinite(float(v)) else None)  # noqa: E731
         return {"objective": objective, "cost": num(self.objective), "integral_u2": num(self.energy),
                 "kkt": num(self.kkt), "multipliers": [num(v) for v in np.ravel(self.multipliers)],
@@ -120,7 +126,8 @@ class OptimalSolve:
                 "converged_in_basis": bool(self.converged_in_basis), "start": self.start, "solver": self.solver,
                 "evaluations": int(self.evaluations), "iterations": int(self.iterations),
                 "success": bool(self.success), "limit_grid": int(self.limit_grid),
-                "torque_grid": int(self.torque_grid)}
+                "torque_grid": int(self.torque_grid),
+                **({} if self.provisional is None else {"provisional": self.provisional})}
 
 
 class OutOfEvaluations(RuntimeError):

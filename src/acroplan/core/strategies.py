@@ -70,6 +70,12 @@ class Interval:
         (:meth:`acroplan.core.optimal.EnergyOptimal.joint`, which :func:`acroplan.plan` runs after
         the intervals when there are several and the conditions are free): an optimal strategy may
         then climb its ladder in larger steps (:meth:`~acroplan.core.optimal.EnergyOptimal.ladder`).
+    provisional : bool
+        Whether the interval's optimum is only the joint optimum's start: an optimal strategy then
+        reports its ladder's last size as the ladder left it, neither refined to its KKT target nor
+        checked between its limits' grid points (:data:`acroplan.core.optimal.PROVISIONAL_STARTS`);
+        the joint optimum refines and checks the whole plan, and :func:`acroplan.plan` plans the
+        intervals again in full when it is not kept.
     """
 
     system: ControlAffineSystem
@@ -83,6 +89,7 @@ class Interval:
     tol: float
     max_evaluations: int
     joint: bool = False
+    provisional: bool = False
 
     def sized(self, n: int) -> InputBasis:
         """The basis of the interval's family with ``n`` coefficients."""

@@ -295,19 +295,55 @@ def _look_like_degrees(values) -> bool:
 def _plan_intervals(req: PlanRequest, X, limits, conditions, prog):
     """Plan each waypoint interval by the request's strategy: ``(segments, None)``, or ``(segments
     so far, message)`` at the first interval that fails. Reports the stage ``"segments"`` (inside
-    an interval, its strategy reports its own stages)."""
+    an interval, its strategy reports its own stages). With several intervals, free conditions and
+    a strategy that optimises them together (its ``joint``), the intervals' optima are only that
+    joint optimum's start (:attr:`~acroplan.core.strategies.Interval.provisional`: an optimal
+    strategy leaves them unrefined); when the joint optimum is not kept, the intervals are planned
+    again in full and the joint optimum tried from them, so that what is reported is either the
+    joint optimum or the intervals' own, refined and checked."""
+    system, t = req.system, req.times
+    K = t.size - 1
+    joint = getattr(req.strategy, "joint", None)
+    joint_follows = joint is not None and K > 1 and conditions.kind == "free"
+    segments, curvatures, failed = _sequential(req, X, limits, conditions, prog, joint_follows, joint_follows)
+    if failed is not None or not joint_follows:
+        return segments, failed
+    # the whole plan's optimum through the interior waypoints, from the sequential one
+    intervals = [Interval(system=system, basis=req.basis, sizes=req.sizes, x0=X[k], x1=X[k + 1],
+                          T=float(t[k + 1] - t[k]), ends=conditions.ends(k, None), limits=limits, tol=req.tol,
+                          max_evaluations=req.max_evaluations) for k in range(K)]
+    try:
+        with progress_mod.stage(JOINT_STAGE):
+            out, _ = joint(intervals, segments, curvatures)
+        if any((s.optimality or {}).get("provisional") for s in out):
+            # not kept: the intervals' own optima, refined and checked, and the joint optimum from them
+            segments, curvatures, failed = _sequential(req, X, limits, conditions, prog, True, False)
+            if failed is not None:
+                return segments, failed
+            with progress_mod.stage(JOINT_STAGE):
+                out, _ = joint(intervals, segments, curvatures)
+    except BudgetExceeded as e:
+        return tuple(segments), (f"not converged: every interval was optimised, but {e} while optimising them "
+                                 f"together")
+    return tuple(out), None
+
+
+def _sequential(req: PlanRequest, X, limits, conditions, prog, joint: bool, provisional: bool):
+    """The intervals planned one after the other (each from the input the one before ended with,
+    under free conditions): ``(segments, curvatures, None)`` or ``(segments so far, curvatures,
+    message)`` at the first that fails; ``joint``, ``provisional`` as
+    :class:`~acroplan.core.strategies.Interval`'s."""
     system, t = req.system, req.times
     K = t.size - 1
     segments: list[SegmentResult] = []
     curvatures = []  # each interval's endpoint Hessians at its optimum (the joint optimum's start)
     prev_end_input = None
-    joint = getattr(req.strategy, "joint", None)
-    joint_follows = joint is not None and K > 1 and conditions.kind == "free"
     with prog.scope("segments", K, unit="segment") as bar:
         for k in range(K):
             interval = Interval(system=system, basis=req.basis, sizes=req.sizes, x0=X[k], x1=X[k + 1],
                                 T=float(t[k + 1] - t[k]), ends=conditions.ends(k, prev_end_input), limits=limits,
-                                tol=req.tol, max_evaluations=req.max_evaluations, joint=joint_follows)
+                                tol=req.tol, max_evaluations=req.max_evaluations, joint=joint,
+                                provisional=provisional)
             try:
                 out = req.strategy.solve(interval)
             except BudgetExceeded as e:
@@ -322,24 +358,13 @@ def _plan_intervals(req: PlanRequest, X, limits, conditions, prog):
                 segments.append(piece)
             curvatures.append(out.curvature)
             if not out.success:
-                return tuple(segments), (f"not converged: segment {k} [{t[k]:g}, {t[k + 1]:g}] from "
-                                         f"{_fmt(X[k], system)} to {_fmt(X[k + 1], system)}: {out.reason}")
+                return tuple(segments), curvatures, (f"not converged: segment {k} [{t[k]:g}, {t[k + 1]:g}] from "
+                                                     f"{_fmt(X[k], system)} to {_fmt(X[k + 1], system)}: {out.reason}")
             bar.update()
             if k + 1 < K:  # the input value the next interval starts with (free conditions)
                 last = segments[-1]
                 prev_end_input = last.input([last.t1])[:, 0]
-    if joint_follows and len(segments) == K:
-        # the whole plan's optimum through the interior waypoints, from the sequential one
-        intervals = [Interval(system=system, basis=req.basis, sizes=req.sizes, x0=X[k], x1=X[k + 1],
-                              T=float(t[k + 1] - t[k]), ends=conditions.ends(k, None), limits=limits, tol=req.tol,
-                              max_evaluations=req.max_evaluations) for k in range(K)]
-        try:
-            with progress_mod.stage(JOINT_STAGE):
-                segments, _ = joint(intervals, segments, curvatures)
-        except BudgetExceeded as e:
-            return tuple(segments), (f"not converged: every interval was optimised, but {e} while optimising them "
-                                     f"together")
-    return tuple(segments), None
+    return tuple(segments), curvatures, None
 
 
 def _verified(req: PlanRequest, X, segments, common) -> PlanResult:
@@ -379,7 +404,9 @@ def _optimality_note(segments, req) -> str:
     joint = opt[0].get("joint")
     how = ""
     if joint is not None and joint.get("kept"):
-        how = f"; the intervals optimised together (from {joint['sequential_cost']:.10g} one after the other)"
+        how = (f"; the intervals optimised together (from {joint['sequential_cost']:.10g} one after the other"
+               + ("" if joint.get("sequential_checked", True) else ", their limits broken between the grid's points")
+               + ")")
     elif joint is not None:
         how = f"; the intervals optimised one after the other (together: {joint['message']})"
     return (f"; {req.objective}-optimal: {what} = {cost:.10g}, largest relative KKT residual {kkt:.1e} (target "
