@@ -188,7 +188,9 @@ class SegmentResult:
         (``"energy"`` or ``"torque"``), ``cost`` (the value minimised), ``integral_u2``, ``kkt``
         (the relative KKT residual) and ``kkt_tol`` (its target), ``kkt_converged``,
         ``ladder`` (``[[basis size, cost], ...]`` tried), ``converged_in_basis``, ``rtol``,
-        ``converged`` (both), ``start``, ``solver``; ``None`` otherwise.
+        ``converged`` (both), ``start``, ``solver``; through interior waypoints with free
+        conditions, ``joint`` (whether the intervals' joint optimum was kept, and why:
+        :meth:`acroplan.core.optimal.EnergyOptimal.joint`); ``None`` otherwise.
     """
 
     index: int
