@@ -114,7 +114,7 @@ prediction and the size is solved. Under limits every size is solved. With
 an objective, ``optimal_sizes = {"torque": (...)}``, and for an interval whose optimum starts the
 joint optimum of several intervals (key ``"joint"``: :attr:`Interval.joint
 <acroplan.core.strategies.Interval>`), used when the strategy is given no sizes (the spatial
-bodies climb 6, 14, 30 for the least :math:`\\int u^2` and before a joint optimum, and step their least
+bodies climb 6, 14, 30 for the least :math:`\\int u^2`, 6, 30 before a joint optimum, and step their least
 :math:`\\int\\tau^2` by 4 from 14 coefficients: :attr:`acroplan.families.spatial.model.SpatialBody.optimal_sizes`).
 
 Starts

@@ -749,13 +749,16 @@ class SpatialBody(TreeBody, ControlAffineSystem):
     #: A size costs a spatial body no compilation (its endpoint map is compiled once for every
     #: size), where the Taylor-integrated families compile one integrator per size; they keep the
     #: default ladder. An interval whose optimum starts the joint optimum of several intervals (key
-    #: ``"joint"``, either objective) climbs 6, 14, 30: its sizes are the joint optimum's warm start,
+    #: ``"joint"``, either objective) climbs 6, 30: its sizes are the joint optimum's warm start,
     #: which re-optimises every interval at its ladder's last size. On the bundled dives the optima
     #: were the same to 1e-6 with 6, 14, 30, with 6, 30, with 6, 18, 30 and with 6, 12, 20, 30 as
     #: with the default ladder, in fewer endpoint evaluations (back full 336 -> 268, double
     #: full-out 566 -> 447, forward 729 -> 716) (``benchmarks/RESULTS.md``, 2026-12-06, ninth
-    #: session).
-    optimal_sizes = {"energy": (6, 14, 30), "torque": (6, 10, 14, 18, 22, 26, 30), "joint": (6, 14, 30)}
+    #: session), and 6, 14, 30 was taken; since the intervals' optima are only the joint optimum's
+    #: provisional start (:data:`acroplan.core.optimal.PROVISIONAL_STARTS`), 6, 30 reaches the same
+    #: optima in fewer (164 -> 146, 210 -> 191, 427 -> 386; 10, 30 sent the forward dive to a local
+    #: optimum 4.7% higher: ``benchmarks/RESULTS.md``, nineteenth session, item 4).
+    optimal_sizes = {"energy": (6, 14, 30), "torque": (6, 10, 14, 18, 22, 26, 30), "joint": (6, 30)}
 
     def auto_strategy(self):
         """``method="auto"``: path deformation from shape loops that meet the target
