@@ -14,8 +14,9 @@ strength data's, ``strength.torque_limits``).
 ``--stages`` also gives each plan's wall time by stage (wrappers that add microseconds): the
 feasible plan each interval starts from (the family's ``method="auto"`` strategy), the first size's
 optimum from it (``_Search.first_stage``), the ladder of basis sizes, the reported size's
-refinement and dense check (``_Search.report``), the intervals' joint optimum, the independent
-check (the front's ``_verified``) and the rest.
+refinement and dense check (``_Search.report``; for an interval whose optimum only starts the
+joint optimum, its dense check alone: ``optimal.PROVISIONAL_STARTS``), the intervals' joint
+optimum, the independent check (the front's ``_verified``) and the rest.
 
 Run:  python benchmarks/dives.py [--dives back-full-twist ...] [--repeat 2] [--objective energy|torque|none]
       [--tau-max strength|none] [--stages]

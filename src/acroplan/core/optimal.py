@@ -589,7 +589,7 @@ class _Search:
         res = current.result()
         self.evaluations += current.prob.evaluations - before
         provisional = "within" if res.success else "broken"
-        if not res.success and res.final_error <= current.tol and (current.broken["limits"] or current.broken["torque"]):
+        if not res.success and res.final_error <= current.tol:  # its endpoint met: a limit broke between the points
             res = dataclasses.replace(res, success=True)
         return res, provisional
 
